@@ -61,7 +61,7 @@ struct Scene {
   std::vector<uint32_t> triangle_materials;  // one per triangle, indexes materials
 
   std::vector<Material> materials;  // never empty once loaded (a default is added)
-  std::vector<Camera> cameras;      // from the file, in document order of their nodes
+  std::vector<Camera> cameras;      // from the file, in node traversal order of the scene
 
   Bounds bounds() const;
   size_t emissive_triangle_count() const;

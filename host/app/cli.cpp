@@ -1,0 +1,190 @@
+#include "app/cli.h"
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "cl/context.h"
+#include "io/image_io.h"
+#include "options.h"
+#include "render/renderer.h"
+#include "scene/gltf_loader.h"
+#include "util/error.h"
+#include "util/log.h"
+#include "util/progress.h"
+
+namespace clpt {
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+extern "C" void on_signal(int) {
+  // First signal: finish the pass in flight and save. Second: leave at once, output untouched.
+  if (g_stop.exchange(true)) _exit(static_cast<int>(ExitCode::Interrupted));
+}
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+double peak_rss_mib() {
+  struct rusage ru {};
+  getrusage(RUSAGE_SELF, &ru);
+  return double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+void write_stats(const std::string& where, const nlohmann::json& j) {
+  const std::string text = j.dump(2) + "\n";
+  if (where == "-") {
+    std::cout << text << std::flush;
+    return;
+  }
+  const std::string tmp = where + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream f(tmp, std::ios::trunc);
+    if (!(f << text) || !f.flush()) {
+      std::remove(tmp.c_str());
+      throw Error(ExitCode::Output, "cannot write statistics to " + where);
+    }
+  }
+  if (std::rename(tmp.c_str(), where.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw Error(ExitCode::Output, "cannot write statistics to " + where);
+  }
+}
+
+int run(const Options& opt) {
+  using Clock = std::chrono::steady_clock;
+  if (opt.list_devices) {
+    std::cout << "OpenCL devices:\n" << cl::describe_devices(cl::list_devices());
+    return 0;
+  }
+  install_signal_handlers();  // from here on, Ctrl-C stops cleanly and saves what was rendered
+  if (!opt.kernel_dir.empty()) ::setenv("CLPT_KERNEL_DIR", opt.kernel_dir.c_str(), 1);
+  check_output_path(opt.output);
+
+  auto t0 = Clock::now();
+  const Scene scene = load_gltf(opt.scene);
+  const double load_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  log::verbose("scene " + opt.scene + ": " + std::to_string(scene.triangles.size()) +
+               " triangles, " + std::to_string(scene.materials.size()) + " materials, " +
+               std::to_string(scene.cameras.size()) + " cameras, loaded in " +
+               std::to_string(load_seconds) + " s");
+
+  const cl::DeviceInfo device = cl::select_device(opt.device);
+  log::verbose("device: " + device.label() + ", " + device.version + ", driver " +
+               device.driver_version);
+  cl::Context ctx(device);
+
+  RenderSettings settings;
+  settings.width = opt.width;
+  settings.height = opt.height;
+  settings.spp = opt.spp;
+  settings.time_limit = opt.time_limit;
+  settings.max_depth = opt.max_depth;
+  settings.seed = opt.seed;
+  settings.integrator = opt.integrator;
+  settings.camera = opt.camera;
+  Renderer renderer(ctx, scene, settings);
+
+  log::info("rendering " + opt.scene + " at " + std::to_string(renderer.width()) + "x" +
+            std::to_string(renderer.height()) + " with " + opt.integrator + " on " + device.name);
+  ProgressBar bar(log::level() >= log::Level::Normal && ::isatty(STDERR_FILENO));
+  const RenderOutput out = renderer.render(&g_stop, [&](uint64_t done, uint64_t target, double t) {
+    bar.update(done, target, t, opt.time_limit);
+  });
+  bar.finish();
+
+  const FilmResult& film = out.film;
+  const RenderStats& st = out.stats;
+  const double paths = double(film.samples_per_pixel) * renderer.width() * renderer.height();
+  const double secs = st.render_seconds > 0.0 ? st.render_seconds : 1e-9;
+
+  ImageMetadata meta;
+  meta.strings = {{"Software", std::string("clpt ") + CLPT_VERSION},
+                  {"clpt:integrator", opt.integrator},
+                  {"clpt:device", device.name},
+                  {"clpt:scene", opt.scene}};
+  meta.ints = {{"clpt:spp", int(film.samples_per_pixel)},
+               {"clpt:seed", int(opt.seed)},
+               {"clpt:max_depth", int(opt.max_depth)}};
+  meta.floats = {{"clpt:render_seconds", float(st.render_seconds)}};
+  if (film.samples_per_pixel > 0) {
+    write_image(opt.output, film.mean, meta);
+  } else {
+    log::warn("no sample was taken; " + opt.output + " was not written");
+  }
+
+  log::info((out.interrupted ? "interrupted: " : "") + std::string("rendered ") +
+            std::to_string(film.samples_per_pixel) + " spp in " + std::to_string(st.render_seconds) +
+            " s (" + std::to_string(paths / secs / 1e6) + " M camera paths/s), wrote " + opt.output);
+  if (film.dropped_samples)
+    log::warn(std::to_string(film.dropped_samples) + " NaN/Inf samples were dropped");
+
+  if (opt.stats) {
+    nlohmann::json j;
+    j["scene"] = opt.scene;
+    j["integrator"] = opt.integrator;
+    j["device"] = {{"name", device.name},           {"platform", device.platform_name},
+                   {"version", device.version},     {"driver", device.driver_version},
+                   {"compute_units", device.compute_units}};
+    j["resolution"] = {renderer.width(), renderer.height()};
+    j["triangles"] = st.triangles;
+    j["emitters"] = st.emitters;
+    j["scene_load_seconds"] = load_seconds;
+    j["bvh"] = {{"build_seconds", st.bvh_build_seconds},
+                {"nodes", st.bvh_nodes},
+                {"depth", st.bvh_depth}};
+    j["kernel"] = {{"seconds", st.kernel_seconds}, {"from_cache", st.kernel_from_cache}};
+    j["render_seconds"] = st.render_seconds;
+    j["passes"] = st.passes;
+    j["spp"] = film.samples_per_pixel;
+    j["max_depth"] = opt.max_depth;
+    j["camera_paths_per_second"] = paths / secs;
+    j["rays"] = film.rays;
+    j["rays_per_second"] = double(film.rays) / secs;
+    j["dropped_samples"] = film.dropped_samples;
+    j["interrupted"] = out.interrupted;
+    j["memory"] = {{"scene_device_bytes", st.scene_device_bytes},
+                   {"scene_device_bytes_per_triangle",
+                    st.triangles ? double(st.scene_device_bytes) / double(st.triangles) : 0.0},
+                   {"film_device_bytes", st.film_device_bytes},
+                   {"peak_host_rss_mib", peak_rss_mib()}};
+    write_stats(*opt.stats, j);
+  }
+  return out.interrupted ? static_cast<int>(ExitCode::Interrupted) : 0;
+}
+
+}  // namespace
+
+int run_cli(int argc, const char* const* argv) {
+  try {
+    const std::optional<Options> opt = parse_options(argc, argv);
+    if (!opt) return 0;
+    log::set_level(opt->quiet ? log::Level::Quiet
+                              : opt->verbose ? log::Level::Verbose : log::Level::Normal);
+    return run(*opt);
+  } catch (const Error& e) {
+    log::error(e.what());
+    return static_cast<int>(e.code());
+  } catch (const std::bad_alloc&) {
+    log::error("out of host memory");
+    return static_cast<int>(ExitCode::Device);
+  } catch (const std::exception& e) {
+    log::error(std::string("internal error: ") + e.what());
+    return 70;
+  }
+}
+
+}  // namespace clpt

@@ -1,0 +1,52 @@
+// Bounding volume hierarchy over triangles: a binned SAH build (Wald 2007, "On fast
+// Construction of SAH-based Bounding Volume Hierarchies") flattened depth-first into the
+// 32-byte dev::BvhNode the kernels traverse (kernels/bvh/intersect.cl).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "shared/bvh_constants.h"
+#include "shared/scene_types.h"
+
+namespace clpt {
+
+static_assert(sizeof(dev::BvhNode) == 32, "BvhNode must stay 32 bytes");
+static_assert(sizeof(dev::Triangle) == 16, "Triangle must stay 16 bytes");
+static_assert(sizeof(dev::Vertex) == 32, "Vertex must stay 32 bytes");
+
+struct BvhBuildOptions {
+  int max_leaf_size = 4;  // triangles per leaf (exceeded only when centroids coincide at depth limit)
+  int bins = 16;          // SAH bins per axis (clamped to [2, 256])
+};
+
+// Layout (see kernels/shared/scene_types.h): nodes[0] is the root; an interior node's first
+// child follows it and `offset` is its second child, split axis = -count; a leaf
+// (count > 0) holds leaf-order triangles [offset, offset + count).
+//
+// Depth never exceeds CLPT_BVH_MAX_DEPTH: where a SAH split would let a subtree outgrow the
+// levels left, the builder splits at the object median instead, and triangles whose
+// centroids all coincide are split at the median of their order.
+//
+// An empty input gives one leaf with an empty box (bmin = +inf, bmax = -inf), offset 0 and
+// count 1, and an empty triangle_order. No ray enters an empty box, and the kernels test
+// the root box before anything else, so that phantom triangle is never read. Host code
+// should check triangle_order.empty() instead of walking such a tree.
+struct Bvh {
+  std::vector<dev::BvhNode> nodes;
+  std::vector<uint32_t> triangle_order;  // leaf-order slot i holds original triangle triangle_order[i]
+  int depth = 0;                         // levels, root = 1
+
+  bool empty() const { return triangle_order.empty(); }
+};
+
+// Builds the BVH with all hardware threads. Triangles may be degenerate (zero area,
+// collinear, repeated vertices); positions are expected finite (non-finite ones do not
+// crash the build but give boxes no ray enters reliably). Throws clpt::Error(BadInput) for
+// an index out of range or more than 2^31 - 1 triangles.
+Bvh build_bvh(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles,
+              const BvhBuildOptions& options = {});
+
+}  // namespace clpt

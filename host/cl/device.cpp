@@ -1,0 +1,156 @@
+#include "cl/device.h"
+
+#include <algorithm>
+#include <cctype>
+#include <sstream>
+
+#include "cl/cl_error.h"
+#include "util/error.h"
+
+namespace clpt::cl {
+namespace {
+
+std::string platform_string(cl_platform_id p, cl_platform_info what) {
+  size_t size = 0;
+  if (clGetPlatformInfo(p, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return {};
+  std::string s(size, '\0');
+  clGetPlatformInfo(p, what, size, s.data(), nullptr);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+std::string device_string(cl_device_id d, cl_device_info what) {
+  size_t size = 0;
+  if (clGetDeviceInfo(d, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return {};
+  std::string s(size, '\0');
+  clGetDeviceInfo(d, what, size, s.data(), nullptr);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+template <class T>
+T device_value(cl_device_id d, cl_device_info what) {
+  T v{};
+  clGetDeviceInfo(d, what, sizeof(T), &v, nullptr);
+  return v;
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+}  // namespace
+
+bool DeviceInfo::is_pocl() const {
+  return lower(platform_name).find("portable computing language") != std::string::npos ||
+         lower(platform_vendor).find("pocl") != std::string::npos;
+}
+
+std::string DeviceInfo::label() const {
+  std::ostringstream s;
+  s << platform_index << ":" << device_index << " " << name << " (" << platform_name << ")";
+  return s.str();
+}
+
+std::vector<DeviceInfo> list_devices() {
+  std::vector<DeviceInfo> out;
+  cl_uint num_platforms = 0;
+  if (clGetPlatformIDs(0, nullptr, &num_platforms) != CL_SUCCESS || num_platforms == 0) return out;
+  std::vector<cl_platform_id> platforms(num_platforms);
+  clGetPlatformIDs(num_platforms, platforms.data(), nullptr);
+  for (cl_uint pi = 0; pi < num_platforms; ++pi) {
+    cl_uint num_devices = 0;
+    if (clGetDeviceIDs(platforms[pi], CL_DEVICE_TYPE_ALL, 0, nullptr, &num_devices) != CL_SUCCESS)
+      continue;
+    std::vector<cl_device_id> devices(num_devices);
+    clGetDeviceIDs(platforms[pi], CL_DEVICE_TYPE_ALL, num_devices, devices.data(), nullptr);
+    for (cl_uint di = 0; di < num_devices; ++di) {
+      DeviceInfo d;
+      d.platform = platforms[pi];
+      d.id = devices[di];
+      d.platform_index = pi;
+      d.device_index = di;
+      d.platform_name = platform_string(platforms[pi], CL_PLATFORM_NAME);
+      d.platform_vendor = platform_string(platforms[pi], CL_PLATFORM_VENDOR);
+      d.name = device_string(devices[di], CL_DEVICE_NAME);
+      d.version = device_string(devices[di], CL_DEVICE_VERSION);
+      d.driver_version = device_string(devices[di], CL_DRIVER_VERSION);
+      d.c_version = device_string(devices[di], CL_DEVICE_OPENCL_C_VERSION);
+      d.type = device_value<cl_device_type>(devices[di], CL_DEVICE_TYPE);
+      d.max_work_group_size = device_value<size_t>(devices[di], CL_DEVICE_MAX_WORK_GROUP_SIZE);
+      d.global_mem_bytes = device_value<cl_ulong>(devices[di], CL_DEVICE_GLOBAL_MEM_SIZE);
+      d.max_alloc_bytes = device_value<cl_ulong>(devices[di], CL_DEVICE_MAX_MEM_ALLOC_SIZE);
+      d.compute_units = device_value<cl_uint>(devices[di], CL_DEVICE_MAX_COMPUTE_UNITS);
+      out.push_back(d);
+    }
+  }
+  return out;
+}
+
+std::string describe_devices(const std::vector<DeviceInfo>& devices) {
+  if (devices.empty())
+    return "  (no OpenCL devices found; is an ICD installed? On Debian: "
+           "apt-get install pocl-opencl-icd)\n";
+  std::ostringstream s;
+  for (const DeviceInfo& d : devices) {
+    const char* kind = d.is_gpu() ? "GPU" : (d.type & CL_DEVICE_TYPE_CPU) ? "CPU" : "other";
+    s << "  " << d.platform_index << ":" << d.device_index << "  [" << kind << "] " << d.name
+      << "\n        platform: " << d.platform_name << ", " << d.version
+      << ", driver " << d.driver_version << ", " << d.compute_units << " compute units, "
+      << (d.global_mem_bytes >> 20) << " MiB\n";
+  }
+  return s.str();
+}
+
+DeviceInfo select_device(const std::string& spec_in) {
+  const std::vector<DeviceInfo> devices = list_devices();
+  const std::string spec = lower(spec_in);
+  auto fail = [&](const std::string& why) -> DeviceInfo {
+    throw Error(ExitCode::Device, why + "\nOpenCL devices found:\n" + describe_devices(devices));
+  };
+  if (devices.empty()) return fail("no OpenCL device found");
+
+  auto first = [&](auto&& pred) -> const DeviceInfo* {
+    for (const DeviceInfo& d : devices)
+      if (pred(d)) return &d;
+    return nullptr;
+  };
+  const DeviceInfo* found = nullptr;
+  if (spec.empty()) {
+    found = first([](const DeviceInfo& d) { return d.is_gpu(); });
+    if (!found) found = first([](const DeviceInfo& d) { return d.is_pocl(); });
+    if (!found) found = &devices.front();
+  } else if (spec == "gpu") {
+    found = first([](const DeviceInfo& d) { return d.is_gpu(); });
+    if (!found) return fail("--device=gpu: no GPU device found");
+  } else if (spec == "cpu") {
+    found = first([](const DeviceInfo& d) { return (d.type & CL_DEVICE_TYPE_CPU) != 0; });
+    if (!found) return fail("--device=cpu: no CPU device found");
+  } else if (spec == "pocl") {
+    found = first([](const DeviceInfo& d) { return d.is_pocl(); });
+    if (!found) return fail("--device=pocl: the PoCL platform is not installed "
+                            "(apt-get install pocl-opencl-icd)");
+  } else if (auto colon = spec.find(':');
+             colon != std::string::npos && colon > 0 &&
+             spec.find_first_not_of("0123456789:") == std::string::npos) {
+    const unsigned long p = std::stoul(spec.substr(0, colon));
+    const std::string rest = spec.substr(colon + 1);
+    if (rest.empty() || rest.find(':') != std::string::npos)
+      return fail("--device=" + spec_in + ": expected PLATFORM:DEVICE indices");
+    const unsigned long d = std::stoul(rest);
+    found = first([&](const DeviceInfo& x) {
+      return x.platform_index == p && x.device_index == d;
+    });
+    if (!found) return fail("--device=" + spec_in + ": no such platform:device");
+  } else {
+    found = first([&](const DeviceInfo& d) {
+      return lower(d.name).find(spec) != std::string::npos ||
+             lower(d.platform_name).find(spec) != std::string::npos;
+    });
+    if (!found) return fail("--device=" + spec_in + ": no device name matches");
+  }
+  return *found;
+}
+
+}  // namespace clpt::cl

@@ -1,0 +1,27 @@
+#include "integrators/integrator.h"
+
+#include <algorithm>
+
+#include "integrators/pt.h"
+#include "util/error.h"
+
+namespace clpt {
+
+const std::vector<std::string>& integrator_names() {
+  static const std::vector<std::string> names = {"pt",   "lt",  "bdpt", "pm",  "sppm",
+                                                 "vcm",  "mlt", "ic",   "ao",  "direct"};
+  return names;
+}
+
+bool integrator_implemented(const std::string& name) { return name == "pt"; }
+
+std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::Context& ctx,
+                                            const SceneBuffers& scene) {
+  const auto& names = integrator_names();
+  if (std::find(names.begin(), names.end(), name) == names.end())
+    throw Error(ExitCode::Usage, "--integrator " + name + ": unknown integrator");
+  if (name == "pt") return std::make_unique<PathTracer>(ctx, scene);
+  throw Error(ExitCode::Usage, "--integrator " + name + ": not implemented yet (available: pt)");
+}
+
+}  // namespace clpt

@@ -1,0 +1,19 @@
+// A linear RGB float image in scanline order, top row first.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace clpt {
+
+struct Image {
+  uint32_t width = 0, height = 0;
+  std::vector<float> rgb;  // 3 floats per pixel
+
+  Image() = default;
+  Image(uint32_t w, uint32_t h) : width(w), height(h), rgb(size_t(w) * h * 3, 0.0f) {}
+  float* pixel(uint32_t x, uint32_t y) { return &rgb[(size_t(y) * width + x) * 3]; }
+  const float* pixel(uint32_t x, uint32_t y) const { return &rgb[(size_t(y) * width + x) * 3]; }
+};
+
+}  // namespace clpt

@@ -1,0 +1,115 @@
+#include "options.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <sstream>
+
+#include "integrators/integrator.h"
+#include "util/error.h"
+
+namespace clpt {
+namespace {
+
+struct Parser {
+  CLI::App app{"clpt: an OpenCL physically based renderer for glTF 2.0 scenes.", "clpt"};
+  Options o;
+  std::string resolution;
+  std::string stats_value;
+  CLI::Option* spp_opt = nullptr;
+  CLI::Option* time_opt = nullptr;
+  CLI::Option* stats_opt = nullptr;
+
+  Parser() {
+    app.set_version_flag("--version", std::string("clpt ") + CLPT_VERSION);
+    app.get_formatter()->column_width(30);
+    app.add_option("scene", o.scene, "glTF 2.0 scene to render (.gltf or .glb)")->type_name("FILE");
+    app.add_option("-o,--output", o.output,
+                   "Output image: .exr (linear float) or .png/.jpg (sRGB) [clpt.exr]")
+        ->type_name("FILE");
+    app.add_option("--device", o.device,
+                   "OpenCL device: pocl, gpu, cpu, PLATFORM:DEVICE, or a name substring "
+                   "[first GPU, else PoCL]")
+        ->type_name("SPEC");
+    app.add_flag("--list-devices", o.list_devices, "List OpenCL devices and exit");
+    spp_opt = app.add_option("--spp", o.spp, "Samples per pixel [64; unlimited with --time alone]")
+                  ->type_name("N")
+                  ->check(CLI::Range(uint64_t(1), uint64_t(0xffffffffu)).description(""));
+    time_opt = app.add_option("--time", o.time_limit,
+                              "Time budget in seconds; with --spp, whichever ends first")
+                   ->type_name("SECONDS")
+                   ->check(CLI::PositiveNumber.description(""));
+    app.add_option("--resolution", resolution, "Image size WxH [640 wide, camera aspect]")
+        ->type_name("WxH");
+    app.add_option("--camera", o.camera,
+                   "Camera index or name [the file's first camera, else one framing the scene]")
+        ->type_name("CAMERA");
+    app.add_option("--max-depth", o.max_depth, "Maximum bounces; 0 shows emitters only [8]")
+        ->type_name("N")
+        ->check(CLI::Range(0u, 1024u).description(""));
+    app.add_option("--seed", o.seed, "Random seed [0]")->type_name("N");
+    std::string names;
+    for (const std::string& n : integrator_names())
+      names += (names.empty() ? "" : "|") + n;
+    app.add_option("--integrator", o.integrator,
+                   "Integrator: " + names + " (implemented: pt) [pt]")
+        ->type_name("NAME");
+    stats_opt = app.add_option("--stats", stats_value,
+                               "Write render statistics as JSON to FILE, or stdout when no FILE")
+                    ->expected(0, 1)
+                    ->type_name("[FILE]");
+    app.add_flag("-q,--quiet", o.quiet, "Print errors only");
+    app.add_flag("-v,--verbose", o.verbose, "Print details: device, kernel builds, BVH");
+    app.add_option("--kernel-dir", o.kernel_dir,
+                   "Load kernel sources from this folder instead of the built-in ones")
+        ->type_name("DIR");
+  }
+};
+
+bool parse_resolution(const std::string& s, uint32_t* w, uint32_t* h) {
+  const size_t x = s.find_first_of("xX");
+  if (x == std::string::npos || x == 0 || x + 1 >= s.size()) return false;
+  const std::string a = s.substr(0, x), b = s.substr(x + 1);
+  if (a.find_first_not_of("0123456789") != std::string::npos ||
+      b.find_first_not_of("0123456789") != std::string::npos || a.size() > 5 || b.size() > 5)
+    return false;
+  *w = static_cast<uint32_t>(std::stoul(a));
+  *h = static_cast<uint32_t>(std::stoul(b));
+  return *w >= 1 && *h >= 1 && *w <= 16384 && *h <= 16384;
+}
+
+}  // namespace
+
+std::string usage_text() {
+  Parser p;
+  return p.app.help();
+}
+
+std::optional<Options> parse_options(int argc, const char* const* argv) {
+  Parser p;
+  try {
+    p.app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << p.app.help();
+    return std::nullopt;
+  } catch (const CLI::CallForVersion&) {
+    std::cout << p.app.version() << "\n";
+    return std::nullopt;
+  } catch (const CLI::ParseError& e) {
+    throw Error(ExitCode::Usage, std::string(e.what()) + "\nRun 'clpt --help' for the options.");
+  }
+  Options o = p.o;
+  if (o.list_devices) return o;
+  if (o.scene.empty())
+    throw Error(ExitCode::Usage, "no scene given\nusage: clpt [options] scene.gltf|scene.glb "
+                                 "(run 'clpt --help' for the options)");
+  if (!p.resolution.empty() && !parse_resolution(p.resolution, &o.width, &o.height))
+    throw Error(ExitCode::Usage, "--resolution " + p.resolution +
+                                     ": expected WxH with each side from 1 to 16384, e.g. 640x480");
+  if (p.time_opt->count() && !p.spp_opt->count()) o.spp = 0;  // --time alone: no sample limit
+  if (p.stats_opt->count()) o.stats = p.stats_value.empty() ? std::string("-") : p.stats_value;
+  if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
+  return o;
+}
+
+}  // namespace clpt

@@ -1,0 +1,34 @@
+// The command line: one struct of options and one usage text (clpt --help).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace clpt {
+
+struct Options {
+  std::string scene;              // .gltf or .glb
+  std::string output = "clpt.exr";
+  std::string device;             // --device spec; empty: first GPU, else PoCL
+  bool list_devices = false;
+  uint64_t spp = 64;              // 0: no sample limit (only with --time)
+  double time_limit = 0.0;        // seconds; 0: none
+  uint32_t width = 0, height = 0; // 0: from the camera's aspect ratio
+  std::string camera;
+  uint32_t max_depth = 8;
+  uint32_t seed = 0;
+  std::string integrator = "pt";
+  std::optional<std::string> stats;  // "-" for stdout, else a JSON file
+  bool quiet = false, verbose = false;
+  std::string kernel_dir;         // load kernel sources from disk (development)
+};
+
+// Parses argv. Returns nullopt when the program should exit 0 after printing (--help,
+// --version); throws Error(ExitCode::Usage) with a message for a bad command line.
+std::optional<Options> parse_options(int argc, const char* const* argv);
+
+// The --help text.
+std::string usage_text();
+
+}  // namespace clpt

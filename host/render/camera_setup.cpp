@@ -1,0 +1,62 @@
+#include "render/camera_setup.h"
+
+#include <cmath>
+
+#include "util/error.h"
+
+namespace clpt {
+
+Camera choose_camera(const Scene& scene, const std::string& spec) {
+  if (spec.empty()) return scene.cameras.empty() ? default_camera(scene.bounds()) : scene.cameras[0];
+  if (spec.find_first_not_of("0123456789") == std::string::npos) {
+    const unsigned long i = std::stoul(spec);
+    if (i < scene.cameras.size()) return scene.cameras[i];
+    throw Error(ExitCode::Usage, "--camera " + spec + ": the scene has " +
+                                     std::to_string(scene.cameras.size()) + " camera(s)");
+  }
+  for (const Camera& c : scene.cameras)
+    if (c.name == spec) return c;
+  std::string names;
+  for (const Camera& c : scene.cameras) names += (names.empty() ? "" : ", ") + ("'" + c.name + "'");
+  throw Error(ExitCode::Usage, "--camera " + spec + ": no camera of that name (cameras: " +
+                                   (names.empty() ? "none" : names) + ")");
+}
+
+void default_resolution(const Camera& camera, uint32_t* width, uint32_t* height) {
+  float aspect = camera.aspect;
+  if (camera.type == Camera::Type::Orthographic && camera.ymag > 0.0f)
+    aspect = camera.xmag / camera.ymag;
+  if (!(aspect > 0.0f) || !std::isfinite(aspect)) aspect = 4.0f / 3.0f;
+  *width = 640;
+  *height = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(640.0f / aspect)));
+}
+
+dev::CameraData camera_data(const Camera& camera, uint32_t width, uint32_t height) {
+  dev::CameraData c{};
+  const glm::mat4& m = camera.camera_to_world;
+  const glm::vec3 origin(m[3]);
+  const glm::vec3 x = glm::normalize(glm::vec3(m[0]));
+  const glm::vec3 y = glm::normalize(glm::vec3(m[1]));
+  const glm::vec3 forward = -glm::normalize(glm::vec3(m[2]));
+  const float aspect = float(width) / float(height);
+  glm::vec3 right, up;
+  if (camera.type == Camera::Type::Orthographic) {
+    c.type = dev::CAMERA_ORTHOGRAPHIC;
+    up = y * camera.ymag;
+    right = x * (camera.ymag * aspect);
+  } else {
+    c.type = dev::CAMERA_PERSPECTIVE;
+    const float t = std::tan(0.5f * camera.yfov);
+    up = y * t;
+    right = x * (t * aspect);
+  }
+  for (int i = 0; i < 3; ++i) {
+    c.origin[i] = origin[i];
+    c.right[i] = right[i];
+    c.up[i] = up[i];
+    c.forward[i] = forward[i];
+  }
+  return c;
+}
+
+}  // namespace clpt

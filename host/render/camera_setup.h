@@ -1,0 +1,23 @@
+// From a scene camera and an image size to the device's CameraData.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "scene/scene.h"
+#include "shared/render_types.h"
+
+namespace clpt {
+
+// The camera to render with: `spec` is empty (the file's first camera, else a default
+// camera framing the scene), an index, or a camera name. Throws Error(Usage) if not found.
+Camera choose_camera(const Scene& scene, const std::string& spec);
+
+// The image size when the user gives none: 640 pixels wide, the height from the camera's
+// aspect ratio (4:3 when the file gives none).
+void default_resolution(const Camera& camera, uint32_t* width, uint32_t* height);
+
+// The vertical field of view is kept; the horizontal one follows the image's aspect ratio.
+dev::CameraData camera_data(const Camera& camera, uint32_t width, uint32_t height);
+
+}  // namespace clpt

@@ -1,0 +1,121 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "bvh/bvh.h"
+#include "render/camera_setup.h"
+#include "util/error.h"
+#include "util/log.h"
+
+namespace clpt {
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+}  // namespace
+
+Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSettings& settings)
+    : ctx_(ctx), settings_(settings) {
+  if (settings_.spp == 0 && !(settings_.time_limit > 0.0))
+    throw Error(ExitCode::Usage, "a render needs a sample count or a time limit");
+  if (scene.triangles.empty()) throw Error(ExitCode::BadInput, "the scene has no triangles to render");
+
+  const Camera camera = choose_camera(scene, settings_.camera);
+  width_ = settings_.width;
+  height_ = settings_.height;
+  if (width_ == 0 || height_ == 0) default_resolution(camera, &width_, &height_);
+
+  auto t0 = Clock::now();
+  const Bvh bvh = build_bvh(scene.positions, scene.triangles);
+  stats_.bvh_build_seconds = seconds_since(t0);
+  stats_.bvh_depth = bvh.depth;
+  stats_.bvh_nodes = bvh.nodes.size();
+  stats_.triangles = scene.triangles.size();
+  log::verbose("BVH: " + std::to_string(bvh.nodes.size()) + " nodes, depth " +
+               std::to_string(bvh.depth) + ", built in " + std::to_string(stats_.bvh_build_seconds) +
+               " s");
+
+  const FlatScene flat = flatten_scene(scene, bvh);
+  stats_.emitters = static_cast<uint32_t>(flat.emitters.size());
+  if (flat.emitters.empty())
+    log::warn("the scene has no emissive surfaces: the image will be black");
+  scene_buffers_ = std::make_unique<SceneBuffers>(ctx_, flat);
+  film_ = std::make_unique<Film>(ctx_, width_, height_);
+  stats_.scene_device_bytes = scene_buffers_->device_bytes();
+  stats_.film_device_bytes = film_->device_bytes();
+
+  params_.camera = camera_data(camera, width_, height_);
+  params_.width = width_;
+  params_.height = height_;
+  params_.max_depth = settings_.max_depth;
+  params_.rr_depth = settings_.rr_depth;
+  params_.seed = settings_.seed;
+
+  // Program from cache or source, then one empty pass: drivers such as PoCL compile the
+  // kernel for its work-group size at the first launch, which belongs to start-up, not to
+  // the first pass's timing.
+  t0 = Clock::now();
+  integrator_ = make_integrator(settings_.integrator, ctx_, *scene_buffers_);
+  dev::RenderParams warmup = params_;
+  warmup.samples_per_pass = 0;
+  integrator_->render_pass(warmup, *film_);
+  ctx_.finish();
+  stats_.kernel_seconds = seconds_since(t0);
+  stats_.kernel_from_cache = integrator_->build_info().from_cache;
+}
+
+Renderer::~Renderer() = default;
+
+RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& progress) {
+  RenderOutput out;
+  const uint64_t target = settings_.spp;  // 0: until the time limit
+  const double limit = settings_.time_limit;
+  const double pass_seconds = settings_.target_pass_seconds > 0.0 ? settings_.target_pass_seconds
+                             : ctx_.device().is_gpu()              ? 0.03
+                                                                   : 0.1;
+  const auto start = Clock::now();
+  uint64_t done = 0;
+  uint64_t pass_spp = 1;
+  double seconds_per_spp = 0.0;
+
+  while (target == 0 || done < target) {
+    if (stop && stop->load()) {
+      out.interrupted = true;
+      break;
+    }
+    const double elapsed = seconds_since(start);
+    if (limit > 0.0 && elapsed >= limit) break;
+
+    uint64_t n = pass_spp;
+    if (target) n = std::min(n, target - done);
+    if (limit > 0.0 && seconds_per_spp > 0.0)
+      n = std::min<uint64_t>(n, std::max<uint64_t>(1, uint64_t((limit - elapsed) / seconds_per_spp)));
+    if (settings_.max_samples_per_pass) n = std::min<uint64_t>(n, settings_.max_samples_per_pass);
+    if (done + n > 0xffffffffull) throw Error(ExitCode::Usage, "more than 2^32 samples per pixel");
+
+    dev::RenderParams p = params_;
+    p.sample_offset = static_cast<uint32_t>(done);
+    p.samples_per_pass = static_cast<uint32_t>(n);
+    const auto t0 = Clock::now();
+    integrator_->render_pass(p, *film_);
+    ctx_.finish();
+    const double dt = seconds_since(t0);
+    done += n;
+    ++stats_.passes;
+
+    // Aim the next pass at pass_seconds, growing at most 2x per pass.
+    seconds_per_spp = dt / double(n);
+    const double fit = seconds_per_spp > 0.0 ? pass_seconds / seconds_per_spp : 2.0 * n;
+    pass_spp = std::clamp<uint64_t>(uint64_t(fit), 1, 2 * n);
+    if (progress) progress(done, target, seconds_since(start));
+  }
+  stats_.render_seconds = seconds_since(start);
+  out.film = film_->resolve(done);
+  out.stats = stats_;
+  return out;
+}
+
+}  // namespace clpt

@@ -1,0 +1,78 @@
+// Turns a Scene into an image: BVH build, upload, integrator passes, film resolve.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "cl/context.h"
+#include "integrators/integrator.h"
+#include "render/film.h"
+#include "render/scene_buffers.h"
+#include "scene/scene.h"
+
+namespace clpt {
+
+struct RenderSettings {
+  uint32_t width = 0, height = 0;  // 0: from the camera (render/camera_setup.h)
+  uint64_t spp = 64;               // samples per pixel; 0 = no limit (a time limit must be set)
+  double time_limit = 0.0;         // seconds; 0 = none. With spp, whichever ends first.
+  uint32_t max_depth = 8;
+  uint32_t rr_depth = 3;
+  uint32_t seed = 0;
+  std::string integrator = "pt";
+  std::string camera;              // index or name; empty: the first camera or a default one
+  double target_pass_seconds = 0.0;  // pass length aimed at; 0: 0.03 s on GPUs, 0.1 s otherwise
+  uint32_t max_samples_per_pass = 0; // 0: no cap (tests use 1 to force many passes)
+};
+
+struct RenderStats {
+  double bvh_build_seconds = 0.0;
+  double kernel_seconds = 0.0;      // program from cache or build, plus the first (compiling) launch
+  bool kernel_from_cache = false;
+  double render_seconds = 0.0;
+  uint64_t passes = 0;
+  int bvh_depth = 0;
+  size_t bvh_nodes = 0;
+  size_t triangles = 0;
+  uint32_t emitters = 0;
+  size_t scene_device_bytes = 0;
+  size_t film_device_bytes = 0;
+};
+
+struct RenderOutput {
+  FilmResult film;
+  RenderStats stats;
+  bool interrupted = false;  // stopped by the stop flag before the target was reached
+};
+
+class Renderer {
+ public:
+  // Builds the BVH, uploads the scene and gets the integrator's kernels ready.
+  Renderer(const cl::Context& ctx, const Scene& scene, const RenderSettings& settings);
+  ~Renderer();
+
+  // progress(samples done, samples target (0 = none), seconds elapsed)
+  using Progress = std::function<void(uint64_t, uint64_t, double)>;
+  // Renders until the sample target or the time limit is reached, or *stop becomes true
+  // (checked between passes; the pass in flight completes).
+  RenderOutput render(const std::atomic<bool>* stop = nullptr, const Progress& progress = {});
+
+  uint32_t width() const { return width_; }
+  uint32_t height() const { return height_; }
+  const std::string& device_name() const { return ctx_.device().name; }
+
+ private:
+  const cl::Context& ctx_;
+  RenderSettings settings_;
+  uint32_t width_ = 0, height_ = 0;
+  dev::RenderParams params_{};
+  RenderStats stats_;
+  std::unique_ptr<SceneBuffers> scene_buffers_;
+  std::unique_ptr<Integrator> integrator_;
+  std::unique_ptr<Film> film_;
+};
+
+}  // namespace clpt

@@ -1,0 +1,19 @@
+// glTF 2.0 (.gltf / .glb) to clpt::Scene. The only place in clpt that knows glTF.
+#pragma once
+
+#include <filesystem>
+
+#include "scene/scene.h"
+
+namespace clpt {
+
+// Loads the default scene of a .gltf or .glb file (recognised by its first bytes, not its
+// extension) into world-space triangles, materials and cameras.
+//
+// Throws clpt::Error(ExitCode::BadInput, message) when the file cannot be read, is malformed,
+// needs an extension clpt does not support, reaches outside its folder, exceeds one of the
+// limits listed in gltf_loader.cpp, or has nothing to render. The message is one line that
+// names the file and the problem. Never crashes or reads out of bounds on hostile input.
+Scene load_gltf(const std::filesystem::path& file);
+
+}  // namespace clpt

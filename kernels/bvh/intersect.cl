@@ -1,0 +1,227 @@
+/* Ray queries against the scene BVH: closest hit and any hit (shadow rays).
+ *
+ * Traversal: a private stack of CLPT_BVH_MAX_DEPTH node indices (the builder bounds the
+ * depth, and at most one node is pushed per level), near child first by the sign of the
+ * ray direction on the node's split axis, each node's box tested when it is visited.
+ *
+ * Box test: slabs with a precomputed reciprocal direction, where 1/0 = +-inf is allowed
+ * (the build never uses -cl-fast-relaxed-math). The entry and exit planes of each axis are
+ * chosen by the direction's sign, so for an axis-parallel ray the entry distance is -inf
+ * and the exit +inf when the origin is inside the slab, and both +inf (or both -inf) when it
+ * is outside. The one NaN case, 0 * inf for an origin exactly in a face plane, is dropped
+ * by the order of the min/max comparisons, which counts the ray as inside that slab:
+ * conservative, so triangles lying in the face plane are still tested. The exit distance is
+ * widened by 1 + 2 gamma(3) (Ize 2013, "Robust BVH Ray Traversal"; pbrt-v4) so rounding
+ * never culls a box the ray touches. An empty box (bmin = +inf, bmax = -inf, the root of an
+ * empty scene) is never entered, and the root is checked before any triangle is read.
+ *
+ * Triangle test: the watertight test of Woop, Benthin and Wald, "Watertight Ray/Triangle
+ * Intersection", JCGT 2(1), 2013, two-sided, accepting t in (0, tmax). Rays through a
+ * shared edge or vertex of a closed mesh never slip through: each edge function is
+ * evaluated from the same sheared vertex values by both triangles that share it, with
+ * floating-point contraction off so the two evaluations are exact negatives. (The paper's
+ * double-precision fallback for edge functions that are exactly zero is omitted: OpenCL
+ * 1.2 devices need not support double; zeros are accepted, so a ray exactly through an
+ * edge hits both triangles rather than neither.) */
+#ifndef CLPT_BVH_INTERSECT_CL
+#define CLPT_BVH_INTERSECT_CL
+
+#include "core/scene_view.cl"
+#include "shared/bvh_constants.h"
+
+/* The traversal functions are large and called from several places; inlining them into
+ * each kernel lets the compiler keep the per-ray constants in registers. */
+#if defined(__clang__)
+#define CLPT_INLINE inline __attribute__((always_inline))
+#else
+#define CLPT_INLINE inline
+#endif
+
+/* A ray hit. triangle indexes the leaf-order triangle array; b1 and b2 are the barycentric
+ * coordinates of its vertices v[1] and v[2] (v[0] has 1 - b1 - b2). */
+typedef struct Hit {
+  float t;
+  float b1;
+  float b2;
+  u32 triangle;
+} Hit;
+
+/* Per-ray constants of the watertight test: the axis kz where the direction is largest, the
+ * other two axes (kx, ky) and the shear that maps the direction to (0, 0, 1). */
+typedef struct TriangleRay {
+  float ox, oy, oz; /* origin permuted to (kx, ky, kz) */
+  float sx, sy, sz;
+  int kx, ky, kz;
+} TriangleRay;
+
+CLPT_INLINE TriangleRay triangle_ray(float3 org, float3 dir) {
+  const float3 a = fabs(dir);
+  const int kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+  int kx = kz == 2 ? 0 : kz + 1;
+  int ky = kx == 2 ? 0 : kx + 1;
+  const float d[3] = {dir.x, dir.y, dir.z};
+  const float o[3] = {org.x, org.y, org.z};
+  if (d[kz] < 0.0f) { /* keep the winding (only the sign of det depends on it) */
+    const int tmp = kx;
+    kx = ky;
+    ky = tmp;
+  }
+  TriangleRay r;
+  r.kx = kx;
+  r.ky = ky;
+  r.kz = kz;
+  r.sx = d[kx] / d[kz];
+  r.sy = d[ky] / d[kz];
+  r.sz = 1.0f / d[kz];
+  r.ox = o[kx];
+  r.oy = o[ky];
+  r.oz = o[kz];
+  return r;
+}
+
+/* Intersects leaf-order triangle `tri`; on a hit with t in (0, tmax) stores t and the
+ * barycentrics of v[1], v[2]. A ray with a zero or NaN direction hits nothing. */
+CLPT_INLINE bool intersect_triangle(const SceneView* s, const TriangleRay* r, u32 tri, float tmax,
+                               float* t_out, float* b1_out, float* b2_out) {
+#pragma OPENCL FP_CONTRACT OFF
+  const Triangle T = s->triangles[tri];
+  __global const float* p0 = s->vertices[T.v[0]].p;
+  __global const float* p1 = s->vertices[T.v[1]].p;
+  __global const float* p2 = s->vertices[T.v[2]].p;
+  const int kx = r->kx, ky = r->ky, kz = r->kz;
+
+  /* Vertices relative to the origin, sheared so the ray runs along +z from (0, 0, 0). */
+  const float az = p0[kz] - r->oz, bz = p1[kz] - r->oz, cz = p2[kz] - r->oz;
+  const float ax = (p0[kx] - r->ox) - r->sx * az, ay = (p0[ky] - r->oy) - r->sy * az;
+  const float bx = (p1[kx] - r->ox) - r->sx * bz, by = (p1[ky] - r->oy) - r->sy * bz;
+  const float cx = (p2[kx] - r->ox) - r->sx * cz, cy = (p2[ky] - r->oy) - r->sy * cz;
+
+  /* Scaled barycentrics: edge functions of the 2D triangle at the origin. */
+  const float u = cx * by - cy * bx;
+  const float v = ax * cy - ay * cx;
+  const float w = bx * ay - by * ax;
+  if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
+  const float det = u + v + w;
+  if (det == 0.0f) return false; /* degenerate, or the ray lies in the triangle's plane */
+
+  const float tt = u * (r->sz * az) + v * (r->sz * bz) + w * (r->sz * cz);
+  const float inv_det = 1.0f / det;
+  const float t = tt * inv_det;
+  if (!(t > 0.0f && t < tmax)) return false; /* also rejects NaN */
+  *t_out = t;
+  *b1_out = v * inv_det;
+  *b2_out = w * inv_det;
+  return true;
+}
+
+/* Whether the ray enters the box of `node` at some t in [0, tmax]. neg is -1 (all bits) in
+ * the lanes where the direction is negative. Written as (a > b ? a : b) with the running
+ * value second, which drops a NaN lane and compiles to a single max/min instruction. */
+CLPT_INLINE bool box_hit(__global const BvhNode* node, float4 org, float4 inv, int4 neg,
+                         float tmax) {
+  /* One load per half node; lane w (offset, count) is cleared so that no denormal takes
+   * part in the arithmetic. */
+  __global const float* f = (__global const float*)node;
+  const int4 xyz = (int4)(-1, -1, -1, 0);
+  const float4 lo = as_float4(as_int4(vload4(0, f)) & xyz);
+  const float4 hi = as_float4(as_int4(vload4(1, f)) & xyz);
+  const float4 t_in = (select(lo, hi, neg) - org) * inv;
+  const float4 t_out = (select(hi, lo, neg) - org) * inv;
+  float t0 = 0.0f, t1 = tmax;
+  t0 = t_in.x > t0 ? t_in.x : t0;
+  t0 = t_in.y > t0 ? t_in.y : t0;
+  t0 = t_in.z > t0 ? t_in.z : t0;
+  t1 = t_out.x < t1 ? t_out.x : t1;
+  t1 = t_out.y < t1 ? t_out.y : t1;
+  t1 = t_out.z < t1 ? t_out.z : t1;
+  return t0 <= t1 * 1.00000036f; /* 1 + 2 gamma(3) */
+}
+
+/* The closest hit with t in (0, tmax). Fills *hit and returns true, or returns false and
+ * leaves *hit as it was. */
+CLPT_INLINE bool intersect_closest(const SceneView* s, float3 org, float3 dir, float tmax, Hit* hit) {
+  __global const BvhNode* nodes = s->nodes;
+  if (!(nodes[0].bmin[0] <= nodes[0].bmax[0])) return false; /* empty scene */
+
+  const TriangleRay tr = triangle_ray(org, dir);
+  const float4 org4 = (float4)(org, 0.0f);
+  const float4 inv4 = (float4)(1.0f / dir, 0.0f);
+  const int4 neg = (int4)(signbit(dir), 0);
+  const int neg_bits = (neg.x & 1) | (neg.y & 2) | (neg.z & 4); /* bit k: dir[k] < 0 */
+
+  float best_t = tmax, best_b1 = 0.0f, best_b2 = 0.0f;
+  u32 best_tri = 0xffffffffu;
+  u32 stack[CLPT_BVH_MAX_DEPTH];
+  int sp = 0;
+  u32 index = 0;
+  for (;;) {
+    __global const BvhNode* node = nodes + index;
+    if (box_hit(node, org4, inv4, neg, best_t)) {
+      const int count = node->count;
+      const int offset = node->offset;
+      if (count <= 0) {
+        const u32 first = index + 1, second = (u32)offset;
+        const bool swap = ((neg_bits >> -count) & 1) != 0;
+        stack[sp++] = swap ? first : second;
+        index = swap ? second : first;
+        continue;
+      }
+      for (int i = offset; i < offset + count; ++i) {
+        float t, b1, b2;
+        if (intersect_triangle(s, &tr, (u32)i, best_t, &t, &b1, &b2)) {
+          best_t = t;
+          best_b1 = b1;
+          best_b2 = b2;
+          best_tri = (u32)i;
+        }
+      }
+    }
+    if (sp == 0) break;
+    index = stack[--sp];
+  }
+  if (best_tri == 0xffffffffu) return false;
+  hit->t = best_t;
+  hit->b1 = best_b1;
+  hit->b2 = best_b2;
+  hit->triangle = best_tri;
+  return true;
+}
+
+/* Whether anything is hit with t in (0, tmax); stops at the first hit found. */
+CLPT_INLINE bool intersect_any(const SceneView* s, float3 org, float3 dir, float tmax) {
+  __global const BvhNode* nodes = s->nodes;
+  if (!(nodes[0].bmin[0] <= nodes[0].bmax[0])) return false; /* empty scene */
+
+  const TriangleRay tr = triangle_ray(org, dir);
+  const float4 org4 = (float4)(org, 0.0f);
+  const float4 inv4 = (float4)(1.0f / dir, 0.0f);
+  const int4 neg = (int4)(signbit(dir), 0);
+  const int neg_bits = (neg.x & 1) | (neg.y & 2) | (neg.z & 4); /* bit k: dir[k] < 0 */
+
+  u32 stack[CLPT_BVH_MAX_DEPTH];
+  int sp = 0;
+  u32 index = 0;
+  for (;;) {
+    __global const BvhNode* node = nodes + index;
+    if (box_hit(node, org4, inv4, neg, tmax)) {
+      const int count = node->count;
+      const int offset = node->offset;
+      if (count <= 0) {
+        const u32 first = index + 1, second = (u32)offset;
+        const bool swap = ((neg_bits >> -count) & 1) != 0;
+        stack[sp++] = swap ? first : second;
+        index = swap ? second : first;
+        continue;
+      }
+      for (int i = offset; i < offset + count; ++i) {
+        float t, b1, b2;
+        if (intersect_triangle(s, &tr, (u32)i, tmax, &t, &b1, &b2)) return true;
+      }
+    }
+    if (sp == 0) break;
+    index = stack[--sp];
+  }
+  return false;
+}
+
+#endif

@@ -1,0 +1,36 @@
+/* Small math helpers shared by all device code. */
+#ifndef CLPT_CORE_MATH_CL
+#define CLPT_CORE_MATH_CL
+
+#define PI_F 3.14159265358979323846f
+#define INV_PI_F 0.31830988618379067154f
+
+inline float max_component(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
+
+inline float luminance(float3 c) { return dot(c, (float3)(0.2126f, 0.7152f, 0.0722f)); }
+
+inline bool is_black(float3 c) { return c.x <= 0.0f && c.y <= 0.0f && c.z <= 0.0f; }
+
+/* Veach's power heuristic (beta = 2) for one sample of each of two strategies. */
+inline float mis_power(float pdf_this, float pdf_other) {
+  const float a = pdf_this * pdf_this, b = pdf_other * pdf_other;
+  return a > 0.0f ? a / (a + b) : 0.0f;
+}
+
+/* An orthonormal basis around unit n (Duff et al. 2017, "Building an Orthonormal Basis,
+ * Revisited"). */
+inline void make_basis(float3 n, float3* t, float3* b) {
+  const float sign = copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float c = n.x * n.y * a;
+  *t = (float3)(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+  *b = (float3)(c, sign + n.y * n.y * a, -n.y);
+}
+
+inline float3 to_world(float3 v, float3 n) {
+  float3 t, b;
+  make_basis(n, &t, &b);
+  return v.x * t + v.y * b + v.z * n;
+}
+
+#endif

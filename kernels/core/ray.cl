@@ -1,0 +1,30 @@
+/* Spawning rays from surfaces without hitting the surface they leave. */
+#ifndef CLPT_CORE_RAY_CL
+#define CLPT_CORE_RAY_CL
+
+/* Moves a surface point p off its surface along the geometric normal ng, which the caller
+ * orients to the side the new ray leaves from (ng for reflection off the front, -ng for
+ * transmission or rays leaving the back). ng should be unit length.
+ *
+ * After C. Wächter and N. Binder, "A Fast and Robust Method for Avoiding Self-Intersection",
+ * Ray Tracing Gems (2019), chapter 6: the offset is a fixed number of units in the last
+ * place of each coordinate (int_scale * ng, applied to the float's integer representation),
+ * so it scales with the magnitude of p and with the rounding error of the hit point
+ * computed from barycentrics. Near the origin, where ulps become tiny and the error of the
+ * hit point is dominated by the triangle's vertices rather than by p, a small absolute
+ * offset (float_scale * ng) is used instead. The new ray then starts at t = 0 with no
+ * epsilon of its own. */
+inline float3 offset_ray_origin(float3 p, float3 ng) {
+  const float origin = 1.0f / 32.0f;
+  const float float_scale = 1.0f / 65536.0f;
+  const float int_scale = 256.0f;
+
+  const int3 of_i = convert_int3(int_scale * ng); /* truncates toward zero, as in the paper */
+  /* Adding to the integer representation moves away from zero; a negative coordinate moves
+   * along the normal by subtracting. */
+  const int3 signed_of = select(of_i, -of_i, isless(p, (float3)(0.0f)));
+  const float3 p_i = as_float3(as_int3(p) + signed_of);
+  return select(p_i, p + float_scale * ng, isless(fabs(p), (float3)(origin)));
+}
+
+#endif

@@ -1,0 +1,56 @@
+/* The local geometry of a ray hit: position, normals, uv and material. */
+#ifndef CLPT_CORE_SURFACE_CL
+#define CLPT_CORE_SURFACE_CL
+
+#include "bvh/intersect.cl"
+#include "core/math.cl"
+#include "core/scene_view.cl"
+
+typedef struct SurfaceHit {
+  float3 p;
+  float3 ng;          /* geometric normal, from the winding (front side), unit */
+  float3 ns;          /* shading normal, on the same side as ng, unit */
+  float2 uv;
+  u32 triangle;
+  u32 material;
+} SurfaceHit;
+
+inline void triangle_vertices(const SceneView* s, u32 tri, float3* p0, float3* p1, float3* p2) {
+  const Triangle t = s->triangles[tri];
+  *p0 = vertex_position(s, t.v[0]);
+  *p1 = vertex_position(s, t.v[1]);
+  *p2 = vertex_position(s, t.v[2]);
+}
+
+inline float triangle_area(const SceneView* s, u32 tri) {
+  float3 p0, p1, p2;
+  triangle_vertices(s, tri, &p0, &p1, &p2);
+  return 0.5f * length(cross(p1 - p0, p2 - p0));
+}
+
+/* Geometric normal of a triangle from its winding; an arbitrary unit vector if degenerate. */
+inline float3 safe_normal(float3 n) {
+  const float len = length(n);
+  return len > 0.0f && isfinite(len) ? n / len : (float3)(0.0f, 0.0f, 1.0f);
+}
+
+inline SurfaceHit surface_at(const SceneView* s, const Hit* hit, float3 org, float3 dir) {
+  SurfaceHit sh;
+  const Triangle t = s->triangles[hit->triangle];
+  const Vertex v0 = s->vertices[t.v[0]], v1 = s->vertices[t.v[1]], v2 = s->vertices[t.v[2]];
+  const float b1 = hit->b1, b2 = hit->b2, b0 = 1.0f - b1 - b2;
+  const float3 p0 = vload3(0, v0.p), p1 = vload3(0, v1.p), p2 = vload3(0, v2.p);
+  /* Interpolating the vertices is more accurate than org + t * dir far from the origin. */
+  sh.p = b0 * p0 + b1 * p1 + b2 * p2;
+  sh.ng = safe_normal(cross(p1 - p0, p2 - p0));
+  const float3 n = b0 * vload3(0, v0.n) + b1 * vload3(0, v1.n) + b2 * vload3(0, v2.n);
+  const float n_len = length(n);
+  sh.ns = (n_len > 1e-12f && isfinite(n_len)) ? n / n_len : sh.ng;
+  if (dot(sh.ns, sh.ng) < 0.0f) sh.ns = -sh.ns;
+  sh.uv = b0 * (float2)(v0.u, v0.v) + b1 * (float2)(v1.u, v1.v) + b2 * (float2)(v2.u, v2.v);
+  sh.triangle = hit->triangle;
+  sh.material = t.material;
+  return sh;
+}
+
+#endif

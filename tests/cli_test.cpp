@@ -1,0 +1,154 @@
+// The clpt program as users run it: exit codes, messages, output files, --help vs README.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "io/image_io.h"
+#include "support/run.h"
+
+namespace clpt {
+namespace {
+namespace fs = std::filesystem;
+using test::run_clpt;
+
+const std::string kCornell = std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf";
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("clpt-cli-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(Cli, HelpMatchesReadme) {
+  const test::RunResult r = run_clpt({"--help"});
+  ASSERT_EQ(r.exit_code, 0);
+  const std::string readme = test::read_file(std::string(CLPT_SOURCE_DIR) + "/README.md");
+  const std::string begin = "<!-- clpt --help begins -->\n```\n", end = "```\n<!-- clpt --help ends -->";
+  const size_t b = readme.find(begin), e = readme.find(end);
+  ASSERT_NE(b, std::string::npos) << "README.md lacks the --help block markers";
+  ASSERT_NE(e, std::string::npos);
+  EXPECT_EQ(readme.substr(b + begin.size(), e - b - begin.size()), r.out)
+      << "README.md's --help block differs from `clpt --help`; paste the new text in";
+}
+
+TEST_F(Cli, NoSceneIsAUsageError) {
+  const test::RunResult r = run_clpt({});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no scene"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, UnknownOptionIsAUsageError) {
+  const test::RunResult r = run_clpt({kCornell, "--no-such-option"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no-such-option"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, BadValuesAreUsageErrors) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{kCornell, "--resolution", "0x10"},
+        std::vector<std::string>{kCornell, "--resolution", "abc"},
+        std::vector<std::string>{kCornell, "--spp", "-3"},
+        std::vector<std::string>{kCornell, "--time", "0"},
+        std::vector<std::string>{kCornell, "--integrator", "nope"},
+        std::vector<std::string>{kCornell, "-o", path("x.bmpx")}}) {
+    const test::RunResult r = run_clpt(args);
+    EXPECT_EQ(r.exit_code, 1) << args[1] << " " << args[2] << ": " << r.err;
+    EXPECT_FALSE(r.err.empty());
+  }
+}
+
+TEST_F(Cli, MissingSceneNamesTheFile) {
+  const test::RunResult r = run_clpt({path("missing.gltf"), "-o", path("o.png")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("missing.gltf"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("o.png")));
+}
+
+TEST_F(Cli, FailedRunKeepsTheExistingOutput) {
+  { std::ofstream(path("keep.png")) << "precious"; }
+  std::ofstream(path("broken.gltf")) << "{ this is not json";
+  const test::RunResult r = run_clpt({path("broken.gltf"), "-o", path("keep.png")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("broken.gltf"), std::string::npos) << r.err;
+  EXPECT_EQ(test::read_file(path("keep.png")), "precious");
+  size_t files = 0;
+  for (auto it = fs::directory_iterator(dir_); it != fs::directory_iterator(); ++it) ++files;
+  EXPECT_EQ(files, 2u) << "no temporary file may be left behind";
+}
+
+TEST_F(Cli, UnwritableOutputFolderFailsBeforeRendering) {
+  const test::RunResult r = run_clpt({kCornell, "-o", path("no/such/folder/out.exr")});
+  EXPECT_EQ(r.exit_code, 4);
+  EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, UnknownDeviceListsDevices) {
+  const test::RunResult r = run_clpt({kCornell, "--device", "no-such-device-xyz", "-o", path("o.exr")});
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("no-such-device-xyz"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("OpenCL devices found"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, ListDevicesShowsPocl) {
+  const test::RunResult r = run_clpt({"--list-devices"});
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("Portable Computing Language"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, RendersExrWithMetadataAndStats) {
+  const test::RunResult r = run_clpt({kCornell, "--device", "pocl", "--resolution", "40x30",
+                                      "--spp", "3", "-o", path("c.exr"), "--stats",
+                                      path("stats.json"), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << "--quiet prints nothing on success: " << r.err;
+  auto in = OIIO::ImageInput::open(path("c.exr"));
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().width, 40);
+  EXPECT_EQ(in->spec().height, 30);
+  EXPECT_EQ(in->spec().format, OIIO::TypeDesc::FLOAT);
+  EXPECT_EQ(in->spec().get_int_attribute("clpt:spp"), 3);
+  EXPECT_EQ(in->spec().get_string_attribute("clpt:integrator"), "pt");
+  const nlohmann::json j = nlohmann::json::parse(test::read_file(path("stats.json")));
+  EXPECT_EQ(j["spp"], 3);
+  EXPECT_GT(j["rays"].get<double>(), 40.0 * 30 * 3);
+  EXPECT_GT(j["camera_paths_per_second"].get<double>(), 0.0);
+  EXPECT_TRUE(j["kernel"].contains("from_cache"));
+}
+
+TEST_F(Cli, RendersPngThatLooksLikeACornellBox) {
+  const test::RunResult r = run_clpt({kCornell, "--device", "pocl", "--resolution", "32x32",
+                                      "--spp", "16", "-o", path("c.png"), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Image img = read_image(path("c.png"));
+  ASSERT_EQ(img.width, 32u);
+  // Left wall red, right wall green (middle row, near the edges).
+  const float* left = img.pixel(2, 16);
+  const float* right = img.pixel(29, 16);
+  EXPECT_GT(left[0], 2.0f * left[1]) << "left wall should be red";
+  EXPECT_GT(right[1], 2.0f * right[0]) << "right wall should be green";
+}
+
+TEST_F(Cli, InterruptSavesWhatWasRendered) {
+  const test::RunResult r = run_clpt({kCornell, "--device", "pocl", "--resolution", "64x64",
+                                      "--time", "60", "-o", path("i.exr")},
+                                     "rendering ", 1.5);
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  auto in = OIIO::ImageInput::open(path("i.exr"));
+  ASSERT_TRUE(in) << "the interrupted render must be saved";
+  EXPECT_GT(in->spec().get_int_attribute("clpt:spp"), 0);
+}
+
+}  // namespace
+}  // namespace clpt

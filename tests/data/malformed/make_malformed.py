@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""Writes the malformed glTF corpus used by tests/gltf_loader_test.cpp (python3, standard library).
+
+Each output is a small, broken variant of one valid triangle. README.md lists every file with
+the fragment of the error message the loader must produce; the test has the same table.
+Run it from anywhere; it writes next to itself. The outputs are committed.
+"""
+import base64
+import copy
+import json
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+F32 = 5126
+U8 = 5121
+U16 = 5123
+
+
+def layout(chunks):
+    data = b""
+    spans = []
+    for c in chunks:
+        data += b"\0" * (-len(data) % 4)
+        spans.append((len(data), len(c)))
+        data += c
+    data += b"\0" * (-len(data) % 4)
+    return data, spans
+
+
+def data_uri(data):
+    return "data:application/octet-stream;base64," + base64.b64encode(data).decode()
+
+
+def triangle(positions=(0, 0, 0, 1, 0, 0, 0, 1, 0), indices=(0, 1, 2), extra=()):
+    """A valid indexed triangle with an embedded buffer. `extra` chunks get bufferViews 2, 3, ..."""
+    pos = struct.pack("<9f", *positions)
+    idx = struct.pack("<3H", *indices)
+    data, spans = layout([pos, idx] + list(extra))
+    return {
+        "asset": {"version": "2.0", "generator": "clpt tests/data/malformed/make_malformed.py"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "buffers": [{"uri": data_uri(data), "byteLength": len(data)}],
+        "bufferViews": [{"buffer": 0, "byteOffset": o, "byteLength": n} for o, n in spans],
+        "accessors": [
+            {"bufferView": 0, "componentType": F32, "count": 3, "type": "VEC3"},
+            {"bufferView": 1, "componentType": U16, "count": 3, "type": "SCALAR"},
+        ],
+    }, data
+
+
+def glb(doc, bin_data, json_type=b"JSON", bin_type=b"BIN\0", version=2, length_delta=0,
+        json_length=None):
+    js = json.dumps(doc, separators=(",", ":")).encode()
+    js += b" " * (-len(js) % 4)
+    body = struct.pack("<I", len(js) if json_length is None else json_length) + json_type + js
+    if bin_data is not None:
+        body += struct.pack("<I", len(bin_data)) + bin_type + bin_data
+    return b"glTF" + struct.pack("<II", version, 12 + len(body) + length_delta) + body
+
+
+def glb_triangle():
+    doc, data = triangle()
+    del doc["buffers"][0]["uri"]
+    return doc, data
+
+
+def write(name, content):
+    if isinstance(content, dict):
+        content = (json.dumps(content, indent=1) + "\n").encode()
+    elif isinstance(content, str):
+        content = content.encode()
+    with open(os.path.join(HERE, name), "wb") as f:
+        f.write(content)
+
+
+def variant(name, mutate, **kw):
+    doc, _ = triangle(**kw)
+    mutate(doc)
+    write(name, doc)
+
+
+def main():
+    # --- accessors and buffer views
+    variant("accessor_overrun.gltf", lambda d: d["accessors"][0].update(count=4))
+    variant("bufferview_overrun.gltf", lambda d: d["bufferViews"][1].update(byteLength=100))
+    # 12 * (2^62 + 1) wraps to 12 in 64-bit arithmetic: a naive end-of-range check would pass.
+    variant("huge_count.gltf", lambda d: d["accessors"][0].update(count=2**62 + 1))
+    variant("huge_byte_offset.gltf", lambda d: d["accessors"][0].update(byteOffset=2**63))
+    variant("stride_too_small.gltf", lambda d: d["bufferViews"][0].update(byteStride=4))
+    variant("wrong_accessor_type.gltf", lambda d: d["accessors"][0].update(type="VEC2"))
+    variant("float_indices.gltf", lambda d: d["accessors"][1].update(componentType=F32, count=1))
+    variant("index_out_of_range.gltf", lambda d: None, indices=(0, 1, 7))
+    variant("nan_position.gltf", lambda d: None, positions=(0, 0, 0, float("nan"), 0, 0, 0, 1, 0))
+    variant("invalid_accessor_index.gltf",
+            lambda d: d["meshes"][0]["primitives"][0]["attributes"].update(POSITION=9))
+    variant("missing_position.gltf",
+            lambda d: d["meshes"][0]["primitives"][0].update(attributes={"NORMAL": 0}))
+    variant("bad_mode.gltf", lambda d: d["meshes"][0]["primitives"][0].update(mode=9))
+
+    def sparse(d):
+        # Sparse substitution whose index (5) is outside the accessor's 3 elements.
+        d["accessors"][0]["sparse"] = {"count": 1,
+                                       "indices": {"bufferView": 2, "componentType": U16},
+                                       "values": {"bufferView": 3}}
+    variant("sparse_index_out_of_range.gltf", sparse,
+            extra=[struct.pack("<H", 5), struct.pack("<3f", 9, 9, 9)])
+
+    # --- URIs and external files
+    def uri(u, n=None):
+        def f(d):
+            d["buffers"][0]["uri"] = u
+            if n is not None:
+                d["buffers"][0]["byteLength"] = n
+        return f
+    # ../valid/quad_trs_u8.bin exists and has that size: only the folder rule can refuse it.
+    variant("uri_parent_escape.gltf", uri("../valid/quad_trs_u8.bin", 120))
+    variant("uri_percent_escape.gltf", uri("%2E%2E/valid/quad_trs_u8.bin", 120))
+    variant("uri_absolute.gltf", uri("/etc/passwd"))
+    variant("uri_http.gltf", uri("http://example.com/triangle.bin"))
+    variant("uri_file_scheme.gltf", uri("file:///etc/passwd"))
+    variant("missing_bin.gltf", uri("missing.bin"))
+    _, data = triangle()
+    write("triangle.bin", data)
+    variant("bin_size_mismatch.gltf", uri("triangle.bin", len(data) + 4))
+
+    # --- extensions
+    def require(ext):
+        def f(d):
+            d["extensionsUsed"] = [ext]
+            d["extensionsRequired"] = [ext]
+        return f
+    variant("draco_required.gltf", require("KHR_draco_mesh_compression"))
+    variant("lights_required.gltf", require("KHR_lights_punctual"))
+
+    # --- scenes and nodes
+    variant("empty_scene.gltf", lambda d: d["scenes"][0].update(nodes=[]))
+    write("no_scenes_no_nodes.gltf", {"asset": {"version": "2.0"}})
+    variant("default_scene_out_of_range.gltf", lambda d: d.update(scene=4))
+    variant("invalid_node_index.gltf", lambda d: d["scenes"][0].update(nodes=[5]))
+    variant("invalid_mesh_index.gltf", lambda d: d["nodes"][0].update(mesh=3))
+    variant("node_cycle.gltf", lambda d: d.update(nodes=[{"children": [1]}, {"children": [0], "mesh": 0}]))
+    variant("node_self_child.gltf", lambda d: d["nodes"][0].update(children=[0]))
+    variant("deep_hierarchy.gltf",
+            lambda d: d.update(nodes=[{"children": [i + 1]} for i in range(1100)] + [{"mesh": 0}]))
+    variant("zero_quaternion.gltf", lambda d: d["nodes"][0].update(rotation=[0, 0, 0, 0]))
+    variant("matrix_wrong_size.gltf", lambda d: d["nodes"][0].update(matrix=[1, 0, 0, 0, 1, 0]))
+
+    # --- JSON level
+    doc, _ = triangle()
+    text = json.dumps(doc, indent=1)
+    write("invalid_json.gltf", text.replace('"scenes":', '"scenes" ', 1))
+    write("truncated.gltf", text[: len(text) // 2])
+    write("zero_bytes.gltf", b"")
+    write("not_an_object.gltf", "[1, 2, 3]\n")
+    variant("gltf_version_1.gltf", lambda d: d["asset"].update(version="1.0"))
+    write("deep_nesting.gltf", text[:-2] + ', "extras": ' + "[" * 10000 + "]" * 10000 + "\n}\n")
+
+    # --- GLB container
+    doc, data = glb_triangle()
+    good = glb(doc, data)
+    write("glb_length_lie.glb", glb(doc, data, length_delta=100))
+    write("glb_length_short.glb", glb(doc, data, length_delta=-8))
+    write("glb_truncated.glb", good[: len(good) - 20])
+    write("glb_header_only.glb", good[:8])
+    write("glb_version_1.glb", glb(doc, data, version=1))
+    write("glb_bad_chunk_type.glb", glb(doc, data, json_type=b"JSNO"))
+    write("glb_chunk_length_overrun.glb", glb(doc, data, json_length=0xFFFFFFF0))
+    write("glb_bad_bin_chunk.glb", glb(doc, data, bin_type=b"XYZ\0"))
+    doc2 = copy.deepcopy(doc)
+    doc2["buffers"][0]["byteLength"] = len(data) + 64
+    write("glb_bin_too_short.glb", glb(doc2, data))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,150 @@
+// KernelCache and BuildFailure: the on-disk program cache hits, misses when the key
+// changes, survives corrupt entries; a broken kernel reports its build log.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "cl/program.h"
+#include "support/device.h"
+#include "util/error.h"
+
+namespace clpt {
+namespace {
+namespace fs = std::filesystem;
+
+class KernelCache : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("clpt-cache-test-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "src");
+    ::setenv("CLPT_CACHE_DIR", (dir_ / "cache").c_str(), 1);
+    write_source("__kernel void k(__global int* x) { x[0] = 1; }\n");
+  }
+  void TearDown() override {
+    ::unsetenv("CLPT_CACHE_DIR");
+    fs::remove_all(dir_);
+  }
+  void write_source(const std::string& text) {
+    std::ofstream(dir_ / "src" / "probe.cl", std::ios::trunc) << text;
+  }
+  cl::KernelSources sources() const {
+    cl::KernelSources s;  // disk only: the test controls the source text
+    s.disk_dir = dir_ / "src";
+    return s;
+  }
+  cl::BuildInfo build(const std::string& options = "") {
+    cl::Program p(test::device_context(), "probe.cl", options, sources());
+    cl::Kernel k(p, "k");  // the program is usable either way
+    return p.build_info();
+  }
+  size_t entries() const {
+    size_t n = 0;
+    if (fs::exists(dir_ / "cache"))
+      for (const auto& e : fs::directory_iterator(dir_ / "cache")) n += e.path().extension() == ".clbin";
+    return n;
+  }
+  fs::path dir_;
+};
+
+TEST_F(KernelCache, SecondBuildHits) {
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_EQ(entries(), 1u);
+  EXPECT_TRUE(build().from_cache);
+  EXPECT_EQ(entries(), 1u);
+}
+
+TEST_F(KernelCache, ChangedSourceMisses) {
+  EXPECT_FALSE(build().from_cache);
+  write_source("__kernel void k(__global int* x) { x[0] = 2; }\n");
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_EQ(entries(), 2u);
+  EXPECT_TRUE(build().from_cache);
+}
+
+TEST_F(KernelCache, ChangedIncludedFileMisses) {
+  // The key covers the resolved source, so an edit inside an included file counts.
+  std::ofstream(dir_ / "src" / "inc.h") << "#define VALUE 1\n";
+  write_source("#include \"inc.h\"\n__kernel void k(__global int* x) { x[0] = VALUE; }\n");
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_TRUE(build().from_cache);
+  std::ofstream(dir_ / "src" / "inc.h", std::ios::trunc) << "#define VALUE 2\n";
+  EXPECT_FALSE(build().from_cache);
+}
+
+TEST_F(KernelCache, ChangedOptionsMiss) {
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_FALSE(build("-DCLPT_PROBE=1").from_cache);
+  EXPECT_TRUE(build("-DCLPT_PROBE=1").from_cache);
+}
+
+TEST_F(KernelCache, CorruptEntryIsRebuilt) {
+  EXPECT_FALSE(build().from_cache);
+  ASSERT_EQ(entries(), 1u);
+  for (const auto& e : fs::directory_iterator(dir_ / "cache")) {
+    const auto size = fs::file_size(e.path());
+    std::fstream f(e.path(), std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(size / 2));
+    f.write("garbage!", 8);
+  }
+  EXPECT_FALSE(build().from_cache);  // rejected, rebuilt, rewritten
+  EXPECT_TRUE(build().from_cache);
+  // A truncated entry too.
+  for (const auto& e : fs::directory_iterator(dir_ / "cache")) fs::resize_file(e.path(), 20);
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_TRUE(build().from_cache);
+}
+
+TEST_F(KernelCache, UnwritableCacheIsNotFatal) {
+  ::setenv("CLPT_CACHE_DIR", "/proc/clpt-cannot-write-here", 1);
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_FALSE(build().from_cache);
+}
+
+TEST_F(KernelCache, BuildFailureCarriesTheLog) {
+  write_source("__kernel void k(__global int* x) { x[0] = undefined_identifier_xyz; }\n");
+  try {
+    build();
+    FAIL() << "a broken kernel must not build";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::Device);
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("probe.cl"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("undefined_identifier_xyz"), std::string::npos) << msg;
+  }
+  EXPECT_EQ(entries(), 0u);
+}
+
+TEST(KernelSource, IncludesResolvedWithLineMarkers) {
+  const std::string src = cl::resolve_kernel_source("integrators/pt.cl", cl::KernelSources::core());
+  EXPECT_NE(src.find("#line 1 \"integrators/pt.cl\""), std::string::npos);
+  EXPECT_NE(src.find("#line 1 \"shared/scene_types.h\""), std::string::npos);
+  EXPECT_EQ(src.find("#include \"shared/scene_types.h\""), std::string::npos);
+  // Each file once, even when included from several places.
+  const auto first = src.find("#line 1 \"shared/compat.h\"");
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_EQ(src.find("#line 1 \"shared/compat.h\"", first + 1), std::string::npos);
+}
+
+TEST(KernelSource, MissingIncludeIsAClearError) {
+  cl::KernelSources s;
+  const fs::path dir = fs::temp_directory_path() / ("clpt-inc-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "a.cl") << "\n#include \"nope.h\"\n";
+  s.disk_dir = dir;
+  try {
+    cl::resolve_kernel_source("a.cl", s);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("a.cl:2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("nope.h"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace clpt

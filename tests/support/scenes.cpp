@@ -1,0 +1,50 @@
+#include "support/scenes.h"
+
+#include <cmath>
+
+#include "scene/gltf_loader.h"
+
+namespace clpt::test {
+
+void add_mesh(Scene& scene, const Mesh& mesh, const Material& material) {
+  const uint32_t base = static_cast<uint32_t>(scene.positions.size());
+  const uint32_t mat = static_cast<uint32_t>(scene.materials.size());
+  scene.materials.push_back(material);
+  for (const glm::vec3& p : mesh.positions) {
+    scene.positions.push_back(p);
+    scene.normals.push_back(glm::vec3(0.0f));
+    scene.uvs.push_back(glm::vec2(0.0f));
+  }
+  for (const glm::uvec3& t : mesh.triangles) {
+    scene.triangles.push_back(t + glm::uvec3(base));
+    scene.triangle_materials.push_back(mat);
+  }
+}
+
+Scene furnace_scene(float rho, float Le) {
+  Scene scene;
+  Material m;
+  m.base_color = glm::vec4(rho, rho, rho, 1.0f);
+  m.emission = glm::vec3(Le);
+  m.metallic = 0.0f;
+  m.double_sided = true;
+  add_mesh(scene, icosphere(glm::vec3(0.0f), 1.0f, 3), m);
+  Mesh outer = icosphere(glm::vec3(0.0f), 5.0f, 3);
+  for (glm::uvec3& t : outer.triangles) std::swap(t.y, t.z);  // face inwards
+  add_mesh(scene, outer, m);
+  Camera cam;
+  cam.camera_to_world = glm::mat4(1.0f);
+  cam.camera_to_world[3] = glm::vec4(0.0f, 0.0f, 3.5f, 1.0f);
+  cam.yfov = 0.785398163f;
+  cam.aspect = 1.0f;
+  scene.cameras.push_back(cam);
+  return scene;
+}
+
+double furnace_radiance(double rho, double Le, unsigned max_depth) {
+  return Le * (1.0 - std::pow(rho, double(max_depth) + 1.0)) / (1.0 - rho);
+}
+
+Scene cornell_box() { return load_gltf(std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf"); }
+
+}  // namespace clpt::test

@@ -1,0 +1,21 @@
+// Scenes built in code for tests, with known answers.
+#pragma once
+
+#include "scene/scene.h"
+#include "support/mesh.h"
+
+namespace clpt::test {
+
+// Adds a mesh to a scene with one material; normals left zero (flat shading).
+void add_mesh(Scene& scene, const Mesh& mesh, const Material& material);
+
+// The furnace: an inner sphere of radius 1 inside a closed sphere of radius 5, both diffuse
+// with albedo rho and emitting radiance Le, with a camera inside looking at the inner sphere.
+// Every camera ray then sees L = Le (1 - rho^(D+1)) / (1 - rho) at max depth D.
+Scene furnace_scene(float rho, float Le);
+double furnace_radiance(double rho, double Le, unsigned max_depth);
+
+// The project's Cornell box (scenes/cornell_box.gltf).
+Scene cornell_box();
+
+}  // namespace clpt::test
