@@ -52,7 +52,7 @@ run cornell-cold scenes/cornell_box.gltf --resolution 256x256 --max-depth 8 --sp
 run cornell-cached scenes/cornell_box.gltf --resolution 256x256 --max-depth 8 --spp 256 -o "$out/cornell.exr"
 spheres=../shared/scenes/MetalRoughSpheresNoTextures/glTF-Binary/MetalRoughSpheresNoTextures.glb
 if [ -f "$spheres" ]; then
-  run spheres-1M "$spheres" --resolution 256x256 --max-depth 8 --spp 16 -o "$out/spheres.exr"
+  run spheres-1M "$spheres" --resolution 256x256 --max-depth 8 --spp 256 -o "$out/spheres.exr"
 else
   echo "bench: $spheres not found; skipped the 1M-triangle scene" >&2
 fi
