@@ -18,7 +18,7 @@ __kernel void pt_render(__global const BvhNode* nodes, __global const Triangle* 
   FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
   u32 rays = 0;
   for (u32 i = 0; i < params->samples_per_pass; ++i) {
-    const Sampler sampler = sampler_init(params->seed, pixel, params->sample_offset + i);
+    const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
     float3 org, dir;
     camera_ray(&params->camera,
                film_point(x, y, params->width, params->height, sample_2d(&sampler, DIM_PIXEL)),

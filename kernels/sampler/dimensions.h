@@ -1,21 +1,31 @@
-/* The fixed layout of sample dimensions along a path. */
+/* The fixed layout of sample dimensions along a path. 2D pairs start at even dimensions,
+ * so samplers that stratify pairs jointly (stratified, Sobol) see whole pairs. */
 #ifndef CLPT_SAMPLER_DIMENSIONS_H
 #define CLPT_SAMPLER_DIMENSIONS_H
 
-#define DIM_PIXEL 0u         /* 2D: position inside the pixel */
-#define DIM_CAMERA_LENS 2u   /* 2D: reserved for thin-lens cameras */
-#define DIM_BOUNCE_BASE 4u   /* first dimension of bounce 0 */
+#define DIM_PIXEL 0u        /* 2D: position inside the pixel */
+#define DIM_CAMERA_LENS 2u  /* 2D: reserved for thin-lens cameras */
+#define DIM_BOUNCE_BASE 4u  /* first dimension of bounce 0 */
 #define DIM_PER_BOUNCE 8u
 
 /* Offsets within one bounce. */
-#define DIM_LIGHT_SELECT 0u  /* 1D */
-#define DIM_LIGHT_POINT 1u   /* 2D */
-#define DIM_BSDF_LOBE 3u     /* 1D, reserved for layered BSDFs */
-#define DIM_BSDF_DIR 4u      /* 2D */
-#define DIM_RR 6u            /* 1D */
+#define DIM_LIGHT_POINT 0u  /* 2D */
+#define DIM_BSDF_DIR 2u     /* 2D */
+#define DIM_LIGHT_SELECT 4u /* 1D */
+#define DIM_BSDF_LOBE 5u    /* 1D, reserved for layered BSDFs */
+#define DIM_RR 6u           /* 1D */
+#define DIM_SPARE 7u        /* 1D, unused */
+
+/* Extra light samples at a vertex (--light-samples) and extra branches at the first hit
+ * (--branching) draw from their own streams of dimensions: stream = branch * 256 + light
+ * sample index; stream 0 is the plain path. */
+#define DIM_STREAM_STRIDE 0x10000u
+#define DIM_STREAMS_PER_BRANCH 256u
 
 inline u32 bounce_dim(u32 bounce, u32 offset) {
   return DIM_BOUNCE_BASE + bounce * DIM_PER_BOUNCE + offset;
 }
+
+inline u32 stream_dim(u32 dimension, u32 stream) { return dimension + stream * DIM_STREAM_STRIDE; }
 
 #endif

@@ -8,6 +8,23 @@ CLPT_BEGIN_SHARED
 
 enum CameraType { CAMERA_PERSPECTIVE = 0, CAMERA_ORTHOGRAPHIC = 1 };
 
+/* --sampler */
+enum SamplerType {
+  SAMPLER_INDEPENDENT = 0, /* counter-based hash (PCG-style), any sample count */
+  SAMPLER_STRATIFIED = 1,  /* jittered strata per dimension pair; needs spp_total */
+  SAMPLER_LHS = 2,         /* Latin hypercube (N-rooks) per dimension; needs spp_total */
+  SAMPLER_SOBOL = 3        /* Owen-scrambled Sobol (0,2)-sequence, padded per dimension pair */
+};
+
+/* --direct: how direct light is estimated at each vertex */
+enum DirectStrategy { DIRECT_MIS = 0, DIRECT_LIGHT = 1, DIRECT_BSDF = 2 };
+/* --mis */
+enum MisHeuristic { MIS_POWER = 0, MIS_BALANCE = 1 };
+/* --hemisphere: how the next direction is sampled for diffuse surfaces */
+enum HemisphereSampling { HEMISPHERE_BSDF = 0, HEMISPHERE_COSINE = 1, HEMISPHERE_UNIFORM = 2 };
+/* --rr */
+enum RussianRoulette { RR_THROUGHPUT = 0, RR_FIXED = 1 };
+
 /* A pinhole or orthographic camera as world-space vectors. For a film point (sx, sy) in
  * [-1, 1]^2 (+y up), a perspective ray has direction forward + sx*right + sy*up from
  * origin; an orthographic ray starts at origin + sx*right + sy*up along forward. */
@@ -29,7 +46,16 @@ typedef struct RenderParams {
   u32 seed;
   u32 sample_offset;    /* index of this pass's first sample in every pixel */
   u32 samples_per_pass; /* samples each pixel takes this pass */
-  u32 pad;
+  u32 spp_total;        /* samples per pixel of the whole render; 0 = not known in advance */
+  u32 sampler;          /* SamplerType */
+  u32 direct;           /* DirectStrategy */
+  u32 mis;              /* MisHeuristic */
+  u32 light_samples;    /* shadow rays per vertex (>= 1) */
+  u32 hemisphere;       /* HemisphereSampling */
+  u32 rr;               /* RussianRoulette */
+  float rr_absorb;      /* absorption probability for RR_FIXED */
+  u32 branching;        /* secondary rays at the first hit (>= 1; 1 = path tracing) */
+  u32 pad[2];
 } RenderParams;
 
 CLPT_END_SHARED
