@@ -52,8 +52,33 @@ struct Parser {
     for (const std::string& n : integrator_names())
       names += (names.empty() ? "" : "|") + n;
     app.add_option("--integrator", o.integrator,
-                   "Integrator: " + names + " (implemented: pt) [pt]")
+                   "Integrator: " + names + " (implemented: pt, direct) [pt]")
         ->type_name("NAME");
+    app.add_option("--sampler", o.sampler,
+                   "Sampler: independent|stratified|lhs|sobol; stratified and lhs need --spp "
+                   "[independent]")
+        ->type_name("NAME");
+    app.add_option("--direct", o.direct,
+                   "Direct light: mis (NEE and BSDF sampling by MIS), light (NEE only), bsdf "
+                   "(no NEE) [mis]")
+        ->type_name("NAME");
+    app.add_option("--mis", o.mis, "MIS heuristic: power|balance [power]")->type_name("NAME");
+    app.add_option("--light-samples", o.light_samples, "Shadow rays per vertex [1]")
+        ->type_name("N")
+        ->check(CLI::Range(1u, 256u).description(""));
+    app.add_option("--hemisphere", o.hemisphere,
+                   "Next direction: bsdf (importance), cosine, uniform [bsdf]")
+        ->type_name("NAME");
+    app.add_option("--rr", o.rr,
+                   "Russian roulette: throughput (survive with max throughput) or fixed:ALPHA "
+                   "(absorb with probability ALPHA) [throughput]")
+        ->type_name("MODE");
+    app.add_option("--rr-depth", o.rr_depth, "Bounce from which Russian roulette may end paths [3]")
+        ->type_name("N");
+    app.add_option("--branching", o.branching,
+                   "Secondary rays at the first hit; 1 is path tracing [1]")
+        ->type_name("K")
+        ->check(CLI::Range(1u, 1024u).description(""));
     stats_opt = app.add_option("--stats", stats_value,
                                "Write render statistics as JSON to FILE, or stdout when no FILE")
                     ->expected(0, 1)
@@ -109,6 +134,35 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
   if (p.time_opt->count() && !p.spp_opt->count()) o.spp = 0;  // --time alone: no sample limit
   if (p.stats_opt->count()) o.stats = p.stats_value.empty() ? std::string("-") : p.stats_value;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
+  auto one_of = [](const char* option, const std::string& value,
+                   std::initializer_list<const char*> names) {
+    std::string list;
+    for (const char* n : names) {
+      if (value == n) return;
+      list += (list.empty() ? "" : ", ") + std::string(n);
+    }
+    throw Error(ExitCode::Usage, std::string(option) + " " + value + ": expected one of " + list);
+  };
+  one_of("--sampler", o.sampler, {"independent", "stratified", "lhs", "sobol"});
+  one_of("--direct", o.direct, {"mis", "light", "bsdf"});
+  one_of("--mis", o.mis, {"power", "balance"});
+  one_of("--hemisphere", o.hemisphere, {"bsdf", "cosine", "uniform"});
+  if (o.rr != "throughput") {
+    const std::string prefix = "fixed:";
+    bool ok = o.rr.compare(0, prefix.size(), prefix) == 0 && o.rr.size() > prefix.size();
+    if (ok) {
+      try {
+        size_t used = 0;
+        const float a = std::stof(o.rr.substr(prefix.size()), &used);
+        ok = used == o.rr.size() - prefix.size() && a >= 0.0f && a < 1.0f;
+      } catch (const std::exception&) {
+        ok = false;
+      }
+    }
+    if (!ok)
+      throw Error(ExitCode::Usage, "--rr " + o.rr + ": expected throughput or fixed:ALPHA with "
+                                   "0 <= ALPHA < 1");
+  }
   return o;
 }
 

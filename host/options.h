@@ -19,6 +19,15 @@ struct Options {
   uint32_t max_depth = 8;
   uint32_t seed = 0;
   std::string integrator = "pt";
+  // Estimator choices, as names; parse_options validates them.
+  std::string sampler = "independent";
+  std::string direct = "mis";
+  std::string mis = "power";
+  uint32_t light_samples = 1;
+  std::string hemisphere = "bsdf";
+  std::string rr = "throughput";  // or fixed:ALPHA
+  uint32_t rr_depth = 3;
+  uint32_t branching = 1;
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool quiet = false, verbose = false;
   std::string kernel_dir;         // load kernel sources from disk (development)

@@ -96,6 +96,22 @@ int run(const Options& opt) {
   settings.seed = opt.seed;
   settings.integrator = opt.integrator;
   settings.camera = opt.camera;
+  settings.sampler = opt.sampler == "stratified" ? dev::SAMPLER_STRATIFIED
+                     : opt.sampler == "lhs"      ? dev::SAMPLER_LHS
+                     : opt.sampler == "sobol"    ? dev::SAMPLER_SOBOL
+                                                 : dev::SAMPLER_INDEPENDENT;
+  settings.direct = opt.direct == "light" ? dev::DIRECT_LIGHT
+                    : opt.direct == "bsdf" ? dev::DIRECT_BSDF
+                                           : dev::DIRECT_MIS;
+  settings.mis = opt.mis == "balance" ? dev::MIS_BALANCE : dev::MIS_POWER;
+  settings.light_samples = opt.light_samples;
+  settings.hemisphere = opt.hemisphere == "cosine"    ? dev::HEMISPHERE_COSINE
+                        : opt.hemisphere == "uniform" ? dev::HEMISPHERE_UNIFORM
+                                                      : dev::HEMISPHERE_BSDF;
+  settings.rr = opt.rr == "throughput" ? dev::RR_THROUGHPUT : dev::RR_FIXED;
+  if (settings.rr == dev::RR_FIXED) settings.rr_absorb = std::stof(opt.rr.substr(6));
+  settings.rr_depth = opt.rr_depth;
+  settings.branching = opt.branching;
   Renderer renderer(ctx, scene, settings);
 
   log::info("rendering " + opt.scene + " at " + std::to_string(renderer.width()) + "x" +

@@ -13,15 +13,17 @@ const std::vector<std::string>& integrator_names() {
   return names;
 }
 
-bool integrator_implemented(const std::string& name) { return name == "pt"; }
+bool integrator_implemented(const std::string& name) { return name == "pt" || name == "direct"; }
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::Context& ctx,
                                             const SceneBuffers& scene) {
   const auto& names = integrator_names();
   if (std::find(names.begin(), names.end(), name) == names.end())
     throw Error(ExitCode::Usage, "--integrator " + name + ": unknown integrator");
-  if (name == "pt") return std::make_unique<PathTracer>(ctx, scene);
-  throw Error(ExitCode::Usage, "--integrator " + name + ": not implemented yet (available: pt)");
+  // `direct` is the path tracer stopped after one bounce (the renderer clamps max depth).
+  if (name == "pt" || name == "direct") return std::make_unique<PathTracer>(ctx, scene);
+  throw Error(ExitCode::Usage,
+              "--integrator " + name + ": not implemented yet (available: pt, direct)");
 }
 
 }  // namespace clpt

@@ -21,6 +21,13 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
     : ctx_(ctx), settings_(settings) {
   if (settings_.spp == 0 && !(settings_.time_limit > 0.0))
     throw Error(ExitCode::Usage, "a render needs a sample count or a time limit");
+  if (settings_.spp == 0 &&
+      (settings_.sampler == dev::SAMPLER_STRATIFIED || settings_.sampler == dev::SAMPLER_LHS))
+    throw Error(ExitCode::Usage,
+                "the stratified and lhs samplers need --spp: they divide each dimension into "
+                "as many strata as there are samples");
+  if (settings_.rr == dev::RR_FIXED && !(settings_.rr_absorb >= 0.0f && settings_.rr_absorb < 1.0f))
+    throw Error(ExitCode::Usage, "Russian roulette absorption must be in [0, 1)");
   if (scene.triangles.empty()) throw Error(ExitCode::BadInput, "the scene has no triangles to render");
 
   const Camera camera = choose_camera(scene, settings_.camera);
@@ -53,6 +60,16 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   params_.max_depth = settings_.max_depth;
   params_.rr_depth = settings_.rr_depth;
   params_.seed = settings_.seed;
+  params_.spp_total = static_cast<uint32_t>(std::min<uint64_t>(settings_.spp, 0xffffffffu));
+  params_.sampler = settings_.sampler;
+  params_.direct = settings_.direct;
+  params_.mis = settings_.mis;
+  params_.light_samples = std::max<uint32_t>(1, settings_.light_samples);
+  params_.hemisphere = settings_.hemisphere;
+  params_.rr = settings_.rr;
+  params_.rr_absorb = settings_.rr_absorb;
+  params_.branching = std::max<uint32_t>(1, settings_.branching);
+  if (settings_.integrator == "direct") params_.max_depth = std::min<uint32_t>(params_.max_depth, 1);
 
   // Program from cache or source, then one empty pass: drivers such as PoCL compile the
   // kernel for its work-group size at the first launch, which belongs to start-up, not to

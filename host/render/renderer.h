@@ -23,6 +23,15 @@ struct RenderSettings {
   uint32_t rr_depth = 3;
   uint32_t seed = 0;
   std::string integrator = "pt";
+  // Estimator choices (see kernels/shared/render_types.h for the enums).
+  uint32_t sampler = 0;        // dev::SamplerType
+  uint32_t direct = 0;         // dev::DirectStrategy
+  uint32_t mis = 0;            // dev::MisHeuristic
+  uint32_t light_samples = 1;  // shadow rays per vertex
+  uint32_t hemisphere = 0;     // dev::HemisphereSampling
+  uint32_t rr = 0;             // dev::RussianRoulette
+  float rr_absorb = 0.5f;      // absorption probability with RR_FIXED
+  uint32_t branching = 1;      // continuations from the first hit
   std::string camera;              // index or name; empty: the first camera or a default one
   double target_pass_seconds = 0.0;  // pass length aimed at; 0: 0.03 s on GPUs, 0.1 s otherwise
   uint32_t max_samples_per_pass = 0; // 0: no cap (tests use 1 to force many passes)

@@ -1,6 +1,11 @@
-/* Unidirectional path tracing: next-event estimation towards the area lights combined with
- * BSDF sampling by multiple importance sampling (Veach 1997, power heuristic), and Russian
- * roulette on the path throughput.
+/* Unidirectional path tracing with every estimator choice of the toolkit (issue 3):
+ *   direct light:  --direct mis (NEE and BSDF sampling combined by MIS), light (NEE only),
+ *                  bsdf (emission found by scattering only); --mis power|balance;
+ *                  --light-samples N shadow rays per vertex (multi-sample MIS, Veach 1997 §9.2:
+ *                  the NEE technique counts N samples);
+ *   next direction: --hemisphere bsdf|cosine|uniform;
+ *   termination:   Russian roulette from --rr-depth, throughput-based or fixed absorption;
+ *   branching:     --branching K continuations from the first hit, each weighted 1/K.
  * Depth counts bounces: emission seen directly is depth 0, light reflected once is depth 1.
  * A path contributes every depth from 0 to max_depth. */
 #ifndef CLPT_INTEGRATORS_PATH_TRACE_CL
@@ -12,69 +17,130 @@
 #include "sampler/sampler.cl"
 #include "shared/render_types.h"
 
-inline float3 pt_radiance(const SceneView* s, __constant const RenderParams* params,
-                          const Sampler* sampler, float3 org, float3 dir, u32* rays) {
+/* The MIS weight of a technique with `n_this` samples of density pdf_this against one with
+ * n_other samples of density pdf_other. */
+inline float pt_mis_weight(__constant const RenderParams* p, float n_this, float pdf_this,
+                           float n_other, float pdf_other) {
+  const float a = n_this * pdf_this, b = n_other * pdf_other;
+  if (!(a > 0.0f)) return 0.0f;
+  if (p->mis == MIS_BALANCE) return a / (a + b);
+  return (a * a) / (a * a + b * b);
+}
+
+/* Density with which the integrator picks the next direction wi at this vertex. */
+inline float pt_scatter_pdf(__constant const RenderParams* p, const SceneView* s,
+                            const SurfaceHit* sh, float3 wo, float3 wi) {
+  if (p->hemisphere == HEMISPHERE_UNIFORM)
+    return dot(sh->ns, wi) > 0.0f ? 0.5f * INV_PI_F : 0.0f;
+  if (p->hemisphere == HEMISPHERE_COSINE) return warp_cosine_hemisphere_pdf(dot(sh->ns, wi));
+  return bsdf_pdf_w(s, sh, wo, wi);
+}
+
+/* Picks the next direction; weight = f * |cos| / pdf. */
+inline BsdfSample pt_scatter_sample(__constant const RenderParams* p, const SceneView* s,
+                                    const SurfaceHit* sh, float3 wo, float2 u) {
+  if (p->hemisphere == HEMISPHERE_BSDF) return bsdf_sample(s, sh, wo, u);
+  BsdfSample bs;
+  float3 h;
+  if (p->hemisphere == HEMISPHERE_UNIFORM) {
+    const float z = u.x, r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * PI_F * u.y;
+    h = (float3)(r * cos(phi), r * sin(phi), z);
+    bs.pdf_w = 0.5f * INV_PI_F;
+  } else {
+    h = warp_cosine_hemisphere(u);
+    bs.pdf_w = warp_cosine_hemisphere_pdf(h.z);
+  }
+  bs.wi = to_world(h, sh->ns);
+  const float3 f = bsdf_eval_cos(s, sh, wo, bs.wi);
+  bs.weight = bs.pdf_w > 0.0f ? f / bs.pdf_w : (float3)(0.0f);
+  return bs;
+}
+
+/* Next-event estimation at a vertex: light_samples shadow rays, each weighted 1/N. */
+inline float3 pt_direct(__constant const RenderParams* p, const SceneView* s, const Sampler* sampler,
+                        const SurfaceHit* sh, float3 wo, float3 org, u32 depth, u32 stream,
+                        u32* rays) {
   float3 L = (float3)(0.0f);
-  float3 beta = (float3)(1.0f);
-  float pdf_prev = 0.0f; /* solid-angle pdf of the BSDF sample that produced `dir` */
-  bool from_camera = true;
-
-  for (u32 depth = 0;; ++depth) {
-    Hit hit;
+  if (p->direct == DIRECT_BSDF || s->num_emitters == 0u) return L;
+  const u32 n = max(p->light_samples, 1u);
+  for (u32 j = 0; j < n; ++j) {
+    const LightSample ls = light_illuminate(
+        s, sh->p, sample_1d(sampler, stream_dim(bounce_dim(depth, DIM_LIGHT_SELECT), stream + j)),
+        sample_2d(sampler, stream_dim(bounce_dim(depth, DIM_LIGHT_POINT), stream + j)));
+    if (!(ls.pdf_w > 0.0f) || is_black(ls.Le)) continue;
+    const float3 f = bsdf_eval_cos(s, sh, wo, ls.wi);
+    if (is_black(f)) continue;
     ++*rays;
-    if (!intersect_closest(s, org, dir, INFINITY, &hit)) break; /* no environment yet */
-    SurfaceHit sh = surface_at(s, &hit, org, dir);
-    const float3 wo = -dir;
-
-    /* Emission found by the camera ray or by BSDF sampling. */
-    const float3 Le = light_radiance(s, sh.material, sh.ng, wo);
-    if (!is_black(Le)) {
-      float w = 1.0f;
-      if (!from_camera) {
-        const float pdf_light = light_pdf_w(s, sh.triangle, hit.t, fabs(dot(sh.ng, wo)));
-        w = mis_power(pdf_prev, pdf_light);
-      }
-      L += beta * Le * w;
-    }
-    if (depth >= params->max_depth) break;
-
-    bsdf_orient(&sh, wo);
-    const float3 org_next = offset_ray_origin(sh.p, sh.ng);
-
-    /* Next-event estimation: one shadow ray to a point on a light. */
-    if (s->num_emitters > 0u) {
-      const LightSample ls =
-          light_illuminate(s, sh.p, sample_1d(sampler, bounce_dim(depth, DIM_LIGHT_SELECT)),
-                           sample_2d(sampler, bounce_dim(depth, DIM_LIGHT_POINT)));
-      if (ls.pdf_w > 0.0f && !is_black(ls.Le)) {
-        const float3 f = bsdf_eval_cos(s, &sh, wo, ls.wi);
-        if (!is_black(f)) {
-          ++*rays;
-          /* The shadow ray stops just short of the light sample so it does not hit the light. */
-          if (!intersect_any(s, org_next, ls.wi, ls.dist * (1.0f - 1e-4f))) {
-            const float w = mis_power(ls.pdf_w, bsdf_pdf_w(s, &sh, wo, ls.wi));
-            L += beta * f * ls.Le * (w / ls.pdf_w);
-          }
-        }
-      }
-    }
-
-    /* BSDF sampling continues the path. */
-    const BsdfSample bs = bsdf_sample(s, &sh, wo, sample_2d(sampler, bounce_dim(depth, DIM_BSDF_DIR)));
-    if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
-    beta *= bs.weight;
-    pdf_prev = bs.pdf_w;
-    from_camera = false;
-
-    if (depth + 1u >= params->rr_depth) {
-      const float survive = fmin(1.0f, max_component(beta));
-      if (sample_1d(sampler, bounce_dim(depth, DIM_RR)) >= survive) break;
-      beta /= survive;
-    }
-    org = org_next;
-    dir = bs.wi;
+    /* The shadow ray stops just short of the light sample so it does not hit the light. */
+    if (intersect_any(s, org, ls.wi, ls.dist * (1.0f - 1e-4f))) continue;
+    const float w = p->direct == DIRECT_LIGHT
+                        ? 1.0f
+                        : pt_mis_weight(p, (float)n, ls.pdf_w, 1.0f, pt_scatter_pdf(p, s, sh, wo, ls.wi));
+    L += f * ls.Le * (w / (ls.pdf_w * (float)n));
   }
   return L;
+}
+
+/* Emission found by a scattered ray that hit emitter triangle sh->triangle at distance t,
+ * weighted against NEE. */
+inline float3 pt_emission_by_scattering(__constant const RenderParams* p, const SceneView* s,
+                                        const SurfaceHit* sh, float3 wo, float t, float pdf_scatter) {
+  const float3 Le = light_radiance(s, sh->material, sh->ng, wo);
+  if (is_black(Le) || p->direct == DIRECT_LIGHT) return (float3)(0.0f);
+  if (p->direct == DIRECT_BSDF) return Le;
+  const float pdf_light = light_pdf_w(s, sh->triangle, t, fabs(dot(sh->ng, wo)));
+  return Le * pt_mis_weight(p, 1.0f, pdf_scatter, (float)max(p->light_samples, 1u), pdf_light);
+}
+
+/* Continues a path from vertex `sh` (normals oriented to wo, at bounce `depth`, with the
+ * throughput up to it folded out: the result is to be multiplied by the caller's beta).
+ * Returns the radiance it gathers from bounce depth+1 on. */
+inline float3 pt_continue(__constant const RenderParams* p, const SceneView* s,
+                          const Sampler* sampler, SurfaceHit sh, float3 wo, u32 depth, u32 stream,
+                          u32* rays) {
+  float3 L = (float3)(0.0f), beta = (float3)(1.0f);
+  for (;;) {
+    const BsdfSample bs = pt_scatter_sample(
+        p, s, &sh, wo, sample_2d(sampler, stream_dim(bounce_dim(depth, DIM_BSDF_DIR), stream)));
+    if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
+    beta *= bs.weight;
+    if (depth + 1u >= p->rr_depth) {
+      const float survive =
+          p->rr == RR_FIXED ? 1.0f - p->rr_absorb : fmin(1.0f, max_component(beta));
+      if (!(sample_1d(sampler, stream_dim(bounce_dim(depth, DIM_RR), stream)) < survive)) break;
+      beta /= survive;
+    }
+    const float3 org = offset_ray_origin(sh.p, sh.ng);
+    Hit hit;
+    ++*rays;
+    if (!intersect_closest(s, org, bs.wi, INFINITY, &hit)) break; /* no environment yet */
+    sh = surface_at(s, &hit, org, bs.wi);
+    wo = -bs.wi;
+    L += beta * pt_emission_by_scattering(p, s, &sh, wo, hit.t, bs.pdf_w);
+    if (++depth >= p->max_depth) break;
+    bsdf_orient(&sh, wo);
+    L += beta * pt_direct(p, s, sampler, &sh, wo, offset_ray_origin(sh.p, sh.ng), depth, stream, rays);
+  }
+  return L;
+}
+
+inline float3 pt_radiance(const SceneView* s, __constant const RenderParams* p,
+                          const Sampler* sampler, float3 org, float3 dir, u32* rays) {
+  Hit hit;
+  ++*rays;
+  if (!intersect_closest(s, org, dir, INFINITY, &hit)) return (float3)(0.0f);
+  SurfaceHit sh = surface_at(s, &hit, org, dir);
+  const float3 wo = -dir;
+  /* Emission seen by the camera ray has only one technique: no weight. */
+  float3 L = light_radiance(s, sh.material, sh.ng, wo);
+  if (p->max_depth == 0u) return L;
+  bsdf_orient(&sh, wo);
+  L += pt_direct(p, s, sampler, &sh, wo, offset_ray_origin(sh.p, sh.ng), 0u, 0u, rays);
+  const u32 k = max(p->branching, 1u);
+  float3 indirect = (float3)(0.0f);
+  for (u32 b = 0; b < k; ++b)
+    indirect += pt_continue(p, s, sampler, sh, wo, 0u, b * DIM_STREAMS_PER_BRANCH, rays);
+  return L + indirect / (float)k;
 }
 
 #endif
