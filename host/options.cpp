@@ -52,7 +52,7 @@ struct Parser {
     for (const std::string& n : integrator_names())
       names += (names.empty() ? "" : "|") + n;
     app.add_option("--integrator", o.integrator,
-                   "Integrator: " + names + " (implemented: pt, direct) [pt]")
+                   "Integrator: " + names + " (implemented: pt, direct, ao) [pt]")
         ->type_name("NAME");
     app.add_option("--sampler", o.sampler,
                    "Sampler: independent|stratified|lhs|sobol; stratified and lhs need --spp "
@@ -79,6 +79,10 @@ struct Parser {
                    "Secondary rays at the first hit; 1 is path tracing [1]")
         ->type_name("K")
         ->check(CLI::Range(1u, 1024u).description(""));
+    app.add_option("--ao-radius", o.ao_radius,
+                   "Ambient occlusion (--integrator ao) distance [10% of the scene's diagonal]")
+        ->type_name("DIST")
+        ->check(CLI::NonNegativeNumber.description(""));
     stats_opt = app.add_option("--stats", stats_value,
                                "Write render statistics as JSON to FILE, or stdout when no FILE")
                     ->expected(0, 1)

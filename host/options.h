@@ -28,6 +28,7 @@ struct Options {
   std::string rr = "throughput";  // or fixed:ALPHA
   uint32_t rr_depth = 3;
   uint32_t branching = 1;
+  float ao_radius = 0.0f;  // 0: 10 % of the scene's bounding-box diagonal
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool quiet = false, verbose = false;
   std::string kernel_dir;         // load kernel sources from disk (development)

@@ -698,7 +698,10 @@ struct SpawnResult {
 // either hemisphere, a third of them grazing (cos theta down to 1e-6), and counts rays that
 // hit their own triangle again. With `convex`, rays leaving the front of a convex closed
 // mesh must not hit it at all.
-SpawnResult spawn_rays(const Mesh& mesh, size_t n, uint32_t seed, bool convex) {
+// With `focus` given (barycentrics b1, b2), the points are pulled to within a thousandth of
+// the triangle's size around that point of every triangle.
+SpawnResult spawn_rays(const Mesh& mesh, size_t n, uint32_t seed, bool convex,
+                       const glm::vec2* focus = nullptr) {
   const Bvh bvh = build_bvh(mesh.positions, mesh.triangles);
   const DeviceScene scene = upload(bvh, mesh);
   cl::Context& ctx = test::device_context();
@@ -712,6 +715,10 @@ SpawnResult spawn_rays(const Mesh& mesh, size_t n, uint32_t seed, bool convex) {
     if (b1 + b2 > 1.0f) b1 = 1.0f - b1, b2 = 1.0f - b2;
     if (i % 7 == 0) b2 = 0.0f;          // on an edge
     if (i % 11 == 0) b1 = b2 = 0.0f;    // on a vertex
+    if (focus) {
+      b1 = focus->x + 1e-3f * (b1 - 1.0f / 3.0f);
+      b2 = focus->y + 1e-3f * (b2 - 1.0f / 3.0f);
+    }
     float cos_theta;
     switch (i % 3) {
       case 0: cos_theta = u(rng); break;
@@ -800,6 +807,26 @@ TEST(Reintersect, ClosedSphere) {
     EXPECT_EQ(r.self_hits, 0u);
     EXPECT_EQ(r.convex_escapes_failed, 0u);
   }
+}
+
+// A ground triangle 2000 units across whose interior contains the world origin, with ray
+// origins within a couple of units of it: there the origin offset is tiny (the plane's
+// coordinate is 0) while t's rounding error grows with the distance to all three far
+// vertices, so only a bound on t's error keeps rays off the plane (near a vertex the error
+// stays small). A small triangle high above shares the leaf, so the leaf's box has volume
+// and rays leaving the plane do enter it: alone, the plane's flat box would never be
+// entered and the test could not fail. Without the bound, 4,371 of 20,000 such rays
+// re-hit the plane at t of 1e-5 to 9e-5.
+TEST(Reintersect, LargeGroundPlane) {
+  Mesh plane;
+  plane.positions = {{-1000, 0, 1000}, {1000, 0, 1000}, {0, 0, -1000},
+                     {0, 500, 0}, {1, 500, 0}, {0, 500, 1}};
+  plane.triangles = {{0, 1, 2}, {3, 5, 4}};
+  const Bvh bvh = build_bvh(plane.positions, plane.triangles);
+  ASSERT_EQ(bvh.nodes.size(), 1u) << "the two triangles must share one leaf for this test";
+  const glm::vec2 origin_barycentrics(0.25f, 0.5f);  // (0, 0, 0) = 0.25 v0 + 0.25 v1 + 0.5 v2
+  const SpawnResult r = spawn_rays(plane, 200000, 47, false, &origin_barycentrics);
+  EXPECT_EQ(r.self_hits, 0u);
 }
 
 TEST(Reintersect, RandomSoup) {

@@ -88,3 +88,59 @@ INSTANTIATE_TEST_SUITE_P(
 
 }  // namespace
 }  // namespace clpt
+
+namespace clpt {
+namespace {
+
+// The planes are 2000 units wide on purpose: a ray leaving such a large triangle is where
+// self-intersection shows (t's rounding error grows with the vertices' distance); before
+// intersect_triangle rejected t below its error bound, this read 0.20 instead of 0.25.
+// Ambient occlusion between two parallel planes h apart, seen from between them by an
+// orthographic camera looking at the floor. A floor point's ray of polar angle theta meets
+// the ceiling at h / cos(theta), so it is unoccluded within radius R exactly when
+// cos(theta) < h / R: AO = (1/pi) * integral of cos over that cone = (h / R)^2.
+TEST(AmbientOcclusion, SlabMatchesClosedForm) {
+  constexpr float kH = 1.0f, kR = 2.0f, kSize = 1000.0f;
+  Scene scene;
+  Material m;
+  test::Mesh floor, ceiling;
+  floor.positions = {{-kSize, 0, -kSize}, {kSize, 0, -kSize}, {kSize, 0, kSize}, {-kSize, 0, kSize}};
+  floor.triangles = {{0, 2, 1}, {0, 3, 2}};
+  ceiling.positions = floor.positions;
+  for (glm::vec3& p : ceiling.positions) p.y = kH;
+  ceiling.triangles = {{0, 1, 2}, {0, 2, 3}};
+  test::add_mesh(scene, floor, m);
+  test::add_mesh(scene, ceiling, m);
+  Camera cam;
+  cam.type = Camera::Type::Orthographic;
+  cam.xmag = cam.ymag = 1.0f;
+  cam.camera_to_world = glm::mat4(glm::vec4(1, 0, 0, 0), glm::vec4(0, 0, -1, 0),
+                                  glm::vec4(0, 1, 0, 0), glm::vec4(0, 0.5f * kH, 0, 1));
+  scene.cameras.push_back(cam);
+
+  constexpr int kBatches = 10;
+  std::vector<double> means;
+  for (int b = 0; b < kBatches; ++b) {
+    RenderSettings s;
+    s.width = s.height = 16;
+    s.spp = 32;
+    s.seed = 5 + b;
+    s.integrator = "ao";
+    s.ao_radius = kR;
+    Renderer r(test::device_context(), scene, s);
+    const RenderOutput out = r.render();
+    double sum = 0.0;
+    for (float v : out.film.mean.rgb) sum += v;
+    means.push_back(sum / double(out.film.mean.rgb.size()));
+  }
+  const double expected = (kH / kR) * (kH / kR);
+  const double mean = std::accumulate(means.begin(), means.end(), 0.0) / kBatches;
+  double var = 0.0;
+  for (double v : means) var += (v - mean) * (v - mean);
+  const double sigma = std::sqrt(var / (kBatches - 1) / kBatches);
+  EXPECT_LT(std::fabs(mean - expected), 4.0 * sigma) << "mean " << mean << " sigma " << sigma;
+  EXPECT_LT(4.0 * sigma, 0.02) << "too few samples for a meaningful test";
+}
+
+}  // namespace
+}  // namespace clpt

@@ -112,6 +112,7 @@ int run(const Options& opt) {
   if (settings.rr == dev::RR_FIXED) settings.rr_absorb = std::stof(opt.rr.substr(6));
   settings.rr_depth = opt.rr_depth;
   settings.branching = opt.branching;
+  settings.ao_radius = opt.ao_radius;
   Renderer renderer(ctx, scene, settings);
 
   log::info("rendering " + opt.scene + " at " + std::to_string(renderer.width()) + "x" +
@@ -171,6 +172,18 @@ int run(const Options& opt) {
     j["rays"] = film.rays;
     j["rays_per_second"] = double(film.rays) / secs;
     j["dropped_samples"] = film.dropped_samples;
+    // Variance of each pixel's estimate (sample variance / spp), averaged over pixels and
+    // channels, and efficiency = 1 / (variance x seconds): comparable between estimators
+    // rendered for any time, since variance of a mean falls as 1/time.
+    double mean_variance = 0.0;
+    for (float v : film.variance.rgb) mean_variance += v;
+    mean_variance /= double(film.variance.rgb.size()) * double(std::max<uint64_t>(1, film.samples_per_pixel));
+    j["mean_variance"] = mean_variance;
+    j["efficiency"] = mean_variance > 0.0 ? 1.0 / (mean_variance * secs) : 0.0;
+    j["estimator"] = {{"sampler", opt.sampler},       {"direct", opt.direct},
+                      {"mis", opt.mis},               {"light_samples", opt.light_samples},
+                      {"hemisphere", opt.hemisphere}, {"rr", opt.rr},
+                      {"rr_depth", opt.rr_depth},     {"branching", opt.branching}};
     j["interrupted"] = out.interrupted;
     j["memory"] = {{"scene_device_bytes", st.scene_device_bytes},
                    {"scene_device_bytes_per_triangle",

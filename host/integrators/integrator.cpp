@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "integrators/pt.h"
+#include "integrators/megakernel.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -13,7 +13,9 @@ const std::vector<std::string>& integrator_names() {
   return names;
 }
 
-bool integrator_implemented(const std::string& name) { return name == "pt" || name == "direct"; }
+bool integrator_implemented(const std::string& name) {
+  return name == "pt" || name == "direct" || name == "ao";
+}
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::Context& ctx,
                                             const SceneBuffers& scene) {
@@ -21,9 +23,13 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::C
   if (std::find(names.begin(), names.end(), name) == names.end())
     throw Error(ExitCode::Usage, "--integrator " + name + ": unknown integrator");
   // `direct` is the path tracer stopped after one bounce (the renderer clamps max depth).
-  if (name == "pt" || name == "direct") return std::make_unique<PathTracer>(ctx, scene);
+  if (name == "pt" || name == "direct")
+    return std::make_unique<MegakernelIntegrator>(ctx, scene, name == "pt" ? "pt" : "direct",
+                                                  "integrators/pt.cl", "pt_render");
+  if (name == "ao")
+    return std::make_unique<MegakernelIntegrator>(ctx, scene, "ao", "integrators/ao.cl", "ao_render");
   throw Error(ExitCode::Usage,
-              "--integrator " + name + ": not implemented yet (available: pt, direct)");
+              "--integrator " + name + ": not implemented yet (available: pt, direct, ao)");
 }
 
 }  // namespace clpt

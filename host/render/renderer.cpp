@@ -47,7 +47,7 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
 
   const FlatScene flat = flatten_scene(scene, bvh);
   stats_.emitters = static_cast<uint32_t>(flat.emitters.size());
-  if (flat.emitters.empty())
+  if (flat.emitters.empty() && settings_.integrator != "ao")
     log::warn("the scene has no emissive surfaces: the image will be black");
   scene_buffers_ = std::make_unique<SceneBuffers>(ctx_, flat);
   film_ = std::make_unique<Film>(ctx_, width_, height_);
@@ -70,6 +70,9 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   params_.rr_absorb = settings_.rr_absorb;
   params_.branching = std::max<uint32_t>(1, settings_.branching);
   if (settings_.integrator == "direct") params_.max_depth = std::min<uint32_t>(params_.max_depth, 1);
+  params_.ao_radius = settings_.ao_radius > 0.0f
+                          ? settings_.ao_radius
+                          : 0.1f * glm::length(scene.bounds().extent());
 
   // Program from cache or source, then one empty pass: drivers such as PoCL compile the
   // kernel for its work-group size at the first launch, which belongs to start-up, not to

@@ -32,6 +32,7 @@ struct RenderSettings {
   uint32_t rr = 0;             // dev::RussianRoulette
   float rr_absorb = 0.5f;      // absorption probability with RR_FIXED
   uint32_t branching = 1;      // continuations from the first hit
+  float ao_radius = 0.0f;      // ambient occlusion distance; 0: 10 % of the scene's diagonal
   std::string camera;              // index or name; empty: the first camera or a default one
   double target_pass_seconds = 0.0;  // pass length aimed at; 0: 0.03 s on GPUs, 0.1 s otherwise
   uint32_t max_samples_per_pass = 0; // 0: no cap (tests use 1 to force many passes)

@@ -104,10 +104,34 @@ CLPT_INLINE bool intersect_triangle(const SceneView* s, const TriangleRay* r, u3
   const float det = u + v + w;
   if (det == 0.0f) return false; /* degenerate, or the ray lies in the triangle's plane */
 
-  const float tt = u * (r->sz * az) + v * (r->sz * bz) + w * (r->sz * cz);
+  const float tz0 = r->sz * az, tz1 = r->sz * bz, tz2 = r->sz * cz;
+  const float tt = u * tz0 + v * tz1 + w * tz2;
   const float inv_det = 1.0f / det;
   const float t = tt * inv_det;
   if (!(t > 0.0f && t < tmax)) return false; /* also rejects NaN */
+
+  /* Reject t that rounding alone could have made positive: a conservative bound on the
+   * error of the computed t from the errors of the sheared coordinates and edge functions
+   * (the derivation of Pharr, Jakob and Humphreys, PBR 3rd ed., section 3.9.6). Offsetting
+   * the origin is not enough by itself: t's error grows with the vertices' distance from
+   * the origin, so a ray leaving a large triangle (a 2 km ground plane) could re-hit it or
+   * a coplanar neighbour just above t = 0. gamma(n) = n eps / (1 - n eps), eps = 2^-24. */
+  {
+    const float eps = 0x1.0p-24f;
+#define CLPT_GAMMA(n) (((float)(n) * eps) / (1.0f - (float)(n) * eps))
+    const float max_zt = fmax(fabs(tz0), fmax(fabs(tz1), fabs(tz2)));
+    const float max_xt = fmax(fabs(ax), fmax(fabs(bx), fabs(cx)));
+    const float max_yt = fmax(fabs(ay), fmax(fabs(by), fabs(cy)));
+    const float delta_z = CLPT_GAMMA(3) * max_zt;
+    const float delta_x = CLPT_GAMMA(5) * (max_xt + max_zt);
+    const float delta_y = CLPT_GAMMA(5) * (max_yt + max_zt);
+    const float delta_e = 2.0f * (CLPT_GAMMA(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    const float max_e = fmax(fabs(u), fmax(fabs(v), fabs(w)));
+    const float delta_t =
+        3.0f * (CLPT_GAMMA(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * fabs(inv_det);
+#undef CLPT_GAMMA
+    if (t <= delta_t) return false;
+  }
   *t_out = t;
   *b1_out = v * inv_det;
   *b2_out = w * inv_det;

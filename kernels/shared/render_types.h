@@ -55,7 +55,8 @@ typedef struct RenderParams {
   u32 rr;               /* RussianRoulette */
   float rr_absorb;      /* absorption probability for RR_FIXED */
   u32 branching;        /* secondary rays at the first hit (>= 1; 1 = path tracing) */
-  u32 pad[2];
+  float ao_radius;      /* ambient occlusion: occluders farther than this do not count */
+  u32 pad;
 } RenderParams;
 
 CLPT_END_SHARED

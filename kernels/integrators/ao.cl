@@ -1,0 +1,48 @@
+/* Ambient occlusion, for quick looks: at the first hit, one cosine-distributed ray per
+ * sample; the pixel value is the fraction of them that travel ao_radius unoccluded, an
+ * estimate of (1/pi) * integral of V(x, w) cos(theta) dw over the hemisphere. Emitters are
+ * shaded like any other surface. Camera rays that hit nothing give 0 (so objects stand out
+ * against the background); occlusion rays that hit nothing count as unoccluded. */
+#include "bsdf/bsdf.cl"
+#include "camera/camera.cl"
+#include "core/ray.cl"
+#include "film/film.cl"
+#include "sampler/sampler.cl"
+
+inline float ao_sample(const SceneView* s, __constant const RenderParams* p, const Sampler* sampler,
+                       float3 org, float3 dir, u32* rays) {
+  Hit hit;
+  ++*rays;
+  if (!intersect_closest(s, org, dir, INFINITY, &hit)) return 0.0f;
+  SurfaceHit sh = surface_at(s, &hit, org, dir);
+  bsdf_orient(&sh, -dir);
+  const float3 wi = to_world(warp_cosine_hemisphere(sample_2d(sampler, bounce_dim(0u, DIM_BSDF_DIR))), sh.ns);
+  if (dot(wi, sh.ng) <= 0.0f) return 0.0f; /* below the surface: blocked by it */
+  ++*rays;
+  return intersect_any(s, offset_ray_origin(sh.p, sh.ng), wi, p->ao_radius) ? 0.0f : 1.0f;
+}
+
+__kernel void ao_render(__global const BvhNode* nodes, __global const Triangle* triangles,
+                        __global const Vertex* vertices, __global const Material* materials,
+                        __global const Emitter* emitters, __global const int* triangle_emitter,
+                        u32 num_emitters, __constant const RenderParams* params,
+                        __global float4* film_sum, __global float4* film_sum_sq,
+                        __global u32* ray_counts) {
+  const u32 pixel = get_global_id(0);
+  if (pixel >= params->width * params->height) return;
+  const SceneView scene =
+      scene_view(nodes, triangles, vertices, materials, emitters, triangle_emitter, num_emitters);
+  const u32 x = pixel % params->width, y = pixel / params->width;
+  FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
+  u32 rays = 0;
+  for (u32 i = 0; i < params->samples_per_pass; ++i) {
+    const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
+    float3 org, dir;
+    camera_ray(&params->camera,
+               film_point(x, y, params->width, params->height, sample_2d(&sampler, DIM_PIXEL)),
+               &org, &dir);
+    film_add(&film, (float3)(ao_sample(&scene, params, &sampler, org, dir, &rays)));
+  }
+  film_store(film_sum, film_sum_sq, pixel, &film);
+  ray_counts[pixel] += rays;
+}
