@@ -144,3 +144,110 @@ TEST(AmbientOcclusion, SlabMatchesClosedForm) {
 
 }  // namespace
 }  // namespace clpt
+
+namespace clpt {
+namespace {
+
+// A floor lit by two emitters that each defeat one strategy: a dim 20 x 20 m emitter 0.2 m
+// above it (uniform area sampling wastes samples on far points and meets a cos^2/d^2 peak
+// nearby; cosine sampling is nearly ideal) and a 2 cm emitter of radiance 2000 (only light
+// sampling finds it). An orthographic camera between floor and lights sees the floor only;
+// max depth 1 isolates direct light. Measured per-sample variance, pooled over 4 seeds of
+// 32 x 32 x 64 samples: power MIS ~1.2, light only ~11, BSDF only ~100 (power MIS won by at
+// least 3x in every single seed). The balance heuristic is not asserted: its guarantee is
+// against other weightings, not the single strategies, and one seed had it 12 % worse than
+// light sampling here.
+Scene two_light_floor() {
+  Scene scene;
+  Material floor_m, big, small;
+  floor_m.base_color = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+  big.base_color = small.base_color = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  big.emission = glm::vec3(0.2f);
+  small.emission = glm::vec3(2000.0f);
+  auto quad = [](glm::vec3 c, float h, bool facing_down) {
+    test::Mesh m;
+    m.positions = {{c.x - h, c.y, c.z - h}, {c.x + h, c.y, c.z - h}, {c.x + h, c.y, c.z + h},
+                   {c.x - h, c.y, c.z + h}};
+    m.triangles = facing_down ? std::vector<glm::uvec3>{{0, 1, 2}, {0, 2, 3}}
+                              : std::vector<glm::uvec3>{{0, 2, 1}, {0, 3, 2}};
+    return m;
+  };
+  test::add_mesh(scene, quad({0, 0, 0}, 10.0f, false), floor_m);
+  test::add_mesh(scene, quad({0, 0.2f, 0}, 10.0f, true), big);
+  test::add_mesh(scene, quad({0.3f, 0.15f, 0.2f}, 0.01f, true), small);
+  Camera cam;
+  cam.type = Camera::Type::Orthographic;
+  cam.xmag = cam.ymag = 1.0f;
+  cam.camera_to_world = glm::mat4(glm::vec4(1, 0, 0, 0), glm::vec4(0, 0, -1, 0),
+                                  glm::vec4(0, 1, 0, 0), glm::vec4(0, 0.1f, 0, 1));
+  scene.cameras.push_back(cam);
+  return scene;
+}
+
+double pooled_variance(const Scene& scene, uint32_t direct) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (uint32_t seed = 1; seed <= 4; ++seed) {
+    RenderSettings s;
+    s.width = s.height = 32;
+    s.spp = 64;
+    s.max_depth = 1;
+    s.direct = direct;
+    s.seed = seed;
+    Renderer r(test::device_context(), scene, s);
+    const RenderOutput out = r.render();
+    for (float v : out.film.variance.rgb) sum += v;
+    n += out.film.variance.rgb.size();
+  }
+  return sum / double(n);
+}
+
+TEST(MisVariance, PowerHeuristicNotWorseThanBetterStrategy) {
+  const Scene scene = two_light_floor();
+  const double mis = pooled_variance(scene, dev::DIRECT_MIS);
+  const double light = pooled_variance(scene, dev::DIRECT_LIGHT);
+  const double bsdf = pooled_variance(scene, dev::DIRECT_BSDF);
+  std::cout << "per-sample variance: MIS " << mis << ", light " << light << ", BSDF " << bsdf << "\n";
+  EXPECT_LT(mis, std::min(light, bsdf));
+}
+
+}  // namespace
+}  // namespace clpt
+
+namespace clpt {
+namespace {
+
+// ConvergenceRate: an unbiased estimator with independent samples has MSE proportional to
+// 1/N, so relMSE(4N) / relMSE(N) = 1/4. Measured on the furnace, whose exact answer is the
+// reference, pooled over 8 seeds; ../shared/TESTING.md asks for a ratio in [0.2, 0.3].
+double furnace_relmse(uint64_t spp, uint32_t seed) {
+  constexpr float kRho = 0.7f;
+  constexpr unsigned kDepth = 4;
+  static const Scene scene = test::furnace_scene(kRho, 1.0f);
+  const double r = test::furnace_radiance(kRho, 1.0, kDepth);
+  RenderSettings s;
+  s.width = s.height = 24;
+  s.spp = spp;
+  s.max_depth = kDepth;
+  s.seed = seed;
+  Renderer renderer(test::device_context(), scene, s);
+  const RenderOutput out = renderer.render();
+  double sum = 0.0;
+  for (float v : out.film.mean.rgb) sum += (v - r) * (v - r) / ((r + 0.01) * (r + 0.01));
+  return sum / double(out.film.mean.rgb.size());
+}
+
+TEST(ConvergenceRate, IndependentSamplingQuartersRelMseAtFourTimesTheSamples) {
+  double low = 0.0, high = 0.0;
+  for (uint32_t seed = 0; seed < 8; ++seed) {
+    low += furnace_relmse(8, 100 + seed);
+    high += furnace_relmse(32, 200 + seed);
+  }
+  const double ratio = high / low;
+  std::cout << "relMSE(32 spp) / relMSE(8 spp) = " << ratio << "\n";
+  EXPECT_GT(ratio, 0.2);
+  EXPECT_LT(ratio, 0.3);
+}
+
+}  // namespace
+}  // namespace clpt
