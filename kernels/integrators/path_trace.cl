@@ -30,8 +30,7 @@ inline float pt_mis_weight(__constant const RenderParams* p, float n_this, float
 /* Density with which the integrator picks the next direction wi at this vertex. */
 inline float pt_scatter_pdf(__constant const RenderParams* p, const SceneView* s,
                             const SurfaceHit* sh, float3 wo, float3 wi) {
-  if (p->hemisphere == HEMISPHERE_UNIFORM)
-    return dot(sh->ns, wi) > 0.0f ? 0.5f * INV_PI_F : 0.0f;
+  if (p->hemisphere == HEMISPHERE_UNIFORM) return warp_uniform_hemisphere_pdf(dot(sh->ns, wi));
   if (p->hemisphere == HEMISPHERE_COSINE) return warp_cosine_hemisphere_pdf(dot(sh->ns, wi));
   return bsdf_pdf_w(s, sh, wo, wi);
 }
@@ -43,9 +42,8 @@ inline BsdfSample pt_scatter_sample(__constant const RenderParams* p, const Scen
   BsdfSample bs;
   float3 h;
   if (p->hemisphere == HEMISPHERE_UNIFORM) {
-    const float z = u.x, r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * PI_F * u.y;
-    h = (float3)(r * cos(phi), r * sin(phi), z);
-    bs.pdf_w = 0.5f * INV_PI_F;
+    h = warp_uniform_hemisphere(u);
+    bs.pdf_w = warp_uniform_hemisphere_pdf(h.z);
   } else {
     h = warp_cosine_hemisphere(u);
     bs.pdf_w = warp_cosine_hemisphere_pdf(h.z);
