@@ -1,8 +1,11 @@
 // BVH build invariants (host), BVH traversal against brute force on the device, and
 // self-intersection avoidance of spawned rays (offset_ray_origin).
 #include "bvh/bvh.h"
+#include "scene/gltf_loader.h"
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
 
 #include <algorithm>
 #include <array>
@@ -527,6 +530,21 @@ TEST(BvhVsBruteForce, TessellatedSphere) {
   mesh.append(test::uv_sphere(glm::vec3(4.0f, 0.0f, 0.0f), 1.0f, 32, 16));  // 960 triangles
   const Bvh bvh = build_bvh(mesh.positions, mesh.triangles);
   compare_with_brute_force(mesh, make_rays(bvh, mesh, 100000, 2), "spheres");
+}
+
+// A real mesh, as an artist made it: ../shared/scenes' WaterBottle (4,510 triangles,
+// loaded through the glTF loader). Skipped when the shared scenes are not beside the repo.
+TEST(BvhVsBruteForce, RealMeshWaterBottle) {
+  const std::filesystem::path file =
+      std::filesystem::path(CLPT_SHARED_SCENES_DIR) / "WaterBottle/glTF/WaterBottle.gltf";
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " not found (../shared/scenes absent)";
+  const Scene scene = load_gltf(file);
+  Mesh mesh;
+  mesh.positions = scene.positions;
+  mesh.triangles = scene.triangles;
+  ASSERT_GT(mesh.triangle_count(), 4000u);
+  const Bvh bvh = build_bvh(mesh.positions, mesh.triangles);
+  compare_with_brute_force(mesh, make_rays(bvh, mesh, 50000, 5), "WaterBottle");
 }
 
 TEST(BvhVsBruteForce, AxisAlignedBoxesAndDegenerates) {
