@@ -152,3 +152,32 @@ TEST_F(Cli, InterruptSavesWhatWasRendered) {
 
 }  // namespace
 }  // namespace clpt
+
+namespace clpt {
+namespace {
+
+TEST_F(Cli, CameraByIndexAndByName) {
+  const std::string shared = std::string(CLPT_SHARED_SCENES_DIR) + "/Cameras/glTF/Cameras.gltf";
+  if (!std::filesystem::exists(shared)) GTEST_SKIP() << shared << " not found (../shared/scenes absent)";
+  // Cameras.gltf: camera 0 perspective, camera 1 orthographic (xmag 1, ymag 1).
+  test::RunResult r = run_clpt({shared, "--camera", "1", "--spp", "1", "-o", path("c1.exr"), "-q"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  auto in = OIIO::ImageInput::open(path("c1.exr"));
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().width, 640);
+  EXPECT_EQ(in->spec().height, 640) << "orthographic xmag/ymag 1:1 gives a square default image";
+  r = run_clpt({shared, "--camera", "2", "--spp", "1", "-o", path("c2.exr")});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("the scene has 2 camera(s)"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path("c2.exr")));
+  // The camera named after its node.
+  const std::string named = std::string(CLPT_TEST_DATA_DIR) + "/valid/quad_trs_u8.gltf";
+  r = run_clpt({named, "--camera", "CameraNode", "--spp", "1", "--resolution", "8x8", "-o", path("n.exr"), "-q"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  r = run_clpt({named, "--camera", "NoSuchCamera", "--spp", "1", "-o", path("m.exr")});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("'CameraNode'"), std::string::npos) << "the error lists the cameras: " << r.err;
+}
+
+}  // namespace
+}  // namespace clpt
