@@ -87,6 +87,11 @@ struct Parser {
                                "Write render statistics as JSON to FILE, or stdout when no FILE")
                     ->expected(0, 1)
                     ->type_name("[FILE]");
+    app.add_flag("--variance", o.variance,
+                 "Add a 'variance' layer to the EXR: the variance of each pixel's estimate");
+    app.add_option("--reference", o.reference,
+                   "Print relMSE against this image as the render goes, and put it in --stats")
+        ->type_name("FILE");
     app.add_flag("-q,--quiet", o.quiet, "Print errors only");
     app.add_flag("-v,--verbose", o.verbose, "Print details: device, kernel builds, BVH");
     app.add_option("--kernel-dir", o.kernel_dir,

@@ -30,6 +30,8 @@ struct Options {
   uint32_t branching = 1;
   float ao_radius = 0.0f;  // 0: 10 % of the scene's bounding-box diagonal
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
+  bool variance = false;          // add a variance layer to the EXR
+  std::string reference;          // image to compare with (relMSE), empty: none
   bool quiet = false, verbose = false;
   std::string kernel_dir;         // load kernel sources from disk (development)
 };

@@ -16,6 +16,7 @@
 #include "options.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
+#include "stats/image_stats.h"
 #include "util/error.h"
 #include "util/log.h"
 #include "util/progress.h"
@@ -74,6 +75,10 @@ int run(const Options& opt) {
   if (!opt.kernel_dir.empty()) ::setenv("CLPT_KERNEL_DIR", opt.kernel_dir.c_str(), 1);
   check_output_path(opt.output);
 
+  // A reference image is read before any work, so a bad one fails fast.
+  std::optional<Image> reference;
+  if (!opt.reference.empty()) reference = read_image(opt.reference);
+
   auto t0 = Clock::now();
   const Scene scene = load_gltf(opt.scene);
   const double load_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -114,12 +119,31 @@ int run(const Options& opt) {
   settings.branching = opt.branching;
   settings.ao_radius = opt.ao_radius;
   Renderer renderer(ctx, scene, settings);
+  if (reference && (reference->width != renderer.width() || reference->height != renderer.height()))
+    throw Error(ExitCode::Usage, "--reference " + opt.reference + " is " +
+                                     std::to_string(reference->width) + "x" +
+                                     std::to_string(reference->height) + " but the render is " +
+                                     std::to_string(renderer.width()) + "x" +
+                                     std::to_string(renderer.height()) + " (use --resolution)");
 
   log::info("rendering " + opt.scene + " at " + std::to_string(renderer.width()) + "x" +
             std::to_string(renderer.height()) + " with " + opt.integrator + " on " + device.name);
-  ProgressBar bar(log::level() >= log::Level::Normal && ::isatty(STDERR_FILENO));
+  // Progress: a bar on a terminal; with --reference, the relMSE so far, at most once a
+  // second (it reads the film back), on the bar or as log lines when stderr is not a terminal.
+  const bool tty = ::isatty(STDERR_FILENO);
+  ProgressBar bar(log::level() >= log::Level::Normal && tty);
+  double last_report = 0.0;
   const RenderOutput out = renderer.render(&g_stop, [&](uint64_t done, uint64_t target, double t) {
-    bar.update(done, target, t, opt.time_limit);
+    std::string note;
+    if (reference && t - last_report >= 1.0) {
+      last_report = t;
+      const double rel_mse = compare_images(renderer.snapshot(done).mean, *reference).rel_mse;
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "relMSE %.4g", rel_mse);
+      note = buf;
+      if (!tty) log::info(std::to_string(done) + " spp, " + std::to_string(t) + " s: " + note);
+    }
+    bar.update(done, target, t, opt.time_limit, note);
   });
   bar.finish();
 
@@ -138,7 +162,10 @@ int run(const Options& opt) {
                {"clpt:max_depth", int(opt.max_depth)}};
   meta.floats = {{"clpt:render_seconds", float(st.render_seconds)}};
   if (film.samples_per_pixel > 0) {
-    write_image(opt.output, film.mean, meta);
+    std::vector<NamedChannel> layers;
+    if (opt.variance)
+      layers.push_back({kVarianceLayer, variance_of_mean(film.variance, film.samples_per_pixel)});
+    write_image(opt.output, film.mean, meta, layers);
   } else {
     log::warn("no sample was taken; " + opt.output + " was not written");
   }
@@ -175,10 +202,16 @@ int run(const Options& opt) {
     // Variance of each pixel's estimate (sample variance / spp), averaged over pixels and
     // channels, and efficiency = 1 / (variance x seconds): comparable between estimators
     // rendered for any time, since variance of a mean falls as 1/time.
-    double mean_variance = 0.0;
-    for (float v : film.variance.rgb) mean_variance += v;
-    mean_variance /= double(film.variance.rgb.size()) * double(std::max<uint64_t>(1, film.samples_per_pixel));
+    const double mean_variance =
+        film.samples_per_pixel > 0
+            ? clpt::mean_variance(variance_of_mean(film.variance, film.samples_per_pixel))
+            : 0.0;
     j["mean_variance"] = mean_variance;
+    if (reference && film.samples_per_pixel > 0) {
+      const ImageComparison c = compare_images(film.mean, *reference);
+      j["reference"] = {{"file", opt.reference}, {"rel_mse", c.rel_mse}, {"mse", c.mse},
+                        {"smape", c.smape}, {"efficiency", efficiency(c.rel_mse, secs)}};
+    }
     j["efficiency"] = mean_variance > 0.0 ? 1.0 / (mean_variance * secs) : 0.0;
     j["estimator"] = {{"sampler", opt.sampler},       {"direct", opt.direct},
                       {"mis", opt.mis},               {"light_samples", opt.light_samples},

@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <unistd.h>
 
@@ -51,6 +52,11 @@ void check_output_path(const fs::path& path) {
 }
 
 void write_image(const fs::path& path, const Image& image, const ImageMetadata& meta) {
+  write_image(path, image, meta, {});
+}
+
+void write_image(const fs::path& path, const Image& image, const ImageMetadata& meta,
+                 const std::vector<NamedChannel>& aovs) {
   const std::string ext = lower_extension(path);
   const bool hdr = is_float_format(ext);
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
@@ -63,10 +69,34 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
     throw Error(ExitCode::Output, "cannot write " + path.string() + ": " + why);
   };
 
+  // Extra layers go into EXR files only; PNG and JPEG have nowhere to put them.
+  const std::vector<NamedChannel> no_layers;
+  const std::vector<NamedChannel>& layers = hdr ? aovs : no_layers;
+  for (size_t l = 0; l < layers.size(); ++l) {
+    const NamedChannel& a = layers[l];
+    const auto bad = [&](const std::string& why) {
+      throw Error(ExitCode::Output, "cannot write " + path.string() + ": layer '" + a.name +
+                                        "' " + why);
+    };
+    if (a.name.empty() || a.name.find('.') != std::string::npos) bad("needs a name without '.'");
+    if (a.image.width != image.width || a.image.height != image.height ||
+        a.image.rgb.size() != image.rgb.size())
+      bad("is " + std::to_string(a.image.width) + "x" + std::to_string(a.image.height) +
+          ", the image " + std::to_string(image.width) + "x" + std::to_string(image.height));
+    for (size_t k = 0; k < l; ++k)
+      if (layers[k].name == a.name) bad("is given twice");
+  }
+  const int nch = int(3 + 3 * layers.size());
+
   auto out = OIIO::ImageOutput::create(tmp.string());
   if (!out) fail("no image writer for '" + ext + "' (" + OIIO::geterror() + ")");
-  OIIO::ImageSpec spec(int(image.width), int(image.height), 3,
+  OIIO::ImageSpec spec(int(image.width), int(image.height), nch,
                        hdr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  if (!layers.empty()) {
+    spec.channelnames = {"R", "G", "B"};
+    for (const NamedChannel& a : layers)
+      for (const char* c : {".R", ".G", ".B"}) spec.channelnames.push_back(a.name + c);
+  }
   if (hdr) spec.attribute("compression", "zip");
   else spec.attribute("oiio:ColorSpace", "sRGB");
   if (ext == ".jpg" || ext == ".jpeg") spec.attribute("Compression", "jpeg:95");
@@ -76,8 +106,19 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
 
   if (!out->open(tmp.string(), spec)) fail(out->geterror());
   bool ok;
-  if (hdr) {
+  if (hdr && layers.empty()) {
     ok = out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
+  } else if (hdr) {
+    // Interleave: R G B, then each layer's R G B, per pixel.
+    const size_t px = size_t(image.width) * image.height;
+    std::vector<float> buf(px * size_t(nch));
+    for (size_t i = 0; i < px; ++i) {
+      float* dst = &buf[i * size_t(nch)];
+      for (int c = 0; c < 3; ++c) dst[c] = image.rgb[i * 3 + c];
+      for (size_t l = 0; l < layers.size(); ++l)
+        for (int c = 0; c < 3; ++c) dst[3 + 3 * l + c] = layers[l].image.rgb[i * 3 + c];
+    }
+    ok = out->write_image(OIIO::TypeDesc::FLOAT, buf.data());
   } else {
     std::vector<unsigned char> bytes(image.rgb.size());
     for (size_t i = 0; i < bytes.size(); ++i)
@@ -96,24 +137,75 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
   if (ec) fail(ec.message());
 }
 
-Image read_image(const fs::path& path) {
+Image read_image(const fs::path& path) { return read_image_channels(path).image; }
+
+const Image* ImageChannels::layer(const std::string& name) const {
+  for (const NamedChannel& l : layers)
+    if (l.name == name) return &l.image;
+  return nullptr;
+}
+
+int ImageChannels::int_attribute(const std::string& name, int fallback) const {
+  for (const auto& [k, v] : meta.ints)
+    if (k == name) return v;
+  return fallback;
+}
+
+ImageChannels read_image_channels(const fs::path& path) {
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) throw Error(ExitCode::BadInput, path.string() + ": cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw Error(ExitCode::BadInput, path.string() + ": empty image");
-  std::vector<float> pixels(size_t(spec.width) * spec.height * spec.nchannels);
+  const size_t px = size_t(spec.width) * size_t(spec.height);
+  const size_t nch = size_t(spec.nchannels);
+  std::vector<float> pixels(px * nch);
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
     throw Error(ExitCode::BadInput, path.string() + ": " + in->geterror());
   const bool decode = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
                       spec.format.basetype == OIIO::TypeDesc::UINT16;
-  Image img(uint32_t(spec.width), uint32_t(spec.height));
-  for (size_t i = 0; i < size_t(spec.width) * spec.height; ++i)
-    for (int c = 0; c < 3; ++c) {
-      const float v = pixels[i * spec.nchannels + std::min(c, spec.nchannels - 1)];
-      img.rgb[i * 3 + c] = decode ? srgb_decode(v) : v;
-    }
-  return img;
+
+  auto channel_index = [&](const std::string& name) {
+    for (size_t c = 0; c < spec.channelnames.size() && c < nch; ++c)
+      if (spec.channelnames[c] == name) return int(c);
+    return -1;
+  };
+  auto gather = [&](const std::array<int, 3>& ch, bool srgb) {
+    Image img(uint32_t(spec.width), uint32_t(spec.height));
+    for (size_t i = 0; i < px; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const float v = pixels[i * nch + size_t(ch[c])];
+        img.rgb[i * 3 + c] = srgb ? srgb_decode(v) : v;
+      }
+    return img;
+  };
+
+  ImageChannels out;
+  std::array<int, 3> rgb = {channel_index("R"), channel_index("G"), channel_index("B")};
+  if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0)  // unnamed channels: the first three, or grey
+    for (int c = 0; c < 3; ++c) rgb[c] = std::min(c, spec.nchannels - 1);
+  out.image = gather(rgb, decode);
+
+  // Layers: every prefix L with all of L.R, L.G, L.B, in the file's channel order.
+  for (size_t c = 0; c < spec.channelnames.size() && c < nch; ++c) {
+    const std::string& n = spec.channelnames[c];
+    if (n.size() < 3 || n.compare(n.size() - 2, 2, ".R") != 0) continue;
+    const std::string name = n.substr(0, n.size() - 2);
+    const std::array<int, 3> ch = {int(c), channel_index(name + ".G"), channel_index(name + ".B")};
+    if (ch[1] < 0 || ch[2] < 0 || out.layer(name)) continue;
+    out.layers.push_back({name, gather(ch, false)});
+  }
+
+  for (const OIIO::ParamValue& p : spec.extra_attribs) {
+    const OIIO::TypeDesc t = p.type();
+    if (p.nvalues() != 1) continue;
+    if (t == OIIO::TypeDesc::INT) out.meta.ints.emplace_back(p.name().string(), p.get_int());
+    else if (t == OIIO::TypeDesc::FLOAT)
+      out.meta.floats.emplace_back(p.name().string(), p.get_float());
+    else if (t == OIIO::TypeDesc::STRING)
+      out.meta.strings.emplace_back(p.name().string(), p.get_string());
+  }
+  return out;
 }
 
 }  // namespace clpt

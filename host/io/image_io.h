@@ -30,4 +30,43 @@ void write_image(const std::filesystem::path& path, const Image& image, const Im
 // Throws Error(ExitCode::BadInput) naming the file.
 Image read_image(const std::filesystem::path& path);
 
+// ---- Extra named layers (EXR only) ----------------------------------------------------
+//
+// An EXR can carry RGB layers besides the image: a layer named "variance" is stored as the
+// channels "variance.R", "variance.G", "variance.B" beside "R", "G", "B". clpt's convention
+// for that layer is the per-pixel variance of the MEAN estimate, i.e. the sample variance of
+// one sample divided by the samples per pixel (`variance_of_mean` in stats/image_stats.h),
+// so that z = |v − r| / sqrt(var_v + var_r) compares two images directly.
+
+inline constexpr const char* kVarianceLayer = "variance";
+
+struct NamedChannel {
+  std::string name;  // layer name, e.g. kVarianceLayer; written as name.R, name.G, name.B
+  Image image;       // the same size as the main image
+};
+
+// As write_image above, plus the layers as extra float channels when the format is EXR;
+// PNG and JPEG ignore them. Layer names must be non-empty, unique, without '.', and each
+// layer the size of the image: Error(ExitCode::Output) naming the file otherwise. The write
+// is atomic in the same way (temporary file, then rename).
+void write_image(const std::filesystem::path& path, const Image& image, const ImageMetadata& meta,
+                 const std::vector<NamedChannel>& aovs);
+
+struct ImageChannels {
+  Image image;                      // RGB, as read_image returns it
+  std::vector<NamedChannel> layers; // every layer L found with all of L.R, L.G, L.B
+  ImageMetadata meta;               // the file's int, float and string attributes
+
+  // The layer of that name, or nullptr.
+  const Image* layer(const std::string& name) const;
+  const Image* variance() const { return layer(kVarianceLayer); }
+  // An int attribute such as "clpt:spp", or `fallback` when the file has none.
+  int int_attribute(const std::string& name, int fallback = 0) const;
+};
+
+// Reads the image (as read_image does) plus its extra layers and metadata. The main image
+// is taken from the channels named R, G, B when the file has them, else from the first
+// channels (a one-channel file gives grey). Throws Error(ExitCode::BadInput) naming the file.
+ImageChannels read_image_channels(const std::filesystem::path& path);
+
 }  // namespace clpt

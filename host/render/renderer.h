@@ -70,6 +70,9 @@ class Renderer {
   // (checked between passes; the pass in flight completes).
   RenderOutput render(const std::atomic<bool>* stop = nullptr, const Progress& progress = {});
 
+  // The film as it stands after `samples_per_pixel` samples (for progress reports).
+  FilmResult snapshot(uint64_t samples_per_pixel) const { return film_->resolve(samples_per_pixel); }
+
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
   const std::string& device_name() const { return ctx_.device().name; }

@@ -6,7 +6,8 @@
 
 namespace clpt {
 
-void ProgressBar::update(uint64_t done, uint64_t target, double elapsed, double limit) {
+void ProgressBar::update(uint64_t done, uint64_t target, double elapsed, double limit,
+                         const std::string& note) {
   if (!enabled_) return;
   double fraction = 0.0;
   if (target) fraction = double(done) / double(target);
@@ -19,9 +20,9 @@ void ProgressBar::update(uint64_t done, uint64_t target, double elapsed, double 
   std::string bar(filled, '=');
   if (filled < width) bar += '>' + std::string(width - filled - 1, ' ');
   const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
-  std::fprintf(stderr, "\r[%s] %3d%%  %llu%s spp  %.1f s  ETA %.1f s   ", bar.c_str(),
+  std::fprintf(stderr, "\r[%s] %3d%%  %llu%s spp  %.1f s  ETA %.1f s  %s   ", bar.c_str(),
                static_cast<int>(fraction * 100.0), static_cast<unsigned long long>(done),
-               target ? ("/" + std::to_string(target)).c_str() : "", elapsed, eta);
+               target ? ("/" + std::to_string(target)).c_str() : "", elapsed, eta, note.c_str());
   std::fflush(stderr);
   drawn_ = true;
 }

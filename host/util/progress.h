@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 namespace clpt {
 
@@ -10,7 +11,9 @@ class ProgressBar {
   explicit ProgressBar(bool enabled) : enabled_(enabled) {}
   ~ProgressBar() { finish(); }
   // done/target samples (target 0: unknown), elapsed and limit seconds (limit 0: none).
-  void update(uint64_t done, uint64_t target, double elapsed, double limit);
+  // `note` is appended to the line (e.g. the current relMSE against a reference).
+  void update(uint64_t done, uint64_t target, double elapsed, double limit,
+              const std::string& note = {});
   void finish();
 
  private:
