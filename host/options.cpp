@@ -92,6 +92,17 @@ struct Parser {
     app.add_option("--reference", o.reference,
                    "Print relMSE against this image as the render goes, and put it in --stats")
         ->type_name("FILE");
+    app.add_option("--checkpoint", o.checkpoint,
+                   "Save the render's state to FILE every --checkpoint-interval seconds and at "
+                   "the end (also when interrupted)")
+        ->type_name("FILE");
+    app.add_option("--checkpoint-interval", o.checkpoint_interval,
+                   "Seconds between checkpoints [60]")
+        ->type_name("SECONDS")
+        ->check(CLI::PositiveNumber.description(""));
+    app.add_option("--resume", o.resume,
+                   "Continue the render saved in FILE; --spp stays the total sample count")
+        ->type_name("FILE");
     app.add_flag("-q,--quiet", o.quiet, "Print errors only");
     app.add_flag("-v,--verbose", o.verbose, "Print details: device, kernel builds, BVH");
     app.add_option("--kernel-dir", o.kernel_dir,

@@ -32,6 +32,9 @@ struct Options {
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR
   std::string reference;          // image to compare with (relMSE), empty: none
+  std::string checkpoint;         // film state written every checkpoint_interval s and at the end
+  double checkpoint_interval = 60.0;
+  std::string resume;             // continue from this checkpoint
   bool quiet = false, verbose = false;
   std::string kernel_dir;         // load kernel sources from disk (development)
 };

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -126,6 +127,29 @@ int run(const Options& opt) {
                                      std::to_string(renderer.width()) + "x" +
                                      std::to_string(renderer.height()) + " (use --resolution)");
 
+  // Everything a checkpoint's sums depend on; a resume must match it exactly.
+  std::error_code ec;
+  const std::string signature = nlohmann::json{
+      {"clpt", CLPT_VERSION},
+      {"scene", std::filesystem::weakly_canonical(opt.scene, ec).string()},
+      {"triangles", scene.triangles.size()},
+      {"vertices", scene.positions.size()},
+      {"resolution", {renderer.width(), renderer.height()}},
+      {"camera", opt.camera},
+      {"integrator", opt.integrator},
+      {"max_depth", opt.max_depth},
+      {"seed", opt.seed},
+      {"sampler", opt.sampler},
+      // Stratified and lhs divide each dimension into --spp strata: the total must match.
+      {"strata", (opt.sampler == "stratified" || opt.sampler == "lhs") ? opt.spp : 0},
+      {"estimator", {opt.direct, opt.mis, opt.light_samples, opt.hemisphere, opt.rr,
+                     opt.rr_depth, opt.branching, opt.ao_radius}}}.dump();
+  if (!opt.resume.empty()) {
+    renderer.restore(read_checkpoint(opt.resume, signature));
+    log::info("resuming from " + opt.resume);
+  }
+  double last_checkpoint = 0.0;
+
   log::info("rendering " + opt.scene + " at " + std::to_string(renderer.width()) + "x" +
             std::to_string(renderer.height()) + " with " + opt.integrator + " on " + device.name);
   // Progress: a bar on a terminal; with --reference, the relMSE so far, at most once a
@@ -144,6 +168,10 @@ int run(const Options& opt) {
       if (!tty) log::info(std::to_string(done) + " spp, " + std::to_string(t) + " s: " + note);
     }
     bar.update(done, target, t, opt.time_limit, note);
+    if (!opt.checkpoint.empty() && t - last_checkpoint >= opt.checkpoint_interval) {
+      last_checkpoint = t;
+      write_checkpoint(opt.checkpoint, signature, renderer.film_state(done));
+    }
   });
   bar.finish();
 
@@ -161,6 +189,8 @@ int run(const Options& opt) {
                {"clpt:seed", int(opt.seed)},
                {"clpt:max_depth", int(opt.max_depth)}};
   meta.floats = {{"clpt:render_seconds", float(st.render_seconds)}};
+  if (!opt.checkpoint.empty() && film.samples_per_pixel > 0)
+    write_checkpoint(opt.checkpoint, signature, renderer.film_state(film.samples_per_pixel));
   if (film.samples_per_pixel > 0) {
     std::vector<NamedChannel> layers;
     if (opt.variance)

@@ -89,6 +89,28 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
 
 Renderer::~Renderer() = default;
 
+FilmState Renderer::film_state(uint64_t samples_per_pixel) const {
+  FilmState s;
+  s.width = width_;
+  s.height = height_;
+  s.samples_per_pixel = samples_per_pixel;
+  s.sum = film_->sum().read_vector<float>(film_->pixels() * 4);
+  s.sum_sq = film_->sum_sq().read_vector<float>(film_->pixels() * 4);
+  s.ray_counts = film_->ray_counts().read_vector<uint32_t>(film_->pixels());
+  return s;
+}
+
+void Renderer::restore(const FilmState& s) {
+  if (s.width != width_ || s.height != height_)
+    throw Error(ExitCode::Usage, "checkpoint is " + std::to_string(s.width) + "x" +
+                                     std::to_string(s.height) + ", this render " +
+                                     std::to_string(width_) + "x" + std::to_string(height_));
+  film_->sum().write(s.sum.data(), s.sum.size() * sizeof(float));
+  film_->sum_sq().write(s.sum_sq.data(), s.sum_sq.size() * sizeof(float));
+  film_->ray_counts().write(s.ray_counts.data(), s.ray_counts.size() * sizeof(uint32_t));
+  start_spp_ = s.samples_per_pixel;
+}
+
 RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& progress) {
   RenderOutput out;
   const uint64_t target = settings_.spp;  // 0: until the time limit
@@ -97,7 +119,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
                              : ctx_.device().is_gpu()              ? 0.03
                                                                    : 0.1;
   const auto start = Clock::now();
-  uint64_t done = 0;
+  uint64_t done = start_spp_;
   uint64_t pass_spp = 1;
   double seconds_per_spp = 0.0;
 

@@ -9,6 +9,7 @@
 
 #include "cl/context.h"
 #include "integrators/integrator.h"
+#include "render/checkpoint.h"
 #include "render/film.h"
 #include "render/scene_buffers.h"
 #include "scene/scene.h"
@@ -70,6 +71,11 @@ class Renderer {
   // (checked between passes; the pass in flight completes).
   RenderOutput render(const std::atomic<bool>* stop = nullptr, const Progress& progress = {});
 
+  // The raw film (for checkpoints) and its restoration: render() then continues from the
+  // restored sample count, so a resumed render equals an uninterrupted one bit for bit.
+  FilmState film_state(uint64_t samples_per_pixel) const;
+  void restore(const FilmState& state);
+
   // The film as it stands after `samples_per_pixel` samples (for progress reports).
   FilmResult snapshot(uint64_t samples_per_pixel) const { return film_->resolve(samples_per_pixel); }
 
@@ -86,6 +92,7 @@ class Renderer {
   std::unique_ptr<SceneBuffers> scene_buffers_;
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<Film> film_;
+  uint64_t start_spp_ = 0;  // samples already in the film (restored from a checkpoint)
 };
 
 }  // namespace clpt
