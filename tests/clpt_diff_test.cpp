@@ -28,36 +28,7 @@ namespace fs = std::filesystem;
 
 // Runs CLPT_DIFF_BINARY with args (no shell), capturing exit code, stdout and stderr.
 test::RunResult run_diff(const std::vector<std::string>& args) {
-  const std::string base = (fs::temp_directory_path() /
-                            ("clpt-diff-run-" + std::to_string(::getpid()) + "-" +
-                             std::to_string(std::chrono::steady_clock::now().time_since_epoch().count())))
-                               .string();
-  const std::string out_path = base + ".out", err_path = base + ".err";
-  test::RunResult r;
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int o = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int e = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int in = ::open("/dev/null", O_RDONLY);
-    ::dup2(o, 1);
-    ::dup2(e, 2);
-    ::dup2(in, 0);
-    std::vector<char*> argv;
-    argv.push_back(const_cast<char*>(CLPT_DIFF_BINARY));
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(CLPT_DIFF_BINARY, argv.data());
-    ::_exit(127);
-  }
-  if (pid < 0) return r;
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = test::read_file(out_path);
-  r.err = test::read_file(err_path);
-  ::unlink(out_path.c_str());
-  ::unlink(err_path.c_str());
-  return r;
+  return test::run_program(CLPT_DIFF_BINARY, args);
 }
 
 Image filled(uint32_t w, uint32_t h, float v) {

@@ -21,6 +21,16 @@ std::string read_file(const std::string& path) {
 
 RunResult run_clpt(const std::vector<std::string>& args, const std::string& interrupt_after,
                    double delay) {
+  RunOptions options;
+  options.interrupt_after = interrupt_after;
+  options.delay = delay;
+  return run_program(CLPT_BINARY, args, options);
+}
+
+RunResult run_program(const std::string& binary, const std::vector<std::string>& args,
+                      const RunOptions& options) {
+  const std::string& interrupt_after = options.interrupt_after;
+  const double delay = options.delay;
   const std::string base = "/tmp/clpt-run-" + std::to_string(::getpid()) + "-" +
                            std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
   const std::string out_path = base + ".out", err_path = base + ".err";
@@ -32,11 +42,12 @@ RunResult run_clpt(const std::vector<std::string>& args, const std::string& inte
     ::dup2(o, 1);
     ::dup2(e, 2);
     ::dup2(in, 0);
+    for (const auto& [name, value] : options.env) ::setenv(name.c_str(), value.c_str(), 1);
     std::vector<char*> argv;
-    argv.push_back(const_cast<char*>(CLPT_BINARY));
+    argv.push_back(const_cast<char*>(binary.c_str()));
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    ::execv(CLPT_BINARY, argv.data());
+    ::execv(binary.c_str(), argv.data());
     ::_exit(127);
   }
   RunResult r;

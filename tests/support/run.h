@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace clpt::test {
@@ -11,8 +12,18 @@ struct RunResult {
   std::string out, err;
 };
 
-// Runs CLPT_BINARY with args (no shell involved). If `interrupt_after` is not empty, sends
-// SIGINT `delay` seconds after the program's stderr first contains that text.
+struct RunOptions {
+  std::vector<std::pair<std::string, std::string>> env;  // set in the child only
+  std::string interrupt_after;  // if not empty: SIGINT `delay` s after stderr first shows it
+  double delay = 1.0;
+};
+
+// Runs `binary` with args (no shell involved), stdin from /dev/null.
+RunResult run_program(const std::string& binary, const std::vector<std::string>& args,
+                      const RunOptions& options = {});
+
+// Runs CLPT_BINARY. If `interrupt_after` is not empty, sends SIGINT `delay` seconds after the
+// program's stderr first contains that text.
 RunResult run_clpt(const std::vector<std::string>& args, const std::string& interrupt_after = "",
                    double delay = 1.0);
 
