@@ -1,0 +1,610 @@
+// Robustness (issue 6): clpt under hostile conditions, as a user would meet them.
+//   OutOfMemory.*       a scene or film larger than the device allows: exit 3, a message that
+//                       says how much memory, no output file
+//   UnwritableOutput.*  outputs that cannot be written even by root: exit 4 (or 1), a message
+//                       naming the file, nothing left behind
+//   BuildFailure.*      a kernel with a syntax error through --kernel-dir: exit 3, build log
+//                       with file and line
+//   NoNaN.*             degenerate but legal geometry rendered with pt and ao: every pixel
+//                       finite and no sample dropped
+// See docs/robustness.md.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <utility>
+#include <vector>
+
+#include <chrono>
+#include <csignal>
+#include <thread>
+
+#include "render/renderer.h"
+#include "support/device.h"
+#include "support/mesh.h"
+#include "support/scenes.h"
+
+namespace clpt {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kCornell = std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf";
+
+std::string slurp(const fs::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// A private folder for one test, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    std::string templ = (fs::temp_directory_path() / "clpt-robust-XXXXXX").string();
+    if (::mkdtemp(templ.data())) path_ = templ;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    if (!path_.empty()) fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename().string());
+    return names;
+  }
+
+ private:
+  fs::path path_;
+};
+
+struct Result {
+  int exit_code = -1;  // -1: did not exit normally (killed by a signal)
+  int signal = 0;
+  std::string out, err;
+};
+
+// Runs the clpt executable with `args` and extra environment variables set in the child only
+// (tests/support/run.h cannot set them). stdout/stderr go to files in `scratch`. The child is
+// killed after `timeout_s` seconds so a hang fails the test instead of the whole suite.
+Result run_clpt_env(const std::vector<std::string>& args,
+                    const std::map<std::string, std::string>& env, const TempDir& scratch,
+                    int timeout_s = 300) {
+  const std::string out_path = scratch / "stdout.txt", err_path = scratch / "stderr.txt";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    for (const auto& [k, v] : env) ::setenv(k.c_str(), v.c_str(), 1);
+    const int o = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int in = ::open("/dev/null", O_RDONLY);
+    if (o < 0 || e < 0 || in < 0) ::_exit(126);
+    ::dup2(o, 1);
+    ::dup2(e, 2);
+    ::dup2(in, 0);
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(CLPT_BINARY));
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(CLPT_BINARY, argv.data());
+    ::_exit(127);
+  }
+  Result r;
+  if (pid < 0) return r;
+  int status = 0;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
+  while (::waitpid(pid, &status, WNOHANG) != pid) {
+    if (std::chrono::steady_clock::now() > give_up) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      r.err = "(killed after " + std::to_string(timeout_s) + " s)\n";
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  r.out = slurp(out_path);
+  r.err += slurp(err_path);
+  fs::remove(out_path);
+  fs::remove(err_path);
+  return r;
+}
+
+bool contains(const std::string& haystack, const std::string& needle) {
+  return haystack.find(needle) != std::string::npos;
+}
+
+// ---------------------------------------------------------------------------------------------
+// OutOfMemory. PoCL 3.1 reads POCL_MEMORY_LIMIT as an integer number of GiB: the device then
+// reports that much global memory and a maximum single allocation of a quarter of it rounded
+// up to a power of two (POCL_MEMORY_LIMIT=1: 1 GiB global, 256 MiB per buffer). PoCL does not
+// lower its own accounting limit, so only the per-buffer maximum is enforced: clpt's
+// cl::Buffer checks it before clCreateBuffer and throws Error(Device).
+
+const std::map<std::string, std::string> kOneGiB = {{"POCL_MEMORY_LIMIT", "1"}};
+
+TEST(OutOfMemory, PoclMemoryLimitIsInEffect) {
+  // The premise of the tests below: the limited device allocates at most 256 MiB at once.
+  TempDir dir;
+  const Result r = run_clpt_env({"--list-devices"}, kOneGiB, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Result v = run_clpt_env({kCornell, "--device", "pocl", "--resolution", "8x8", "--spp", "1",
+                                 "--verbose", "-o", dir / "small.exr"},
+                                kOneGiB, dir);
+  EXPECT_EQ(v.exit_code, 0) << "a small render must still work under the limit: " << v.err;
+}
+
+TEST(OutOfMemory, FilmLargerThanTheDeviceAllowsIsExit3) {
+  TempDir dir;
+  // 8192 x 4096 pixels x 16 bytes (float4 sums) = 512 MiB for one film buffer.
+  const Result r = run_clpt_env({kCornell, "--device", "pocl", "--resolution", "8192x4096",
+                                 "--spp", "1", "-o", dir / "big.exr"},
+                                kOneGiB, dir);
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_EQ(r.signal, 0) << "clpt was killed by signal " << r.signal << ": " << r.err;
+  EXPECT_TRUE(contains(r.err, "film")) << r.err;
+  EXPECT_TRUE(contains(r.err, "512 MiB")) << "the message must say how much was needed: " << r.err;
+  EXPECT_TRUE(contains(r.err, "256 MiB")) << "and how much the device allows: " << r.err;
+  EXPECT_TRUE(contains(r.err, "allocate")) << r.err;
+  EXPECT_TRUE(dir.entries().empty()) << "no output and no temporary file may be left";
+}
+
+// Writes a .gltf + .bin: one primitive with `vertices` vertices (a line of points, only the
+// first three used by its single triangle) placed by `instances` nodes. The loader keeps every
+// vertex of every instance, so the scene's vertex buffer is 32 x vertices x instances bytes
+// while the file stays small and the BVH trivial.
+void write_many_vertices_gltf(const fs::path& gltf, uint32_t vertices, uint32_t instances) {
+  std::vector<float> pos(size_t(vertices) * 3);
+  for (uint32_t i = 0; i < vertices; ++i) {
+    pos[3 * i + 0] = float(i % 1024) * 1e-3f;
+    pos[3 * i + 1] = float(i / 1024) * 1e-3f;
+    pos[3 * i + 2] = 0.0f;
+  }
+  const uint32_t idx[3] = {0, 1, 1024};
+  const fs::path bin = gltf.parent_path() / "many.bin";
+  {
+    std::ofstream f(bin, std::ios::binary);
+    f.write(reinterpret_cast<const char*>(pos.data()), std::streamsize(pos.size() * sizeof(float)));
+    f.write(reinterpret_cast<const char*>(idx), sizeof idx);
+  }
+  const size_t pos_bytes = pos.size() * sizeof(float);
+  std::ostringstream j;
+  j << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[)";
+  for (uint32_t k = 0; k < instances; ++k) j << (k ? "," : "") << k;
+  j << "]}],\"nodes\":[";
+  for (uint32_t k = 0; k < instances; ++k)
+    j << (k ? "," : "") << R"({"mesh":0,"translation":[0,0,)" << -0.01 * k << "]}";
+  j << R"(],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)"
+    << R"("accessors":[{"bufferView":0,"componentType":5126,"count":)" << vertices
+    << R"(,"type":"VEC3","min":[0,0,0],"max":[1.1,)" << float(vertices / 1024) * 1e-3f << R"(,0]},)"
+    << R"({"bufferView":1,"componentType":5125,"count":3,"type":"SCALAR"}],)"
+    << R"("bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":)" << pos_bytes << "},"
+    << R"({"buffer":0,"byteOffset":)" << pos_bytes << R"(,"byteLength":12}],)"
+    << R"("buffers":[{"uri":"many.bin","byteLength":)" << pos_bytes + 12 << "}]}";
+  std::ofstream(gltf) << j.str();
+}
+
+TEST(OutOfMemory, SceneLargerThanTheDeviceAllowsIsExit3) {
+  TempDir dir, out;
+  // 65536 vertices x 136 instances = 8,912,896 vertices x 32 bytes = 272 MiB > 256 MiB.
+  write_many_vertices_gltf(dir.path() / "many.gltf", 65536, 136);
+  const Result r = run_clpt_env({dir / "many.gltf", "--device", "pocl", "--resolution", "16x16",
+                                 "--spp", "1", "-o", out / "scene.exr"},
+                                kOneGiB, out);
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_EQ(r.signal, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "vertex buffer")) << r.err;
+  EXPECT_TRUE(contains(r.err, "272 MiB")) << r.err;
+  EXPECT_TRUE(contains(r.err, "256 MiB")) << r.err;
+  EXPECT_TRUE(out.entries().empty()) << "no output and no temporary file may be left";
+}
+
+// ---------------------------------------------------------------------------------------------
+// UnwritableOutput. Tests run as root in CI, and permissions do not stop root, so these use
+// paths that fail for everyone.
+
+const std::vector<std::string> kTiny = {"--device", "pocl", "--resolution", "8x8", "--spp", "1"};
+
+std::vector<std::string> tiny(std::vector<std::string> args) {
+  args.insert(args.end(), kTiny.begin(), kTiny.end());
+  return args;
+}
+
+TEST(UnwritableOutput, ParentIsARegularFile) {
+  TempDir dir;
+  std::ofstream(dir / "existing_file") << "not a folder";
+  const std::string target = dir / "existing_file/out.exr";
+  const Result r = run_clpt_env(tiny({kCornell, "-o", target}), {}, dir);
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_TRUE(contains(r.err, target)) << "the message must name the file: " << r.err;
+  EXPECT_EQ(slurp(dir / "existing_file"), "not a folder");
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"existing_file"});
+}
+
+TEST(UnwritableOutput, FolderOnAReadOnlyFileSystem) {
+  // procfs refuses new files even to root. /proc/sys is a folder there; /proc itself is
+  // checked too. Both pass access(W_OK) for root, so the failure may come only at write time,
+  // after the render: it must still be exit 4 naming the file.
+  for (const std::string target : {"/proc/clpt-robustness-out.exr",
+                                    "/proc/sys/clpt-robustness-out.png"}) {
+    SCOPED_TRACE(target);
+    TempDir dir;
+    const Result r = run_clpt_env(tiny({kCornell, "-o", target}), {}, dir);
+    EXPECT_EQ(r.exit_code, 4) << r.err;
+    EXPECT_TRUE(contains(r.err, target)) << r.err;
+    EXPECT_FALSE(fs::exists(target));
+    // No temporary file either (write_image names them .<stem>.tmp<pid><ext>).
+    for (const auto& e : fs::directory_iterator(fs::path(target).parent_path()))
+      EXPECT_FALSE(contains(e.path().filename().string(), "clpt-robustness")) << e.path();
+  }
+}
+
+TEST(UnwritableOutput, OutputIsAnExistingFolder) {
+  TempDir dir;
+  fs::create_directory(dir / "render.exr");
+  const Result r = run_clpt_env(tiny({kCornell, "-o", dir / "render.exr"}), {}, dir);
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_TRUE(contains(r.err, dir / "render.exr")) << r.err;
+  EXPECT_TRUE(contains(r.err, "folder")) << r.err;
+  EXPECT_TRUE(fs::is_directory(dir / "render.exr"));
+  EXPECT_TRUE(fs::is_empty(dir / "render.exr"));
+  // Without an image extension the format check comes first: a usage error naming the path.
+  fs::create_directory(dir / "plainfolder");
+  const Result p = run_clpt_env(tiny({kCornell, "-o", dir / "plainfolder"}), {}, dir);
+  EXPECT_EQ(p.exit_code, 1) << p.err;
+  EXPECT_TRUE(contains(p.err, dir / "plainfolder")) << p.err;
+}
+
+TEST(UnwritableOutput, StatisticsFileCannotBeWritten) {
+  TempDir dir;
+  std::ofstream(dir / "existing_file") << "x";
+  const std::string stats = dir / "existing_file/stats.json";
+  const Result r =
+      run_clpt_env(tiny({kCornell, "-o", dir / "img.exr", "--stats=" + stats}), {}, dir);
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_TRUE(contains(r.err, stats)) << r.err;
+  // The statistics are written after the image: the image is complete and kept, and no
+  // temporary file is left.
+  std::vector<std::string> names = dir.entries();
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"existing_file", "img.exr"}));
+}
+
+// ---------------------------------------------------------------------------------------------
+// BuildFailure: a kernel with a syntax error, loaded with --kernel-dir as a developer would.
+
+TEST(BuildFailure, SyntaxErrorInPtKernelGivesExit3WithFileAndLine) {
+  TempDir dir, cache;
+  const fs::path kernels = dir.path() / "kernels";
+  fs::copy(fs::path(CLPT_SOURCE_DIR) / "kernels", kernels, fs::copy_options::recursive);
+  const fs::path pt = kernels / "integrators" / "pt.cl";
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(pt);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  ASSERT_GT(lines.size(), 5u);
+  // After the #includes (lines 1-4): line 5 is the broken one.
+  lines.insert(lines.begin() + 4, "this_is_not_opencl_xyz here;");
+  {
+    std::ofstream out(pt, std::ios::trunc);
+    for (const std::string& l : lines) out << l << "\n";
+  }
+  const Result r = run_clpt_env(tiny({kCornell, "--kernel-dir", kernels.string(), "-o",
+                                      dir / "out.exr"}),
+                                {{"XDG_CACHE_HOME", cache.path().string()},
+                                 {"CLPT_CACHE_DIR", cache.path().string()}},
+                                dir);
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_TRUE(contains(r.err, "pt.cl:5:")) << "the build log must name file and line: " << r.err;
+  EXPECT_TRUE(contains(r.err, "this_is_not_opencl_xyz")) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.exr"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// NoNaN: scenes a Scene can legally hold (finite positions; normals and UVs are not checked
+// by the renderer's input contract when built in code) with degenerate features, rendered with
+// pt and ao. The film drops non-finite samples and counts them, so a finite image alone proves
+// little: each case also asserts that no sample was dropped, because a dropped sample is a
+// biased (darkened) pixel, and on legal input it is a bug in the kernels. Both are checked
+// separately so a failure says which.
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+Material diffuse(float rho) {
+  Material m;
+  m.base_color = glm::vec4(rho, rho, rho, 1.0f);
+  m.metallic = 0.0f;
+  return m;
+}
+
+Material emitter(float radiance) {
+  Material m = diffuse(0.5f);
+  m.emission = glm::vec3(radiance);
+  m.double_sided = true;
+  return m;
+}
+
+// Appends one triangle with its own three vertices and per-vertex normals and UVs.
+void add_triangle(Scene& s, glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t material,
+                  glm::vec3 na = glm::vec3(0.0f), glm::vec3 nb = glm::vec3(0.0f),
+                  glm::vec3 nc = glm::vec3(0.0f), glm::vec2 uv = glm::vec2(0.0f)) {
+  const uint32_t base = uint32_t(s.positions.size());
+  for (const auto& [p, n] : {std::pair{a, na}, std::pair{b, nb}, std::pair{c, nc}}) {
+    s.positions.push_back(p);
+    s.normals.push_back(n);
+    s.uvs.push_back(uv);
+  }
+  s.triangles.emplace_back(base, base + 1, base + 2);
+  s.triangle_materials.push_back(material);
+}
+
+uint32_t add_material(Scene& s, const Material& m) {
+  s.materials.push_back(m);
+  return uint32_t(s.materials.size() - 1);
+}
+
+// The Cornell box (0..0.556 wide, camera at z 0.8) with `extra` added to it.
+Scene cornell_with(const std::function<void(Scene&)>& extra) {
+  Scene s = test::cornell_box();
+  extra(s);
+  return s;
+}
+
+// Every position and the camera scaled by `k` about the origin (radiance is scale invariant).
+Scene scaled(Scene s, float k) {
+  for (glm::vec3& p : s.positions) p *= k;
+  for (Camera& c : s.cameras) c.camera_to_world[3] = glm::vec4(glm::vec3(c.camera_to_world[3]) * k, 1.0f);
+  return s;
+}
+
+// A spot in view of the Cornell camera, in front of the back wall.
+const glm::vec3 kMid(0.278f, 0.25f, -0.3f);
+
+struct NoNaNCase {
+  const char* name;
+  std::function<Scene()> scene;
+};
+
+void PrintTo(const NoNaNCase& c, std::ostream* os) { *os << c.name; }
+
+std::vector<NoNaNCase> no_nan_cases() {
+  return {
+      {"ZeroAreaTriangles",
+       [] {
+         return cornell_with([](Scene& s) {
+           const uint32_t m = add_material(s, diffuse(0.8f));
+           for (int i = 0; i < 50; ++i) {
+             const glm::vec3 p = kMid + glm::vec3(0.004f * i - 0.1f, 0.0f, 0.0f);
+             add_triangle(s, p, p, p, m);
+           }
+         });
+       }},
+      {"CollinearTriangles",
+       [] {
+         return cornell_with([](Scene& s) {
+           const uint32_t m = add_material(s, diffuse(0.8f));
+           for (int i = 0; i < 50; ++i) {
+             const glm::vec3 p = kMid + glm::vec3(0.0f, 0.004f * i - 0.1f, 0.0f);
+             add_triangle(s, p, p + glm::vec3(0.1f, 0.02f, 0.0f), p + glm::vec3(0.2f, 0.04f, 0.0f), m);
+           }
+         });
+       }},
+      {"DuplicateVertexIndices",
+       [] {
+         return cornell_with([](Scene& s) {
+           const uint32_t m = add_material(s, diffuse(0.8f));
+           const uint32_t base = uint32_t(s.positions.size());
+           for (glm::vec3 p : {kMid, kMid + glm::vec3(0.1f, 0.0f, 0.0f), kMid + glm::vec3(0.0f, 0.1f, 0.0f)}) {
+             s.positions.push_back(p);
+             s.normals.push_back(glm::vec3(0.0f));
+             s.uvs.push_back(glm::vec2(0.0f));
+           }
+           for (glm::uvec3 t : {glm::uvec3(0, 0, 1), glm::uvec3(1, 2, 2), glm::uvec3(2, 2, 2),
+                                glm::uvec3(0, 1, 2), glm::uvec3(0, 1, 2)}) {  // and a twin face
+             s.triangles.push_back(t + glm::uvec3(base));
+             s.triangle_materials.push_back(m);
+           }
+         });
+       }},
+      {"OpposingNormalsInterpolateToZero",
+       [] {
+         return cornell_with([](Scene& s) {
+           // n and -n at the corners: the interpolated shading normal is 0 along a line.
+           const uint32_t m = add_material(s, diffuse(0.8f));
+           const glm::vec3 n(0.0f, 0.0f, 1.0f);
+           add_triangle(s, kMid + glm::vec3(-0.15f, -0.15f, 0.0f), kMid + glm::vec3(0.15f, -0.15f, 0.0f),
+                        kMid + glm::vec3(0.0f, 0.15f, 0.0f), m, n, -n, -n);
+           add_triangle(s, kMid + glm::vec3(-0.15f, 0.0f, 0.05f), kMid + glm::vec3(0.15f, 0.0f, 0.05f),
+                        kMid + glm::vec3(0.0f, 0.2f, 0.05f), m, n, -n, glm::vec3(0.0f));
+         });
+       }},
+      {"NaNAndInfNormals",
+       [] {
+         return cornell_with([](Scene& s) {
+           const uint32_t m = add_material(s, diffuse(0.8f));
+           const glm::vec3 nan3(kNaN), inf3(kInf, -kInf, 0.0f);
+           add_triangle(s, kMid + glm::vec3(-0.2f, -0.1f, 0.0f), kMid + glm::vec3(0.0f, -0.1f, 0.0f),
+                        kMid + glm::vec3(-0.1f, 0.1f, 0.0f), m, nan3, nan3, nan3);
+           add_triangle(s, kMid + glm::vec3(0.0f, -0.1f, 0.0f), kMid + glm::vec3(0.2f, -0.1f, 0.0f),
+                        kMid + glm::vec3(0.1f, 0.1f, 0.0f), m, inf3, glm::vec3(0, 0, 1), nan3);
+           // And on the floor, which the light reaches and every bounce hits.
+           for (glm::vec3& n : s.normals)
+             if (n == glm::vec3(0.0f)) n = glm::vec3(kNaN, 0.0f, 0.0f);
+         });
+       }},
+      {"NaNAndInfUVs",
+       [] {
+         return cornell_with([](Scene& s) {
+           for (size_t i = 0; i < s.uvs.size(); ++i)
+             s.uvs[i] = i % 2 ? glm::vec2(kNaN) : glm::vec2(kInf, -kInf);
+         });
+       }},
+      {"ZeroAreaEmitters",
+       [] {
+         return cornell_with([](Scene& s) {
+           // Degenerate and collinear emitters next to the box's real light.
+           const uint32_t e = add_material(s, emitter(50.0f));
+           for (int i = 0; i < 20; ++i) {
+             const glm::vec3 p = kMid + glm::vec3(0.01f * i - 0.1f, 0.1f, 0.0f);
+             add_triangle(s, p, p, p, e);
+             add_triangle(s, p, p + glm::vec3(0.05f, 0.0f, 0.0f), p + glm::vec3(0.1f, 0.0f, 0.0f), e);
+           }
+         });
+       }},
+      {"OnlyZeroAreaEmitters",
+       [] {
+         // No light at all once the degenerate emitters are discarded: a black, finite image.
+         Scene s;
+         test::add_mesh(s, test::grid_cube(glm::vec3(0.0f), 1.0f, 2), diffuse(0.5f));
+         const uint32_t e = add_material(s, emitter(10.0f));
+         add_triangle(s, glm::vec3(0.2f, 0.2f, 1.5f), glm::vec3(0.2f, 0.2f, 1.5f), glm::vec3(0.2f, 0.2f, 1.5f), e);
+         add_triangle(s, glm::vec3(0.0f, 0.0f, 1.5f), glm::vec3(0.1f, 0.1f, 1.5f), glm::vec3(0.2f, 0.2f, 1.5f), e);
+         return s;
+       }},
+      {"TinyTriangles1e-20",
+       [] {
+         return cornell_with([](Scene& s) {
+           const uint32_t m = add_material(s, diffuse(0.8f));
+           const uint32_t e = add_material(s, emitter(5.0f));
+           for (int i = 0; i < 50; ++i) {
+             const glm::vec3 p = kMid + glm::vec3(0.004f * i - 0.1f, 0.0f, 0.0f);
+             add_triangle(s, p, p + glm::vec3(1e-20f, 0.0f, 0.0f), p + glm::vec3(0.0f, 1e-20f, 0.0f),
+                          i % 2 ? m : e);
+           }
+         });
+       }},
+      {"HugeGroundTriangle1e20",
+       [] {
+         return cornell_with([](Scene& s) {
+           const uint32_t m = add_material(s, diffuse(0.5f));
+           add_triangle(s, glm::vec3(-1e20f, -0.01f, 1e20f), glm::vec3(1e20f, -0.01f, 1e20f),
+                        glm::vec3(0.0f, -0.01f, -1e20f), m);
+         });
+       }},
+      {"WholeSceneAt1e-20", [] { return scaled(test::cornell_box(), 1e-20f); }},
+      {"WholeSceneAt1e20", [] { return scaled(test::cornell_box(), 1e20f); }},
+  };
+}
+
+class NoNaN : public ::testing::TestWithParam<NoNaNCase> {};
+
+TEST_P(NoNaN, PtAndAoGiveFiniteImagesWithoutDroppedSamples) {
+  const Scene scene = GetParam().scene();
+  for (const char* integrator : {"pt", "ao"}) {
+    SCOPED_TRACE(integrator);
+    RenderSettings s;
+    s.width = 24;
+    s.height = 24;
+    s.spp = 8;
+    s.max_depth = 4;
+    s.seed = 11;
+    s.integrator = integrator;
+    Renderer r(test::device_context(), scene, s);
+    const RenderOutput out = r.render();
+    ASSERT_EQ(out.film.samples_per_pixel, 8u);
+    size_t bad_mean = 0, bad_var = 0;
+    for (float v : out.film.mean.rgb) bad_mean += !std::isfinite(v);
+    for (float v : out.film.variance.rgb) bad_var += !std::isfinite(v);
+    EXPECT_EQ(bad_mean, 0u) << "non-finite pixels in the image";
+    EXPECT_EQ(bad_var, 0u) << "non-finite pixels in the variance";
+    EXPECT_EQ(out.film.dropped_samples, 0u)
+        << out.film.dropped_samples << " of " << 24 * 24 * 8 << " samples were NaN/Inf";
+    double sum = 0.0;
+    for (float v : out.film.mean.rgb) sum += v;
+    std::cout << "[ NoNaN    ] " << GetParam().name << " " << integrator << ": mean "
+              << sum / double(out.film.mean.rgb.size()) << ", dropped "
+              << out.film.dropped_samples << "\n";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Degenerate, NoNaN, ::testing::ValuesIn(no_nan_cases()),
+                         [](const auto& info) {
+                           std::string n = info.param.name;
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
+
+
+// ---------------------------------------------------------------------------------------------
+// ScaleInvariance: radiance does not depend on the unit of length, so the Cornell box scaled
+// by k about the origin (camera included) must give the same image as at k = 1. With the same
+// seed the sample paths are the same, so the means agree to float rounding (measured: 3e-5
+// relative from k = 0.5 to 1e10); 1 % is a loose bound that still sees the failures below.
+// The DISABLED_ cases fail today and are kept as the precise statement of what is wrong (see
+// docs/robustness.md, "Findings"): run them with --gtest_also_run_disabled_tests.
+
+struct Means {
+  double pt = 0.0, ao = 0.0;
+  uint32_t emitters = 0;
+};
+
+Means cornell_means(float k) {
+  const Scene scene = scaled(test::cornell_box(), k);
+  Means m;
+  for (const char* integrator : {"pt", "ao"}) {
+    RenderSettings s;
+    s.width = 24;
+    s.height = 24;
+    s.spp = 32;
+    s.max_depth = 4;
+    s.seed = 11;
+    s.integrator = integrator;
+    Renderer r(test::device_context(), scene, s);
+    const RenderOutput out = r.render();
+    double sum = 0.0;
+    for (float v : out.film.mean.rgb) sum += v;
+    (std::string(integrator) == "pt" ? m.pt : m.ao) = sum / double(out.film.mean.rgb.size());
+    m.emitters = out.stats.emitters;
+  }
+  return m;
+}
+
+void expect_same_as_unit_scale(std::initializer_list<float> scales) {
+  static const Means unit = cornell_means(1.0f);
+  for (float k : scales) {
+    const Means m = cornell_means(k);
+    EXPECT_NEAR(m.pt, unit.pt, 0.01 * unit.pt) << "pt at scale " << k;
+    EXPECT_NEAR(m.ao, unit.ao, 0.01 * unit.ao) << "ao at scale " << k;
+    EXPECT_EQ(m.emitters, unit.emitters) << "emitters at scale " << k;
+  }
+}
+
+TEST(ScaleInvariance, CornellBoxFromHalfToTenBillion) {
+  expect_same_as_unit_scale({0.5f, 2.0f, 1e3f, 1e6f, 1e10f});
+}
+
+// Fails today: pt is 8 % darker at k = 0.2 (an 11 cm box), 16 % at 0.01 and 22 % at 0.001
+// (ao is unaffected down to 3e-3). Cause: offset_ray_origin (kernels/core/ray.cl) moves a
+// ray origin by the absolute 1/65536 along the normal when a coordinate is below 1/32.
+TEST(ScaleInvariance, DISABLED_SmallScenesAreLitLikeUnitScenes) {
+  expect_same_as_unit_scale({0.2f, 0.01f, 1e-3f});
+}
+
+// Fails today: build_emitters (host/render/scene_buffers.cpp) takes a triangle's area as
+// glm::length of the float cross product, which overflows above ~1e19 m^2 and underflows
+// below ~1e-22 m^2, so those emitters are silently dropped (0 emitters at k = 1e11 and 1e-13;
+// the renderer then warns that the scene has no emissive surfaces).
+TEST(ScaleInvariance, DISABLED_EmittersAreKeptAtExtremeAreas) {
+  for (float k : {1e-13f, 1e11f}) EXPECT_EQ(cornell_means(k).emitters, 2u) << "scale " << k;
+}
+}  // namespace
+}  // namespace clpt
