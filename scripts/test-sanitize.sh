@@ -27,7 +27,7 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCLPT_SANIT
 printf '%s\n' '# Allocations PoCL and LLVM keep until exit by design (scripts/test-sanitize.sh).' \
   'leak:libpocl.so' 'leak:libpocl-devices' 'leak:libLLVM' >build-asan/lsan.supp
 export ASAN_OPTIONS="detect_leaks=${CLPT_SANITIZE_LEAKS:-1}:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
-export LSAN_OPTIONS="suppressions=$PWD/build-asan/lsan.supp"
+export LSAN_OPTIONS="suppressions=$PWD/build-asan/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 cmake --build build-asan
 built=$(date +%s)
