@@ -11,12 +11,6 @@ inline float luminance(float3 c) { return dot(c, (float3)(0.2126f, 0.7152f, 0.07
 
 inline bool is_black(float3 c) { return c.x <= 0.0f && c.y <= 0.0f && c.z <= 0.0f; }
 
-/* Veach's power heuristic (beta = 2) for one sample of each of two strategies. */
-inline float mis_power(float pdf_this, float pdf_other) {
-  const float a = pdf_this * pdf_this, b = pdf_other * pdf_other;
-  return a > 0.0f ? a / (a + b) : 0.0f;
-}
-
 /* An orthonormal basis around unit n (Duff et al. 2017, "Building an Orthonormal Basis,
  * Revisited"). */
 inline void make_basis(float3 n, float3* t, float3* b) {

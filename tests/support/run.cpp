@@ -7,6 +7,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+extern char** environ;
+
 #include <chrono>
 #include <thread>
 
@@ -34,6 +36,24 @@ RunResult run_program(const std::string& binary, const std::vector<std::string>&
   const std::string base = "/tmp/clpt-run-" + std::to_string(::getpid()) + "-" +
                            std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
   const std::string out_path = base + ".out", err_path = base + ".err";
+  // Everything the child needs is built before fork(): the test process runs PoCL's threads,
+  // so the child may only make async-signal-safe calls (open, dup2, execve), not setenv.
+  std::vector<std::string> env_strings;
+  for (char** e = environ; *e; ++e) {
+    const std::string kv = *e;
+    const std::string name = kv.substr(0, kv.find('='));
+    bool overridden = false;
+    for (const auto& [k, v] : options.env) overridden |= k == name;
+    if (!overridden) env_strings.push_back(kv);
+  }
+  for (const auto& [k, v] : options.env) env_strings.push_back(k + "=" + v);
+  std::vector<char*> envp, argv;
+  for (std::string& kv : env_strings) envp.push_back(kv.data());
+  envp.push_back(nullptr);
+  argv.push_back(const_cast<char*>(binary.c_str()));
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+
   const pid_t pid = ::fork();
   if (pid == 0) {
     const int o = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -42,12 +62,7 @@ RunResult run_program(const std::string& binary, const std::vector<std::string>&
     ::dup2(o, 1);
     ::dup2(e, 2);
     ::dup2(in, 0);
-    for (const auto& [name, value] : options.env) ::setenv(name.c_str(), value.c_str(), 1);
-    std::vector<char*> argv;
-    argv.push_back(const_cast<char*>(binary.c_str()));
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(binary.c_str(), argv.data());
+    ::execve(binary.c_str(), argv.data(), envp.data());
     ::_exit(127);
   }
   RunResult r;
