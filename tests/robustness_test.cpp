@@ -618,11 +618,10 @@ TEST(ScaleInvariance, SmallScenesAreLitLikeUnitScenes) {
   expect_same_as_unit_scale({0.2f, 0.01f, 1e-3f});
 }
 
-// Fails today: build_emitters (host/render/scene_buffers.cpp) takes a triangle's area as
-// glm::length of the float cross product, which overflows above ~1e19 m^2 and underflows
-// below ~1e-22 m^2, so those emitters are silently dropped (0 emitters at k = 1e11 and 1e-13;
-// the renderer then warns that the scene has no emissive surfaces).
-TEST(ScaleInvariance, DISABLED_EmittersAreKeptAtExtremeAreas) {
+// Emitters of extreme area are kept: build_lights (host/render/scene_buffers.cpp) takes a
+// triangle's area in double. With glm::length of the float cross product it overflowed above
+// ~1e19 m^2 and underflowed below ~1e-22 m^2, and those emitters were silently dropped.
+TEST(ScaleInvariance, EmittersAreKeptAtExtremeAreas) {
   for (float k : {1e-13f, 1e11f}) EXPECT_EQ(cornell_means(k).emitters, 2u) << "scale " << k;
 }
 }  // namespace

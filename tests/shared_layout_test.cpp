@@ -49,7 +49,9 @@ TEST(SharedLayout, FixedSizes) {
   EXPECT_EQ(sizeof(dev::BvhNode), 32u);
   EXPECT_EQ(sizeof(dev::Triangle), 16u);
   EXPECT_EQ(sizeof(dev::Vertex), 32u);
-  EXPECT_EQ(sizeof(dev::Emitter), 16u);
+  EXPECT_EQ(sizeof(dev::VertexExtra), 48u);
+  EXPECT_EQ(sizeof(dev::Light), 96u);
+  EXPECT_EQ(sizeof(dev::Material), 320u);
 }
 
 }  // namespace

@@ -216,6 +216,8 @@ int run(const Options& opt) {
     j["resolution"] = {renderer.width(), renderer.height()};
     j["triangles"] = st.triangles;
     j["emitters"] = st.emitters;
+    j["lights"] = st.lights;
+    j["texture_device_bytes"] = st.texture_device_bytes;
     j["scene_load_seconds"] = load_seconds;
     j["bvh"] = {{"build_seconds", st.bvh_build_seconds},
                 {"nodes", st.bvh_nodes},

@@ -46,13 +46,15 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
                " s");
 
   const FlatScene flat = flatten_scene(scene, bvh);
-  stats_.emitters = static_cast<uint32_t>(flat.emitters.size());
-  if (flat.emitters.empty() && settings_.integrator != "ao")
+  stats_.emitters = flat.emissive_triangles;
+  stats_.lights = static_cast<uint32_t>(flat.lights.size());
+  if (flat.lights.empty() && settings_.integrator != "ao")
     log::warn("the scene has no emissive surfaces: the image will be black");
   scene_buffers_ = std::make_unique<SceneBuffers>(ctx_, flat);
   film_ = std::make_unique<Film>(ctx_, width_, height_);
   stats_.scene_device_bytes = scene_buffers_->device_bytes();
   stats_.film_device_bytes = film_->device_bytes();
+  stats_.texture_device_bytes = scene_buffers_->texture_bytes();
 
   params_.camera = camera_data(camera, width_, height_);
   params_.width = width_;

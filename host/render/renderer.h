@@ -48,7 +48,9 @@ struct RenderStats {
   int bvh_depth = 0;
   size_t bvh_nodes = 0;
   size_t triangles = 0;
-  uint32_t emitters = 0;
+  uint32_t emitters = 0;         // emissive triangles
+  uint32_t lights = 0;           // all lights: emissive triangles, punctual, environment
+  size_t texture_device_bytes = 0;
   size_t scene_device_bytes = 0;
   size_t film_device_bytes = 0;
 };

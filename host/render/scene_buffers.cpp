@@ -1,11 +1,26 @@
 #include "render/scene_buffers.h"
 
 #include <cmath>
+#include <limits>
 
 namespace clpt {
 namespace {
 
-float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+dev::TextureSlot to_device(const TextureRef& r) {
+  dev::TextureSlot d{};
+  d.texture = r.texture;
+  d.texcoord = r.texcoord;
+  // glm::mat3x2: column c holds the coefficients of u (0), v (1) and 1 (2).
+  d.m[0] = r.transform[0][0];
+  d.m[1] = r.transform[1][0];
+  d.m[2] = r.transform[2][0];
+  d.m[3] = r.transform[0][1];
+  d.m[4] = r.transform[1][1];
+  d.m[5] = r.transform[2][1];
+  return d;
+}
 
 dev::Material to_device(const Material& m) {
   dev::Material d{};
@@ -13,53 +28,49 @@ dev::Material to_device(const Material& m) {
   for (int i = 0; i < 3; ++i) d.emission[i] = m.emission[i];
   d.metallic = m.metallic;
   d.roughness = m.roughness;
+  d.alpha_cutoff = m.alpha_cutoff;
+  d.ior = m.ior;
+  d.transmission = m.transmission;
+  d.specular = m.specular;
+  d.normal_scale = m.normal_scale;
+  d.attenuation_distance = m.attenuation_distance;
+  for (int i = 0; i < 3; ++i) d.specular_color[i] = m.specular_color[i];
+  for (int i = 0; i < 3; ++i) d.attenuation_color[i] = m.attenuation_color[i];
   d.flags = 0u;
   if (m.double_sided) d.flags |= dev::MATERIAL_DOUBLE_SIDED;
   if (m.emission.x > 0.0f || m.emission.y > 0.0f || m.emission.z > 0.0f)
     d.flags |= dev::MATERIAL_EMISSIVE;
+  if (m.alpha_mode == Material::AlphaMode::Mask) d.flags |= dev::MATERIAL_ALPHA_MASK;
+  if (m.alpha_mode == Material::AlphaMode::Blend) d.flags |= dev::MATERIAL_ALPHA_BLEND;
+  if (m.volume) d.flags |= dev::MATERIAL_VOLUME;
+  const TextureRef* refs[dev::TEX_SLOT_COUNT] = {
+      &m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+      &m.emissive_texture,   &m.transmission_texture,       &m.specular_texture,
+      &m.specular_color_texture};
+  for (int i = 0; i < dev::TEX_SLOT_COUNT; ++i) d.tex[i] = to_device(*refs[i]);
   return d;
 }
 
 }  // namespace
 
-void build_emitters(const Scene& scene, FlatScene& flat) {
-  // Power of every emissive triangle, in leaf order.
-  std::vector<double> power;
-  flat.emitters.clear();
-  flat.triangle_emitter.assign(flat.triangles.size(), -1);
-  for (size_t i = 0; i < flat.triangles.size(); ++i) {
-    const dev::Triangle& t = flat.triangles[i];
-    const Material& m = scene.materials[t.material];
-    const float lum = luminance(m.emission);
-    if (!(lum > 0.0f)) continue;
-    const glm::vec3 p0 = scene.positions[t.v[0]], p1 = scene.positions[t.v[1]],
-                    p2 = scene.positions[t.v[2]];
-    const double area = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
-    if (!(area > 0.0) || !std::isfinite(area)) continue;
-    const double p = lum * area * M_PI * (m.double_sided ? 2.0 : 1.0);
-    flat.triangle_emitter[i] = static_cast<int32_t>(flat.emitters.size());
-    flat.emitters.push_back(dev::Emitter{static_cast<dev::u32>(i), 0.0f, 1.0f, 0u});
-    power.push_back(p);
-  }
-  const size_t n = flat.emitters.size();
+void build_alias_table(const std::vector<double>& weight, std::vector<dev::Light>& lights) {
+  const size_t n = lights.size();
   double total = 0.0;
-  for (double p : power) total += p;
-  flat.total_emitted_power = total;
-  if (n == 0) return;
-
+  for (double w : weight) total += w;
+  if (n == 0 || !(total > 0.0)) return;
   // Vose's alias method: slot i keeps itself with probability threshold[i], else its alias.
   std::vector<double> scaled(n);
   std::vector<size_t> small, large;
   for (size_t i = 0; i < n; ++i) {
-    flat.emitters[i].pdf_select = static_cast<float>(power[i] / total);
-    scaled[i] = power[i] / total * static_cast<double>(n);
+    lights[i].pdf_select = static_cast<float>(weight[i] / total);
+    scaled[i] = weight[i] / total * static_cast<double>(n);
     (scaled[i] < 1.0 ? small : large).push_back(i);
   }
   while (!small.empty() && !large.empty()) {
     const size_t s = small.back(), l = large.back();
     small.pop_back();
-    flat.emitters[s].alias_threshold = static_cast<float>(scaled[s]);
-    flat.emitters[s].alias = static_cast<dev::u32>(l);
+    lights[s].alias_threshold = static_cast<float>(scaled[s]);
+    lights[s].alias = static_cast<dev::u32>(l);
     scaled[l] -= 1.0 - scaled[s];
     if (scaled[l] < 1.0) {
       large.pop_back();
@@ -67,8 +78,39 @@ void build_emitters(const Scene& scene, FlatScene& flat) {
     }
   }
   // Whatever is left has probability 1 up to rounding.
-  for (size_t i : small) flat.emitters[i].alias_threshold = 1.0f, flat.emitters[i].alias = i;
-  for (size_t i : large) flat.emitters[i].alias_threshold = 1.0f, flat.emitters[i].alias = i;
+  for (size_t i : small) lights[i].alias_threshold = 1.0f, lights[i].alias = static_cast<dev::u32>(i);
+  for (size_t i : large) lights[i].alias_threshold = 1.0f, lights[i].alias = static_cast<dev::u32>(i);
+}
+
+void build_lights(const Scene& scene, FlatScene& flat) {
+  std::vector<double> power;
+  flat.lights.clear();
+  flat.triangle_light.assign(flat.triangles.size(), -1);
+  for (size_t i = 0; i < flat.triangles.size(); ++i) {
+    const dev::Triangle& t = flat.triangles[i];
+    const Material& m = scene.materials[t.material];
+    const double lum = luminance(glm::dvec3(m.emission));
+    if (!(lum > 0.0)) continue;
+    // In double: a float cross product overflows or underflows for extreme areas.
+    const glm::dvec3 p0 = scene.positions[t.v[0]], p1 = scene.positions[t.v[1]],
+                     p2 = scene.positions[t.v[2]];
+    const double area = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
+    if (!(area > 0.0) || !std::isfinite(area)) continue;
+    const double p = lum * area * M_PI * (m.double_sided ? 2.0 : 1.0);
+    if (!(p > 0.0) || !std::isfinite(p)) continue;
+    flat.triangle_light[i] = static_cast<int32_t>(flat.lights.size());
+    dev::Light light{};
+    light.type = dev::LIGHT_TRIANGLE;
+    light.triangle = static_cast<dev::u32>(i);
+    light.alias_threshold = 1.0f;
+    flat.lights.push_back(light);
+    power.push_back(p);
+  }
+  flat.emissive_triangles = static_cast<uint32_t>(flat.lights.size());
+  double total = 0.0;
+  for (double p : power) total += p;
+  flat.total_emitted_power = total;
+  build_alias_table(power, flat.lights);
 }
 
 FlatScene flatten_scene(const Scene& scene, const Bvh& bvh) {
@@ -81,17 +123,49 @@ FlatScene flatten_scene(const Scene& scene, const Bvh& bvh) {
     const glm::uvec3& t = scene.triangles[src];
     flat.triangles[i] = dev::Triangle{{t.x, t.y, t.z}, scene.triangle_materials[src]};
   }
-  flat.vertices.resize(scene.positions.size());
-  for (size_t i = 0; i < scene.positions.size(); ++i) {
+  const size_t nv = scene.positions.size();
+  flat.vertices.resize(nv);
+  for (size_t i = 0; i < nv; ++i) {
     dev::Vertex& v = flat.vertices[i];
     const glm::vec3 p = scene.positions[i];
     const glm::vec3 n = i < scene.normals.size() ? scene.normals[i] : glm::vec3(0.0f);
     const glm::vec2 uv = i < scene.uvs.size() ? scene.uvs[i] : glm::vec2(0.0f);
     v = dev::Vertex{{p.x, p.y, p.z}, uv.x, {n.x, n.y, n.z}, uv.y};
   }
+  if (!scene.tangents.empty() || !scene.uvs1.empty() || !scene.colors.empty()) {
+    flat.info.flags |= dev::SCENE_VERTEX_EXTRA;
+    flat.vertex_extra.resize(nv);
+    for (size_t i = 0; i < nv; ++i) {
+      dev::VertexExtra& e = flat.vertex_extra[i];
+      const glm::vec4 t = i < scene.tangents.size() ? scene.tangents[i] : glm::vec4(0.0f);
+      const glm::vec4 c = i < scene.colors.size() ? scene.colors[i] : glm::vec4(1.0f);
+      const glm::vec2 uv1 = i < scene.uvs1.size() ? scene.uvs1[i] : glm::vec2(0.0f);
+      e = dev::VertexExtra{{t.x, t.y, t.z, t.w}, {c.x, c.y, c.z, c.w}, {uv1.x, uv1.y}, {0.0f, 0.0f}};
+    }
+  }
   flat.materials.reserve(scene.materials.size());
   for (const Material& m : scene.materials) flat.materials.push_back(to_device(m));
-  build_emitters(scene, flat);
+  for (const Texture& t : scene.textures) {
+    dev::Texture d{};
+    d.offset = static_cast<dev::u32>(flat.texels.size());
+    d.width = t.width;
+    d.height = t.height;
+    d.flags = static_cast<dev::u32>(t.wrap_s) |
+              (static_cast<dev::u32>(t.wrap_t) << dev::TEXTURE_WRAP_T_SHIFT) |
+              (t.nearest ? static_cast<dev::u32>(dev::TEXTURE_NEAREST) : 0u);
+    flat.textures.push_back(d);
+    flat.texels.insert(flat.texels.end(), t.texels.begin(), t.texels.end());
+  }
+  build_lights(scene, flat);
+
+  const Bounds b = scene.bounds();
+  const glm::vec3 c = b.empty() ? glm::vec3(0.0f) : b.center();
+  flat.info.num_lights = static_cast<dev::u32>(flat.lights.size());
+  flat.info.num_textures = static_cast<dev::u32>(flat.textures.size());
+  flat.info.env_light = ~0u;
+  for (int i = 0; i < 3; ++i) flat.info.bounds_center[i] = c[i];
+  flat.info.bounds_radius = b.empty() ? 0.0f : 0.5f * glm::length(b.extent());
+  flat.info.env_scale = 1.0f;
   return flat;
 }
 
@@ -99,20 +173,31 @@ SceneBuffers::SceneBuffers(const cl::Context& ctx, const FlatScene& flat)
     : nodes_(cl::Buffer::from_vector(ctx, flat.nodes, CL_MEM_READ_ONLY, "BVH node buffer")),
       triangles_(cl::Buffer::from_vector(ctx, flat.triangles, CL_MEM_READ_ONLY, "triangle buffer")),
       vertices_(cl::Buffer::from_vector(ctx, flat.vertices, CL_MEM_READ_ONLY, "vertex buffer")),
+      vertex_extra_(cl::Buffer::from_vector(ctx, flat.vertex_extra, CL_MEM_READ_ONLY,
+                                            "vertex attribute buffer")),
       materials_(cl::Buffer::from_vector(ctx, flat.materials, CL_MEM_READ_ONLY, "material buffer")),
-      emitters_(cl::Buffer::from_vector(ctx, flat.emitters, CL_MEM_READ_ONLY, "emitter buffer")),
-      triangle_emitter_(cl::Buffer::from_vector(ctx, flat.triangle_emitter, CL_MEM_READ_ONLY,
-                                                "triangle emitter buffer")),
-      num_emitters_(static_cast<uint32_t>(flat.emitters.size())) {}
+      textures_(cl::Buffer::from_vector(ctx, flat.textures, CL_MEM_READ_ONLY, "texture buffer")),
+      texels_(cl::Buffer::from_vector(ctx, flat.texels, CL_MEM_READ_ONLY, "texel buffer")),
+      lights_(cl::Buffer::from_vector(ctx, flat.lights, CL_MEM_READ_ONLY, "light buffer")),
+      triangle_light_(cl::Buffer::from_vector(ctx, flat.triangle_light, CL_MEM_READ_ONLY,
+                                              "triangle light buffer")),
+      env_texels_(cl::Buffer::from_vector(ctx, flat.env_texels, CL_MEM_READ_ONLY,
+                                          "environment map buffer")),
+      env_cdf_(cl::Buffer::from_vector(ctx, flat.env_cdf, CL_MEM_READ_ONLY,
+                                       "environment distribution buffer")),
+      info_(cl::Buffer::from_vector(ctx, std::vector<dev::SceneInfo>{flat.info}, CL_MEM_READ_ONLY,
+                                    "scene info buffer")),
+      num_lights_(static_cast<uint32_t>(flat.lights.size())) {}
 
 cl_uint SceneBuffers::bind(cl::Kernel& kernel, cl_uint first) const {
-  return kernel.args(first, nodes_, triangles_, vertices_, materials_, emitters_, triangle_emitter_,
-                     num_emitters_);
+  return kernel.args(first, nodes_, triangles_, vertices_, vertex_extra_, materials_, textures_,
+                     texels_, lights_, triangle_light_, env_texels_, env_cdf_, info_);
 }
 
 size_t SceneBuffers::device_bytes() const {
-  return nodes_.size() + triangles_.size() + vertices_.size() + materials_.size() +
-         emitters_.size() + triangle_emitter_.size();
+  return nodes_.size() + triangles_.size() + vertices_.size() + vertex_extra_.size() +
+         materials_.size() + textures_.size() + texels_.size() + lights_.size() +
+         triangle_light_.size() + env_texels_.size() + env_cdf_.size() + info_.size();
 }
 
 }  // namespace clpt

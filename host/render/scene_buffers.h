@@ -17,16 +17,26 @@ struct FlatScene {
   std::vector<dev::BvhNode> nodes;
   std::vector<dev::Triangle> triangles;  // leaf order
   std::vector<dev::Vertex> vertices;
+  std::vector<dev::VertexExtra> vertex_extra;  // empty unless the scene has tangents, UV1 or colours
   std::vector<dev::Material> materials;
-  std::vector<dev::Emitter> emitters;    // emissive triangles with the alias table
-  std::vector<int32_t> triangle_emitter; // per leaf-order triangle: emitter index or -1
+  std::vector<dev::Texture> textures;
+  std::vector<uint32_t> texels;                // all textures' RGBA8 texels
+  std::vector<dev::Light> lights;              // every light, with the alias table
+  std::vector<int32_t> triangle_light;         // per leaf-order triangle: light index or -1
+  std::vector<float> env_texels;               // environment map, RGBA float (4 per texel)
+  std::vector<float> env_cdf;                  // its sampling distribution
+  dev::SceneInfo info{};
   int bvh_depth = 0;
-  double total_emitted_power = 0.0;      // sum over emitters of luminance(Le) * area * pi * sides
+  uint32_t emissive_triangles = 0;             // lights of type LIGHT_TRIANGLE
+  double total_emitted_power = 0.0;            // sum of the lights' selection weights
 };
 
-// Emitter selection probabilities proportional to luminance(Le) x area x sides, packed
-// with Vose's alias method so the kernel picks one in O(1).
-void build_emitters(const Scene& scene, FlatScene& flat);
+// Packs selection weights into the lights' alias table (Vose's method) and pdf_select, so the
+// kernel picks light i with probability weight[i] / sum in O(1).
+void build_alias_table(const std::vector<double>& weight, std::vector<dev::Light>& lights);
+
+// The lights of a scene: emissive triangles in proportion to luminance(Le) x area x pi x sides.
+void build_lights(const Scene& scene, FlatScene& flat);
 
 FlatScene flatten_scene(const Scene& scene, const Bvh& bvh);
 
@@ -34,16 +44,18 @@ class SceneBuffers {
  public:
   SceneBuffers(const cl::Context& ctx, const FlatScene& flat);
 
-  // Binds the scene arguments in the order of scene_view() in kernels/core/scene_view.cl,
-  // starting at argument `first`; returns the next free argument index.
+  // Binds the scene arguments in the order of SCENE_KERNEL_ARGS in
+  // kernels/core/scene_view.cl, starting at argument `first`; returns the next free index.
   cl_uint bind(cl::Kernel& kernel, cl_uint first = 0) const;
 
-  uint32_t num_emitters() const { return num_emitters_; }
+  uint32_t num_lights() const { return num_lights_; }
   size_t device_bytes() const;
+  size_t texture_bytes() const { return texels_.size() + textures_.size(); }
 
  private:
-  cl::Buffer nodes_, triangles_, vertices_, materials_, emitters_, triangle_emitter_;
-  uint32_t num_emitters_ = 0;
+  cl::Buffer nodes_, triangles_, vertices_, vertex_extra_, materials_, textures_, texels_, lights_,
+      triangle_light_, env_texels_, env_cdf_, info_;
+  uint32_t num_lights_ = 0;
 };
 
 }  // namespace clpt

@@ -28,13 +28,61 @@ struct Bounds {
   glm::vec3 extent() const { return max - min; }
 };
 
+// A decoded image, 8-bit RGBA, row 0 at the top (v = 0). Colour-space decoding (sRGB for
+// colour textures) happens where a material reads it, since one image may serve both.
+struct Texture {
+  enum class Wrap : uint8_t { Repeat, Clamp, Mirror };  // glTF sampler wrapS / wrapT
+  std::string name;                                      // for messages: image name or URI
+  uint32_t width = 0, height = 0;
+  std::vector<uint32_t> texels;  // width * height, R in the low byte
+  Wrap wrap_s = Wrap::Repeat, wrap_t = Wrap::Repeat;
+  bool nearest = false;          // magFilter NEAREST; default bilinear
+};
+
+// Where a material reads a texture: which one, which UV set, and KHR_texture_transform as a
+// 2x3 matrix uv' = transform * (u, v, 1).
+struct TextureRef {
+  int texture = -1;  // index into Scene::textures; -1: none
+  uint32_t texcoord = 0;
+  glm::mat3x2 transform{1.0f};  // glm: 3 columns of 2 rows
+  bool used() const { return texture >= 0; }
+};
+
 struct Material {
+  enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
   std::string name;
   glm::vec4 base_color{1.0f};  // linear RGBA (glTF baseColorFactor)
   glm::vec3 emission{0.0f};    // emitted radiance: emissiveFactor x KHR_materials_emissive_strength
   float metallic = 1.0f;       // glTF defaults
   float roughness = 1.0f;
   bool double_sided = false;
+  AlphaMode alpha_mode = AlphaMode::Opaque;
+  float alpha_cutoff = 0.5f;
+  float normal_scale = 1.0f;
+  float ior = 1.5f;             // KHR_materials_ior
+  float transmission = 0.0f;    // KHR_materials_transmission
+  float specular = 1.0f;        // KHR_materials_specular
+  glm::vec3 specular_color{1.0f};
+  glm::vec3 attenuation_color{1.0f};  // KHR_materials_volume
+  float attenuation_distance = std::numeric_limits<float>::infinity();
+  bool volume = false;          // KHR_materials_volume with a finite attenuation distance
+
+  TextureRef base_color_texture, metallic_roughness_texture, normal_texture, emissive_texture,
+      transmission_texture, specular_texture, specular_color_texture;
+};
+
+// A KHR_lights_punctual light placed by its node, in world space.
+struct PunctualLight {
+  enum class Type : uint8_t { Point, Spot, Directional };
+  std::string name;
+  Type type = Type::Point;
+  glm::vec3 color{1.0f};     // linear
+  float intensity = 1.0f;    // candela (point, spot) or lux (directional), as glTF
+  float range = 0.0f;        // 0: infinite (glTF's range is a culling hint; not used)
+  glm::vec3 position{0.0f};  // point, spot
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // spot, directional: unit, the way light travels
+  float inner_cone = 0.0f;   // spot, radians
+  float outer_cone = 0.785398163f;
 };
 
 struct Camera {
@@ -55,6 +103,10 @@ struct Scene {
   std::vector<glm::vec3> positions;  // world space
   std::vector<glm::vec3> normals;    // world space, unit or zero
   std::vector<glm::vec2> uvs;        // first UV set (TEXCOORD_0), zero when absent
+  // Optional attributes: empty when no primitive has them, else as long as positions.
+  std::vector<glm::vec4> tangents;   // world space xyz unit, w = bitangent sign; zero: none
+  std::vector<glm::vec2> uvs1;       // TEXCOORD_1
+  std::vector<glm::vec4> colors;     // COLOR_0, linear RGBA; 1 where a primitive has none
 
   // Triangles index the vertex arrays; counter-clockwise winding is the front face.
   std::vector<glm::uvec3> triangles;
@@ -62,6 +114,8 @@ struct Scene {
 
   std::vector<Material> materials;  // never empty once loaded (a default is added)
   std::vector<Camera> cameras;      // from the file, in node traversal order of the scene
+  std::vector<Texture> textures;
+  std::vector<PunctualLight> lights; // KHR_lights_punctual, in node traversal order
 
   Bounds bounds() const;
   size_t emissive_triangle_count() const;

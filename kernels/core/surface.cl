@@ -5,6 +5,7 @@
 #include "bvh/intersect.cl"
 #include "core/math.cl"
 #include "core/scene_view.cl"
+#include "bsdf/bsdf_params.h"
 
 typedef struct SurfaceHit {
   float3 p;
@@ -13,6 +14,9 @@ typedef struct SurfaceHit {
   float2 uv;
   u32 triangle;
   u32 material;
+  u32 front;          /* 1 when the ray arrived on the front (winding) side */
+  BsdfParams bsdf;    /* resolved by material_resolve (kernels/material/material.cl) */
+  float3 emission;    /* emitted radiance of the material at this point (front side) */
 } SurfaceHit;
 
 inline void triangle_vertices(const SceneView* s, u32 tri, float3* p0, float3* p1, float3* p2) {
@@ -50,6 +54,7 @@ inline SurfaceHit surface_at(const SceneView* s, const Hit* hit, float3 org, flo
   sh.uv = b0 * (float2)(v0.u, v0.v) + b1 * (float2)(v1.u, v1.v) + b2 * (float2)(v2.u, v2.v);
   sh.triangle = hit->triangle;
   sh.material = t.material;
+  sh.front = dot(sh.ng, dir) < 0.0f ? 1u : 0u;
   return sh;
 }
 

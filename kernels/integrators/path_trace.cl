@@ -14,6 +14,7 @@
 #include "bsdf/bsdf.cl"
 #include "core/ray.cl"
 #include "light/area_light.cl"
+#include "material/material.cl"
 #include "sampler/sampler.cl"
 #include "shared/render_types.h"
 
@@ -59,7 +60,7 @@ inline float3 pt_direct(__constant const RenderParams* p, const SceneView* s, co
                         const SurfaceHit* sh, float3 wo, float3 org, u32 depth, u32 stream,
                         u32* rays) {
   float3 L = (float3)(0.0f);
-  if (p->direct == DIRECT_BSDF || s->num_emitters == 0u) return L;
+  if (p->direct == DIRECT_BSDF || s->num_lights == 0u) return L;
   const u32 n = max(p->light_samples, 1u);
   for (u32 j = 0; j < n; ++j) {
     const LightSample ls = light_illuminate(
@@ -112,7 +113,7 @@ inline float3 pt_continue(__constant const RenderParams* p, const SceneView* s,
     Hit hit;
     ++*rays;
     if (!intersect_closest(s, org, bs.wi, INFINITY, &hit)) break; /* no environment yet */
-    sh = surface_at(s, &hit, org, bs.wi);
+    sh = surface_shade(s, &hit, org, bs.wi);
     wo = -bs.wi;
     L += beta * pt_emission_by_scattering(p, s, &sh, wo, hit.t, bs.pdf_w);
     if (++depth >= p->max_depth) break;
@@ -127,7 +128,7 @@ inline float3 pt_radiance(const SceneView* s, __constant const RenderParams* p,
   Hit hit;
   ++*rays;
   if (!intersect_closest(s, org, dir, INFINITY, &hit)) return (float3)(0.0f);
-  SurfaceHit sh = surface_at(s, &hit, org, dir);
+  SurfaceHit sh = surface_shade(s, &hit, org, dir);
   const float3 wo = -dir;
   /* Emission seen by the camera ray has only one technique: no weight. */
   float3 L = light_radiance(s, sh.material, sh.ng, wo);

@@ -3,16 +3,12 @@
 #include "film/film.cl"
 #include "integrators/path_trace.cl"
 
-__kernel void pt_render(__global const BvhNode* nodes, __global const Triangle* triangles,
-                        __global const Vertex* vertices, __global const Material* materials,
-                        __global const Emitter* emitters, __global const int* triangle_emitter,
-                        u32 num_emitters, __constant const RenderParams* params,
+__kernel void pt_render(SCENE_KERNEL_ARGS, __constant const RenderParams* params,
                         __global float4* film_sum, __global float4* film_sum_sq,
                         __global u32* ray_counts) {
   const u32 pixel = get_global_id(0);
   if (pixel >= params->width * params->height) return;
-  const SceneView scene =
-      scene_view(nodes, triangles, vertices, materials, emitters, triangle_emitter, num_emitters);
+  const SceneView scene = SCENE_VIEW();
   const u32 x = pixel % params->width, y = pixel / params->width;
 
   FilmPixel film = film_load(film_sum, film_sum_sq, pixel);

@@ -32,9 +32,9 @@ inline float3 light_radiance(const SceneView* s, u32 material, float3 ng, float3
 }
 
 inline u32 light_select(const SceneView* s, float u) {
-  const float scaled = u * (float)s->num_emitters;
-  const u32 slot = min((u32)scaled, s->num_emitters - 1u);
-  const __global Emitter* e = &s->emitters[slot];
+  const float scaled = u * (float)s->num_lights;
+  const u32 slot = min((u32)scaled, s->num_lights - 1u);
+  const __global Light* e = &s->lights[slot];
   return (scaled - (float)slot) < e->alias_threshold ? slot : e->alias;
 }
 
@@ -45,9 +45,9 @@ inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select
   ls.p = p;
   ls.wi = (float3)(0.0f, 0.0f, 1.0f);
   ls.dist = 0.0f;
-  if (s->num_emitters == 0u) return ls;
+  if (s->num_lights == 0u) return ls;
   const u32 e = light_select(s, u_select);
-  const u32 tri = s->emitters[e].triangle;
+  const u32 tri = s->lights[e].triangle;
   float3 p0, p1, p2;
   triangle_vertices(s, tri, &p0, &p1, &p2);
   const float2 b = warp_uniform_triangle(u_point);
@@ -64,18 +64,18 @@ inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select
   const float cos_light = fabs(dot(ng, ls.wi));
   if (!(cos_light > 0.0f)) return ls;
   ls.Le = light_radiance(s, s->triangles[tri].material, ng, -ls.wi);
-  ls.pdf_w = s->emitters[e].pdf_select / area * dist2 / cos_light;
+  ls.pdf_w = s->lights[e].pdf_select / area * dist2 / cos_light;
   return ls;
 }
 
 /* Density of light_illuminate, in solid angle at a point `dist` away, for a ray that hit
  * emitter triangle `tri` (leaf order) under cosine cos_light at the light. */
 inline float light_pdf_w(const SceneView* s, u32 tri, float dist, float cos_light) {
-  const int e = s->triangle_emitter[tri];
+  const int e = s->triangle_light[tri];
   if (e < 0 || !(cos_light > 0.0f)) return 0.0f;
   const float area = triangle_area(s, tri);
   if (!(area > 0.0f)) return 0.0f;
-  return s->emitters[e].pdf_select / area * dist * dist / cos_light;
+  return s->lights[e].pdf_select / area * dist * dist / cos_light;
 }
 
 #endif

@@ -1,4 +1,5 @@
-/* Scene data as the device sees it: BVH nodes, triangles, vertices, materials, emitters. */
+/* Scene data as the device sees it: BVH nodes, triangles, vertices, materials, textures,
+ * lights and scene-wide scalars. */
 #ifndef CLPT_SHARED_SCENE_TYPES_H
 #define CLPT_SHARED_SCENE_TYPES_H
 
@@ -30,25 +31,119 @@ typedef struct Vertex {
   float v;
 } Vertex;
 
-enum MaterialFlags { MATERIAL_DOUBLE_SIDED = 1u, MATERIAL_EMISSIVE = 2u };
+/* Optional per-vertex attributes, one per Vertex, uploaded only when some primitive of the
+ * scene has one of them (SceneInfo.flags & SCENE_VERTEX_EXTRA); otherwise the buffer holds one
+ * dummy element and the kernel does not read it. */
+typedef struct VertexExtra {
+  float tangent[4]; /* xyz unit tangent (world space), w = bitangent sign; all zero: none */
+  float color[4];   /* COLOR_0, linear RGBA; (1,1,1,1) when the primitive has none */
+  float uv1[2];     /* TEXCOORD_1 */
+  float pad[2];
+} VertexExtra;
+
+/* A decoded 8-bit RGBA image: width x height texels starting at `offset` in the texel buffer,
+ * row 0 at the top (v = 0), each texel a u32 with R in the low byte. */
+enum TextureFlags {
+  TEXTURE_WRAP_S_MASK = 3u, /* bits 0-1: TextureWrap for u */
+  TEXTURE_WRAP_T_SHIFT = 2u, /* bits 2-3: TextureWrap for v */
+  TEXTURE_NEAREST = 16u      /* magnification filter NEAREST (default: bilinear) */
+};
+enum TextureWrap { WRAP_REPEAT = 0u, WRAP_CLAMP = 1u, WRAP_MIRROR = 2u };
+
+typedef struct Texture {
+  u32 offset; /* first texel in the texel buffer */
+  u32 width;
+  u32 height;
+  u32 flags;  /* TextureFlags */
+} Texture;
+
+/* Where a material reads one of its textures. uv' = (m[0] u + m[1] v + m[2],
+ * m[3] u + m[4] v + m[5]): KHR_texture_transform folded into a 2x3 matrix (identity without). */
+enum TextureSlotId {
+  TEX_BASE_COLOR = 0,         /* sRGB; alpha is the material alpha */
+  TEX_METALLIC_ROUGHNESS = 1, /* linear; B metallic, G roughness */
+  TEX_NORMAL = 2,             /* linear tangent-space normal map */
+  TEX_EMISSIVE = 3,           /* sRGB */
+  TEX_TRANSMISSION = 4,       /* linear; R */
+  TEX_SPECULAR = 5,           /* linear; A specularFactor */
+  TEX_SPECULAR_COLOR = 6,     /* sRGB; RGB specularColorFactor */
+  TEX_SLOT_COUNT = 7
+};
+
+typedef struct TextureSlot {
+  i32 texture;  /* index into the textures, -1: no texture */
+  u32 texcoord; /* 0: TEXCOORD_0, 1: TEXCOORD_1 */
+  float m[6];   /* texture transform */
+} TextureSlot;
+
+enum MaterialFlags {
+  MATERIAL_DOUBLE_SIDED = 1u,
+  MATERIAL_EMISSIVE = 2u,
+  MATERIAL_ALPHA_MASK = 4u,  /* alphaMode MASK: alpha < alpha_cutoff is a hole */
+  MATERIAL_ALPHA_BLEND = 8u, /* alphaMode BLEND: stochastic transparency with probability 1 - alpha */
+  MATERIAL_VOLUME = 16u      /* KHR_materials_volume attenuation inside (closed meshes) */
+};
 
 typedef struct Material {
-  float base_color[4]; /* linear RGBA */
-  float emission[3];   /* radiance */
+  float base_color[4]; /* linear RGBA (factor) */
+  float emission[3];   /* radiance: emissiveFactor x emissive_strength (x texture) */
   u32 flags;           /* MaterialFlags */
   float metallic;
   float roughness;
-  float pad[2];
+  float alpha_cutoff;  /* alphaMode MASK */
+  float ior;           /* KHR_materials_ior (1.5) */
+  float transmission;  /* KHR_materials_transmission factor (0) */
+  float specular;      /* KHR_materials_specular specularFactor (1) */
+  float normal_scale;  /* normalTexture.scale (1) */
+  float attenuation_distance; /* KHR_materials_volume (infinity: none) */
+  float specular_color[4];    /* KHR_materials_specular specularColorFactor (1,1,1), w unused */
+  float attenuation_color[4]; /* KHR_materials_volume (1,1,1), w unused */
+  TextureSlot tex[TEX_SLOT_COUNT];
 } Material;
 
-/* One emissive triangle, with its entry of the power-proportional alias table.
- * Selection: pick slot i uniformly; keep it if u < alias_threshold, else take alias. */
-typedef struct Emitter {
-  u32 triangle;          /* index in leaf order */
-  float pdf_select;      /* probability this emitter is chosen */
+/* The lights of one power-proportional selection distribution: emissive triangles, glTF
+ * punctual lights and the environment. Selection: pick slot i uniformly; keep it if
+ * u < alias_threshold, else take alias. */
+enum LightType {
+  LIGHT_TRIANGLE = 0,
+  LIGHT_POINT = 1,
+  LIGHT_SPOT = 2,
+  LIGHT_DIRECTIONAL = 3,
+  LIGHT_ENVIRONMENT = 4
+};
+
+typedef struct Light {
+  u32 type;              /* LightType */
+  u32 triangle;          /* LIGHT_TRIANGLE: index in leaf order */
+  float pdf_select;      /* probability this light is chosen */
   float alias_threshold; /* alias table: probability of keeping slot i */
-  u32 alias;             /* alias table: the other emitter of slot i */
-} Emitter;
+  u32 alias;             /* alias table: the other light of slot i */
+  u32 pad[3];
+  float position[4];     /* point, spot: world position */
+  float direction[4];    /* spot, directional: unit direction the light travels */
+  float intensity[4];    /* point, spot: radiant intensity (W/sr); directional: irradiance */
+  float cos_outer;       /* spot: cosine of the outer cone angle */
+  float cos_inner;       /* spot: cosine of the inner cone angle */
+  float pad2[2];
+} Light;
+
+enum SceneFlags { SCENE_VERTEX_EXTRA = 1u };
+
+/* Scene-wide scalars, one struct in a small buffer. */
+typedef struct SceneInfo {
+  u32 num_lights;
+  u32 flags;           /* SceneFlags */
+  u32 env_light;       /* index of the environment in the lights, or ~0u */
+  u32 num_textures;
+  float bounds_center[4];
+  float bounds_radius; /* radius of the bounding sphere of the geometry */
+  u32 env_width;       /* environment map, equirectangular; 0 x 0: constant background */
+  u32 env_height;
+  float env_rotation;  /* radians about +y */
+  float background[4]; /* constant environment radiance (also scales nothing else) */
+  float env_scale;
+  float pad[3];
+} SceneInfo;
 
 CLPT_END_SHARED
 
