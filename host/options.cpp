@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
@@ -16,6 +17,7 @@ struct Parser {
   Options o;
   std::string resolution;
   std::string stats_value;
+  std::string background;
   CLI::Option* spp_opt = nullptr;
   CLI::Option* time_opt = nullptr;
   CLI::Option* stats_opt = nullptr;
@@ -44,6 +46,25 @@ struct Parser {
     app.add_option("--camera", o.camera,
                    "Camera index or name [the file's first camera, else one framing the scene]")
         ->type_name("CAMERA");
+    app.add_option("--aperture", o.aperture,
+                   "Thin-lens aperture radius in scene units; 0 is a pinhole [0]")
+        ->type_name("RADIUS")
+        ->check(CLI::NonNegativeNumber.description(""));
+    app.add_option("--focus-distance", o.focus_distance,
+                   "Distance in focus with --aperture [to the scene's centre along the view]")
+        ->type_name("DIST")
+        ->check(CLI::PositiveNumber.description(""));
+    app.add_option("--env", o.env,
+                   "Environment map, equirectangular .hdr/.exr, +y up, image centre towards -z")
+        ->type_name("FILE");
+    app.add_option("--env-scale", o.env_scale, "Multiplies the environment map's radiance [1]")
+        ->type_name("S")
+        ->check(CLI::NonNegativeNumber.description(""));
+    app.add_option("--env-rotate", o.env_rotate, "Turns the environment about +y [0]")
+        ->type_name("DEGREES");
+    app.add_option("--background", background,
+                   "Constant radiance of rays that escape, without --env [0,0,0]")
+        ->type_name("R,G,B");
     app.add_option("--max-depth", o.max_depth, "Maximum bounces; 0 shows emitters only [8]")
         ->type_name("N")
         ->check(CLI::Range(0u, 1024u).description(""));
@@ -103,6 +124,9 @@ struct Parser {
     app.add_option("--resume", o.resume,
                    "Continue the render saved in FILE; --spp stays the total sample count")
         ->type_name("FILE");
+    app.add_flag("--lenient", o.lenient,
+                 "Warn about images that cannot be decoded (magenta instead) and texCoord "
+                 "sets other than 0 or 1 (0 instead), rather than failing");
     app.add_flag("-q,--quiet", o.quiet, "Print errors only");
     app.add_flag("-v,--verbose", o.verbose, "Print details: device, kernel builds, BVH");
     app.add_option("--kernel-dir", o.kernel_dir,
@@ -151,6 +175,34 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
   if (!p.resolution.empty() && !parse_resolution(p.resolution, &o.width, &o.height))
     throw Error(ExitCode::Usage, "--resolution " + p.resolution +
                                      ": expected WxH with each side from 1 to 16384, e.g. 640x480");
+  if (!p.background.empty()) {
+    // R,G,B: three finite numbers >= 0.
+    std::string rest = p.background;
+    bool ok = true;
+    for (int i = 0; i < 3 && ok; ++i) {
+      const size_t comma = rest.find(',');
+      if ((i < 2) != (comma != std::string::npos)) {
+        ok = false;
+        break;
+      }
+      const std::string item = rest.substr(0, comma);
+      try {
+        size_t used = 0;
+        o.background[i] = std::stof(item, &used);
+        ok = used == item.size() && std::isfinite(o.background[i]) && o.background[i] >= 0.0f;
+      } catch (const std::exception&) {
+        ok = false;
+      }
+      rest = comma == std::string::npos ? std::string() : rest.substr(comma + 1);
+    }
+    if (!ok)
+      throw Error(ExitCode::Usage, "--background " + p.background +
+                                       ": expected R,G,B, three finite numbers >= 0, e.g. 1,1,1");
+    if (!o.env.empty())
+      throw Error(ExitCode::Usage, "--background and --env exclude each other");
+  }
+  if (!std::isfinite(o.env_rotate))
+    throw Error(ExitCode::Usage, "--env-rotate needs a finite number of degrees");
   if (p.time_opt->count() && !p.spp_opt->count()) o.spp = 0;  // --time alone: no sample limit
   if (p.stats_opt->count()) o.stats = p.stats_value.empty() ? std::string("-") : p.stats_value;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");

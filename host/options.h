@@ -16,6 +16,12 @@ struct Options {
   double time_limit = 0.0;        // seconds; 0: none
   uint32_t width = 0, height = 0; // 0: from the camera's aspect ratio
   std::string camera;
+  std::string env;                // equirectangular environment map (.hdr, .exr); empty: none
+  float env_scale = 1.0f;
+  float env_rotate = 0.0f;        // degrees about +y
+  float background[3] = {0.0f, 0.0f, 0.0f};  // radiance of escaping rays without --env
+  float aperture = 0.0f;          // thin-lens aperture radius; 0: pinhole
+  float focus_distance = 0.0f;    // 0: the distance to the scene's centre along the view
   uint32_t max_depth = 8;
   uint32_t seed = 0;
   std::string integrator = "pt";
@@ -37,6 +43,7 @@ struct Options {
   std::string resume;             // continue from this checkpoint
   bool quiet = false, verbose = false;
   std::string kernel_dir;         // load kernel sources from disk (development)
+  bool lenient = false;           // undecodable image / bad texCoord: warn and go on
 };
 
 // Parses argv. Returns nullopt when the program should exit 0 after printing (--help,

@@ -11,7 +11,8 @@ embedded as a base64 `data:` URI. Every file is re-read and checked after it is 
 clpt conventions (host/scene/scene.h): right-handed, +Y up, cameras look down -Z, metres.
 Counter-clockwise winding is the front face. Emitted radiance (W/m^2/sr, linear Rec.709) is
 emissiveFactor x KHR_materials_emissive_strength.emissiveStrength; baseColorFactor is the
-diffuse albedo (metallicFactor 0, roughnessFactor 1).
+diffuse albedo (metallicFactor 0, roughnessFactor 1, KHR_materials_specular specularFactor 0:
+no specular coat, so the surfaces are exactly Lambertian and the closed forms hold).
 
 See scenes/README.md for what each scene is and what it is for.
 """
@@ -37,6 +38,7 @@ TRIANGLES = 4
 COMPONENT_SIZE = {FLOAT: 4, UNSIGNED_SHORT: 2, UNSIGNED_INT: 4, 5120: 1, 5121: 1, 5122: 2}
 TYPE_COUNT = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
 EMISSIVE_STRENGTH = "KHR_materials_emissive_strength"
+SPECULAR = "KHR_materials_specular"
 DATA_URI_PREFIX = "data:application/octet-stream;base64,"
 
 
@@ -114,7 +116,7 @@ class Document:
     def __init__(self, generator):
         self.gltf = {
             "asset": {"version": "2.0", "generator": generator},
-            "extensionsUsed": [EMISSIVE_STRENGTH],
+            "extensionsUsed": [EMISSIVE_STRENGTH, SPECULAR],
             "scene": 0,
             "scenes": [{"name": "Scene", "nodes": []}],
             "nodes": [],
@@ -140,11 +142,12 @@ class Document:
                 "roughnessFactor": 1.0,
             },
             "doubleSided": bool(double_sided),
+            "extensions": {SPECULAR: {"specularFactor": 0.0}},  # Lambertian: no coat
         }
         strength = max(emission)
         if strength > 0.0:
             m["emissiveFactor"] = [c / strength for c in emission]
-            m["extensions"] = {EMISSIVE_STRENGTH: {"emissiveStrength": float(strength)}}
+            m["extensions"][EMISSIVE_STRENGTH] = {"emissiveStrength": float(strength)}
         self.material_index[name] = len(self.gltf["materials"])
         self.gltf["materials"].append(m)
         return self.material_index[name]
@@ -300,6 +303,7 @@ def validate(path: str) -> dict:
         ef = m.get("emissiveFactor", [0.0, 0.0, 0.0])
         assert len(ef) == 3 and all(0.0 <= c <= 1.0 for c in ef), "emissiveFactor outside [0,1]"
         ext = m.get("extensions", {})
+        assert ext[SPECULAR]["specularFactor"] == 0.0 and SPECULAR in used, "not Lambertian"
         if EMISSIVE_STRENGTH in ext:
             assert EMISSIVE_STRENGTH in used
             assert ext[EMISSIVE_STRENGTH]["emissiveStrength"] >= 0.0

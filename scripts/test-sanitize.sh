@@ -23,13 +23,13 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 start=$(date +%s)
 
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCLPT_SANITIZE=ON
+cmake --preset asan  # CMakePresets.json: build-asan, RelWithDebInfo, CLPT_SANITIZE=ON
 printf '%s\n' '# Allocations PoCL and LLVM keep until exit by design (scripts/test-sanitize.sh).' \
   'leak:libpocl.so' 'leak:libpocl-devices' 'leak:libLLVM' >build-asan/lsan.supp
 export ASAN_OPTIONS="detect_leaks=${CLPT_SANITIZE_LEAKS:-1}:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
 export LSAN_OPTIONS="suppressions=$PWD/build-asan/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-cmake --build build-asan
+cmake --build --preset asan
 built=$(date +%s)
 
 tests='^(Gltf[A-Za-z]*|ClptDiff|ImageStats|Cli|KernelCache|KernelSource|OutOfMemory|UnwritableOutput|BuildFailure|ScaleInvariance)\.|/NoNaN\.'

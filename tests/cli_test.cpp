@@ -150,6 +150,35 @@ TEST_F(Cli, InterruptSavesWhatWasRendered) {
   EXPECT_GT(in->spec().get_int_attribute("clpt:spp"), 0);
 }
 
+// A second Ctrl-C leaves at once, without touching the output. Each pass is long (1 spp of
+// 2048 x 2048: seconds on 2 cores). The control run shows that one SIGINT at that moment
+// lands inside a pass, which is then finished and written; a second SIGINT 0.2 s after the
+// first must end the process before that.
+TEST_F(Cli, SecondInterruptLeavesAtOnceWithoutWriting) {
+  auto render = [&](const std::string& out, int interrupts) {
+    {
+      std::ofstream f(out, std::ios::binary);
+      f << "previous result";
+    }
+    test::RunOptions ro;
+    ro.interrupt_after = "rendering ";
+    ro.delay = 1.0;
+    ro.interrupts = interrupts;
+    ro.interval = 0.2;
+    return test::run_program(
+        CLPT_BINARY,
+        {kCornell, "--device", "pocl", "--resolution", "2048x2048", "--spp", "2", "-o", out}, ro);
+  };
+  const std::string once = path("once.exr"), twice = path("twice.exr");
+  const test::RunResult control = render(once, 1);
+  EXPECT_EQ(control.exit_code, 130) << control.err;
+  ASSERT_NE(test::read_file(once), "previous result")
+      << "control: one SIGINT should land inside a pass and save it: " << control.err;
+  const test::RunResult r = render(twice, 2);
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_EQ(test::read_file(twice), "previous result") << "the second Ctrl-C must not write";
+}
+
 }  // namespace
 }  // namespace clpt
 

@@ -8,13 +8,12 @@
 //    statistic is Student-t distributed with 7 degrees of freedom.
 #include <gtest/gtest.h>
 
-#include <boost/math/distributions/students_t.hpp>
-
 #include <cmath>
 #include <ostream>
 
 #include "render/renderer.h"
 #include "stats/image_stats.h"
+#include "support/block_test.h"
 #include "support/device.h"
 #include "support/scenes.h"
 
@@ -108,53 +107,18 @@ INSTANTIATE_TEST_SUITE_P(
 class CrossStrategyBlocks : public ::testing::TestWithParam<Strategy> {};
 
 TEST_P(CrossStrategyBlocks, MatchesReferenceInBlockMeans) {
-  constexpr uint32_t kBlock = 8, kBlocks = kSize / kBlock, kBatches = 8;
+  constexpr uint32_t kBlock = 8, kBatches = 8;
   const FilmResult& ref = reference();
-  const Image rv = variance_of_mean(ref.variance, ref.samples_per_pixel);
-  // Per block and channel: the batch means of the block average.
-  std::vector<std::vector<double>> batch(kBlocks * kBlocks * 3);
+  std::vector<Image> batches;
   for (uint32_t b = 0; b < kBatches; ++b) {
     Renderer r(test::device_context(), cornell(), settings_for(GetParam(), 256, 300 + b));
     const FilmResult f = r.render().film;
     ASSERT_EQ(f.dropped_samples, 0u);
-    for (uint32_t i = 0; i < kBlocks * kBlocks; ++i)
-      for (int c = 0; c < 3; ++c) {
-        double sum = 0.0;
-        for (uint32_t y = 0; y < kBlock; ++y)
-          for (uint32_t x = 0; x < kBlock; ++x)
-            sum += f.mean.pixel((i % kBlocks) * kBlock + x, (i / kBlocks) * kBlock + y)[c];
-        batch[i * 3 + c].push_back(sum / (kBlock * kBlock));
-      }
+    batches.push_back(f.mean);
   }
-  // The batch variance has only kBatches - 1 degrees of freedom, so the statistic follows
-  // Student's t, not the normal: the threshold is t's quantile at the Sidak level.
-  const size_t tests = batch.size();
-  const double per_test = 1.0 - std::pow(1.0 - 0.01, 1.0 / double(tests));
-  const double threshold = boost::math::quantile(
-      boost::math::complement(boost::math::students_t(kBatches - 1), per_test / 2.0));
-  size_t failed = 0;
-  double max_z = 0.0;
-  for (size_t k = 0; k < tests; ++k) {
-    const uint32_t i = uint32_t(k / 3), c = uint32_t(k % 3);
-    double mean = 0.0, var = 0.0, ref_mean = 0.0, ref_var = 0.0;
-    for (double m : batch[k]) mean += m;
-    mean /= kBatches;
-    for (double m : batch[k]) var += (m - mean) * (m - mean);
-    var /= double(kBatches - 1) * kBatches;  // variance of the mean of the batch means
-    for (uint32_t y = 0; y < kBlock; ++y)
-      for (uint32_t x = 0; x < kBlock; ++x) {
-        const uint32_t px = (i % kBlocks) * kBlock + x, py = (i / kBlocks) * kBlock + y;
-        ref_mean += ref.mean.pixel(px, py)[c];
-        ref_var += rv.pixel(px, py)[c];
-      }
-    ref_mean /= kBlock * kBlock;
-    ref_var /= double(kBlock * kBlock) * (kBlock * kBlock);
-    const double z = std::fabs(mean - ref_mean) / std::sqrt(var + ref_var + 1e-12);
-    max_z = std::max(max_z, z);
-    failed += z >= threshold;
-  }
-  EXPECT_EQ(failed, 0u) << "of " << tests << " block-channels, |t| >= " << threshold
-                        << " (max |z| " << max_z << ")";
+  const test::BlockTestResult t = test::block_means_test(
+      batches, ref.mean, variance_of_mean(ref.variance, ref.samples_per_pixel), kBlock);
+  EXPECT_EQ(t.failed, 0u) << t.summary();
 }
 
 INSTANTIATE_TEST_SUITE_P(

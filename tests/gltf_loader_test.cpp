@@ -24,6 +24,8 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include <OpenImageIO/imageio.h>
+
 #include "scene/gltf_loader.h"
 #include "scene/scene.h"
 #include "util/error.h"
@@ -141,11 +143,9 @@ TEST(GltfConformance, EveryFileLoadsOrFailsCleanly) {
   if (!fs::is_directory(kShared))
     GTEST_SKIP() << "shared glTF scenes not found at " << kShared << " (CLPT_SHARED_SCENES_DIR)";
   clpt::log::set_level(clpt::log::Level::Quiet);
-  // The files clpt must refuse: Draco and KHR_lights_punctual are required extensions it does
-  // not support, and Empty has nothing to render. Every other file must load.
-  const std::set<std::string> expected_refusals = {
-      "Box/glTF-Draco/Box.gltf", "ShadowsDirectional/glTF/shadows-directional.gltf",
-      "ShadowsSpot/glTF/shadows-spot.gltf", "Empty/Empty.gltf"};
+  // The files clpt must refuse: Draco is a required extension it does not support, and Empty
+  // has nothing to render. Every other file must load.
+  const std::set<std::string> expected_refusals = {"Box/glTF-Draco/Box.gltf", "Empty/Empty.gltf"};
   std::set<std::string> refusals;
   size_t loaded = 0;
   for (const auto& entry : fs::recursive_directory_iterator(kShared)) {
@@ -249,11 +249,7 @@ TEST(GltfConformance, DracoRequiredIsRefused) {
   EXPECT_NE(msg.find("does not support"), std::string::npos) << msg;
 }
 
-TEST(GltfConformance, LightsPunctualRequiredIsRefused) {
-  REQUIRE_SHARED("ShadowsDirectional/glTF/shadows-directional.gltf");
-  std::string msg = load_error(kShared / "ShadowsDirectional/glTF/shadows-directional.gltf");
-  EXPECT_NE(msg.find("requires extension KHR_lights_punctual"), std::string::npos) << msg;
-}
+// KHR_lights_punctual files (ShadowsDirectional, ShadowsSpot) load: tests/gltf_lights_test.cpp.
 
 TEST(GltfConformance, EmptyHasNothingToRender) {
   REQUIRE_SHARED("Empty/Empty.gltf");
@@ -408,7 +404,15 @@ const MalformedCase kMalformedCases[] = {
     {"missing_bin.gltf", "file 'missing.bin' not found"},
     {"bin_size_mismatch.gltf", "File size mismatch"},
     {"draco_required.gltf", "requires extension KHR_draco_mesh_compression, which clpt does not support"},
-    {"lights_required.gltf", "requires extension KHR_lights_punctual, which clpt does not support"},
+    // KHR_lights_punctual (host/scene/gltf_lights.cpp; valid files in tests/gltf_lights_test.cpp)
+    {"lights_bad_type.gltf", "KHR_lights_punctual light 0 has type 'area', expected point, spot or directional"},
+    {"lights_negative_intensity.gltf", "KHR_lights_punctual light 0 has a negative intensity -1"},
+    {"lights_bad_color.gltf", "KHR_lights_punctual light 0 has a color that is not an array of 3 numbers"},
+    {"lights_cone_order.gltf", "which do not satisfy 0 <= inner < outer <= pi/2"},
+    {"lights_cone_too_wide.gltf", "has cone angles inner 0 and outer 2, which do not satisfy"},
+    {"lights_spot_without_cone.gltf", "Spot light description not found"},
+    {"lights_index_out_of_range.gltf", "node 1 refers to light 3, which does not exist (the file has 1)"},
+    {"lights_node_without_index.gltf", "node 1 has a KHR_lights_punctual extension without a light index"},
     {"empty_scene.gltf", "nothing to render"},
     {"no_scenes_no_nodes.gltf", "nothing to render"},
     {"default_scene_out_of_range.gltf", "the default scene 4 does not exist"},
@@ -434,6 +438,12 @@ const MalformedCase kMalformedCases[] = {
     {"glb_chunk_length_overrun.glb", "GLB JSON chunk (4294967280 bytes at offset 20) runs past the end of the file"},
     {"glb_bad_bin_chunk.glb", "GLB chunk 1 has type 0x005A5958, expected BIN"},
     {"glb_bin_too_short.glb", "Invalid `byteLength'"},
+    {"texture_bad_image.gltf", "image 0 (used by material 0 baseColorTexture): cannot decode the png data"},
+    {"texture_too_large.gltf", "the image is 16385x1, larger than the limit of 16384 per side"},
+    {"texture_index_out_of_range.gltf",
+     "material 0 baseColorTexture refers to texture 5, which does not exist (the file has 1)"},
+    {"texture_texcoord_7.gltf", "material 0 baseColorTexture uses texCoord 7; clpt reads TEXCOORD_0 and TEXCOORD_1 only"},
+    {"texture_bufferview_overrun.glb", "bufferView 2 reads bytes 40..4136 past the end of buffer 0 (44 bytes)"},
 };
 
 TEST(GltfMalformed, EveryCaseGivesItsError) {
@@ -565,11 +575,216 @@ TEST(GltfLoader, FormatIsDetectedByMagicNotExtension) {
 TEST(GltfLoader, UriDecodingAndBrokenImages) {
   // '+' in a file name (tinygltf 2.7 alone would look for "plus sign.bin").
   EXPECT_EQ(load_ok(kValid / "plus_uri.gltf").triangles.size(), 1u);
-  // Percent-encoded buffer URI; one image is not a PNG, one is missing, one is a data: URI of
-  // garbage. Images are not decoded yet, so none of this may fail the load.
+  // Percent-encoded buffer URI; the material's base colour image is not a PNG, its normal map
+  // image is missing, its emissive image a data: URI of garbage (a fourth, unused, is WebP).
+  // Each is an error naming the image; with --lenient a warning and a magenta texture.
   clpt::log::set_level(clpt::log::Level::Quiet);
-  clpt::Scene s = load_ok(kValid / "percent_uri_broken_images.gltf");
+  const std::string msg = load_error(kValid / "percent_uri_broken_images.gltf");
+  EXPECT_NE(msg.find("image 0 'not_a_png.png' (used by material 0 baseColorTexture): not a PNG or JPEG image"),
+            std::string::npos) << msg;
+  EXPECT_NE(msg.find("--lenient"), std::string::npos) << msg;
+  clpt::Scene s = clpt::load_gltf(kValid / "percent_uri_broken_images.gltf", clpt::LoadOptions{true});
   EXPECT_EQ(s.triangles.size(), 1u);
+  ASSERT_EQ(s.textures.size(), 3u);  // base colour, normal, emissive; the WebP one is unused
+  for (const clpt::Texture& t : s.textures) {
+    EXPECT_EQ(t.width, 1u);
+    EXPECT_EQ(t.height, 1u);
+    EXPECT_EQ(t.texels, std::vector<uint32_t>{0xFFFF00FFu}) << t.name;
+  }
+  EXPECT_TRUE(s.materials[0].base_color_texture.used());
+  EXPECT_TRUE(s.materials[0].normal_texture.used());
+  EXPECT_TRUE(s.materials[0].emissive_texture.used());
+}
+
+// ------------------------------------------------------------------------------------------
+// Textures, material extensions and vertex attributes, from a quad written by the test.
+
+// A folder under /tmp with `quad.gltf` (one quad, the given material and attributes) and two
+// PNGs: `a.png` 2x1 RGBA (texels (255,0,0,255), (0,0,255,128)) and `b.png` 1x1 grey.
+struct QuadFile {
+  fs::path dir, file;
+  QuadFile(const nlohmann::json& material, const nlohmann::json& node_extra, bool attributes) {
+    char tmpl[] = "/tmp/tex-gltf-XXXXXX";
+    dir = ::mkdtemp(tmpl);
+    file = dir / "quad.gltf";
+    auto png = [&](const char* name, int w, int nc, std::vector<unsigned char> px) {
+      auto out = OIIO::ImageOutput::create(name);
+      OIIO::ImageSpec spec(w, 1, nc, OIIO::TypeDesc::UINT8);
+      ASSERT_TRUE(out && out->open((dir / name).string(), spec)) << name;
+      ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+      out->close();
+    };
+    png("a.png", 2, 4, {255, 0, 0, 255, 0, 0, 255, 128});
+    png("b.png", 1, 1, {100});
+    // Positions, TEXCOORD_0, TEXCOORD_1, COLOR_0 (unorm8 VEC4), TANGENT, indices.
+    std::vector<unsigned char> bin;
+    auto put = [&](const void* p, size_t n) {
+      const auto* b = static_cast<const unsigned char*>(p);
+      bin.insert(bin.end(), b, b + n);
+    };
+    const float pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const float uv0[8] = {0, 1, 1, 1, 1, 0, 0, 0};
+    const float uv1[8] = {0.5f, 0.25f, 0.75f, 0.25f, 0.75f, 0.5f, 0.5f, 0.5f};
+    const unsigned char col[16] = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 51, 255, 255, 255, 255};
+    const float tan[16] = {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1};
+    const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+    put(pos, 48); put(uv0, 32); put(uv1, 32); put(col, 16); put(tan, 64); put(idx, 12);
+    nlohmann::json doc = {
+        {"asset", {{"version", "2.0"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"nodes", {node_extra.is_null() ? nlohmann::json{{"mesh", 0}} : node_extra}},
+        {"buffers", {{{"uri", "quad.bin"}, {"byteLength", bin.size()}}}},
+        {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
+                         {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 32}},
+                         {{"buffer", 0}, {"byteOffset", 80}, {"byteLength", 32}},
+                         {{"buffer", 0}, {"byteOffset", 112}, {"byteLength", 16}},
+                         {{"buffer", 0}, {"byteOffset", 128}, {"byteLength", 64}},
+                         {{"buffer", 0}, {"byteOffset", 192}, {"byteLength", 12}}}},
+        {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
+                       {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
+                       {{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
+                       {{"bufferView", 3}, {"componentType", 5121}, {"normalized", true}, {"count", 4}, {"type", "VEC4"}},
+                       {{"bufferView", 4}, {"componentType", 5126}, {"count", 4}, {"type", "VEC4"}},
+                       {{"bufferView", 5}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
+        {"images", {{{"uri", "a.png"}}, {{"uri", "b.png"}}}},
+        {"samplers", {{{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}}, nlohmann::json::object()}},
+        {"textures", {{{"source", 0}, {"sampler", 0}}, {{"source", 0}, {"sampler", 1}}, {{"source", 1}},
+                      {{"source", 0}, {"sampler", 0}}}},
+        {"materials", {material}},
+    };
+    nlohmann::json attrs = {{"POSITION", 0}, {"TEXCOORD_0", 1}};
+    if (attributes) {
+      attrs["TEXCOORD_1"] = 2;
+      attrs["COLOR_0"] = 3;
+      attrs["TANGENT"] = 4;
+    }
+    doc["meshes"] = {{{"primitives", {{{"attributes", attrs}, {"indices", 5}, {"material", 0}}}}}};
+    std::ofstream(dir / "quad.bin", std::ios::binary).write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
+    std::ofstream(file) << doc.dump(1);
+  }
+  ~QuadFile() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
+// Every material field and extension is read; textures sharing an image and sampler share
+// one decoded texture; samplers, sRGB-free 8-bit texels; KHR_texture_transform is folded into
+// the hand-computed matrix T(offset) R(rotation) S(scale) and overrides texCoord.
+TEST(GltfLoader, MaterialTexturesAndExtensions) {
+  const nlohmann::json transform = {{"offset", {0.25, -0.5}}, {"rotation", 0.3}, {"scale", {2.0, 3.0}}, {"texCoord", 1}};
+  const nlohmann::json material = {
+      {"pbrMetallicRoughness",
+       {{"baseColorFactor", {0.5, 0.25, 1.0, 0.75}},
+        {"baseColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", transform}}}}},
+        {"metallicFactor", 0.3}, {"roughnessFactor", 0.6},
+        {"metallicRoughnessTexture", {{"index", 3}, {"texCoord", 1}}}}},
+      {"normalTexture", {{"index", 1}, {"scale", 0.5}}},
+      {"occlusionTexture", {{"index", 2}}},
+      {"emissiveTexture", {{"index", 2}}},
+      {"emissiveFactor", {1.0, 0.5, 0.25}},
+      {"alphaMode", "MASK"}, {"alphaCutoff", 0.3}, {"doubleSided", true},
+      {"extensions",
+       {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}},
+        {"KHR_materials_transmission", {{"transmissionFactor", 0.7}, {"transmissionTexture", {{"index", 2}}}}},
+        {"KHR_materials_ior", {{"ior", 1.33}}},
+        {"KHR_materials_specular", {{"specularFactor", 0.4}, {"specularColorFactor", {0.9, 0.8, 0.7}},
+                                    {"specularTexture", {{"index", 2}}}, {"specularColorTexture", {{"index", 1}, {"texCoord", 1}}}}},
+        {"KHR_materials_volume", {{"thicknessFactor", 1.0}, {"attenuationDistance", 2.5}, {"attenuationColor", {0.2, 0.4, 0.6}}}}}}};
+  QuadFile q(material, nullptr, true);
+  clpt::Scene s = load_ok(q.file);
+  ASSERT_EQ(s.materials.size(), 1u);
+  const clpt::Material& m = s.materials[0];
+  EXPECT_EQ(m.base_color, glm::vec4(0.5f, 0.25f, 1.0f, 0.75f));
+  EXPECT_FLOAT_EQ(m.metallic, 0.3f);
+  EXPECT_FLOAT_EQ(m.roughness, 0.6f);
+  EXPECT_FLOAT_EQ(m.normal_scale, 0.5f);
+  expect_near(m.emission, glm::vec3(4.0f, 2.0f, 1.0f));
+  EXPECT_EQ(m.alpha_mode, clpt::Material::AlphaMode::Mask);
+  EXPECT_FLOAT_EQ(m.alpha_cutoff, 0.3f);
+  EXPECT_TRUE(m.double_sided);
+  EXPECT_FLOAT_EQ(m.transmission, 0.7f);
+  EXPECT_FLOAT_EQ(m.ior, 1.33f);
+  EXPECT_FLOAT_EQ(m.specular, 0.4f);
+  expect_near(m.specular_color, glm::vec3(0.9f, 0.8f, 0.7f));
+  EXPECT_FLOAT_EQ(m.attenuation_distance, 2.5f);
+  expect_near(m.attenuation_color, glm::vec3(0.2f, 0.4f, 0.6f));
+  EXPECT_TRUE(m.volume);
+
+  // Textures: glTF textures 0 and 3 (image a, clamp/mirror/nearest) share; 1 is image a with
+  // the default sampler; 2 is image b. Occlusion is ignored (no texture of its own).
+  ASSERT_EQ(s.textures.size(), 3u);
+  EXPECT_EQ(m.base_color_texture.texture, m.metallic_roughness_texture.texture);
+  EXPECT_NE(m.base_color_texture.texture, m.normal_texture.texture);
+  EXPECT_EQ(m.emissive_texture.texture, m.transmission_texture.texture);
+  EXPECT_EQ(m.specular_texture.texture, m.emissive_texture.texture);
+  EXPECT_EQ(m.specular_color_texture.texture, m.normal_texture.texture);
+  const clpt::Texture& a = s.textures[size_t(m.base_color_texture.texture)];
+  EXPECT_EQ(a.width, 2u);
+  EXPECT_EQ(a.height, 1u);
+  EXPECT_EQ(a.texels, (std::vector<uint32_t>{0xFF0000FFu, 0x80FF0000u}));  // straight alpha
+  EXPECT_EQ(a.wrap_s, clpt::Texture::Wrap::Clamp);
+  EXPECT_EQ(a.wrap_t, clpt::Texture::Wrap::Mirror);
+  EXPECT_TRUE(a.nearest);
+  const clpt::Texture& a2 = s.textures[size_t(m.normal_texture.texture)];
+  EXPECT_EQ(a2.texels, a.texels);
+  EXPECT_EQ(a2.wrap_s, clpt::Texture::Wrap::Repeat);
+  EXPECT_FALSE(a2.nearest);
+  EXPECT_EQ(s.textures[size_t(m.emissive_texture.texture)].texels, std::vector<uint32_t>{0xFF646464u});  // grey -> RGB, A 255
+
+  // texCoord: the transform's override (1), the textureInfo's (1), the default (0).
+  EXPECT_EQ(m.base_color_texture.texcoord, 1u);
+  EXPECT_EQ(m.metallic_roughness_texture.texcoord, 1u);
+  EXPECT_EQ(m.normal_texture.texcoord, 0u);
+  EXPECT_EQ(m.specular_color_texture.texcoord, 1u);
+  const double c = std::cos(0.3), sn = std::sin(0.3);
+  // T R S = [[sx c, sy s, ox], [-sx s, sy c, oy]] (KHR_texture_transform README's matrices).
+  const glm::mat3x2& t = m.base_color_texture.transform;
+  EXPECT_NEAR(t[0][0], 2.0 * c, 1e-6);
+  EXPECT_NEAR(t[1][0], 3.0 * sn, 1e-6);
+  EXPECT_NEAR(t[2][0], 0.25, 1e-6);
+  EXPECT_NEAR(t[0][1], -2.0 * sn, 1e-6);
+  EXPECT_NEAR(t[1][1], 3.0 * c, 1e-6);
+  EXPECT_NEAR(t[2][1], -0.5, 1e-6);
+  EXPECT_EQ(m.normal_texture.transform, glm::mat3x2(1.0f));
+}
+
+// TEXCOORD_1, COLOR_0 (normalized UNSIGNED_BYTE) and TANGENT under a mirroring node: the
+// tangent follows the node's linear part and its w flips; positions and winding as before.
+TEST(GltfLoader, VertexAttributesUnderMirror) {
+  const nlohmann::json node = {{"mesh", 0}, {"scale", {-2.0, 1.0, 1.0}}};
+  QuadFile q({{"name", "plain"}}, node, true);
+  clpt::Scene s = load_ok(q.file);
+  ASSERT_EQ(s.positions.size(), 4u);
+  ASSERT_EQ(s.uvs1.size(), 4u);
+  ASSERT_EQ(s.colors.size(), 4u);
+  ASSERT_EQ(s.tangents.size(), 4u);
+  EXPECT_EQ(s.uvs1[1], glm::vec2(0.75f, 0.25f));
+  EXPECT_EQ(s.colors[0], glm::vec4(1, 0, 0, 1));
+  EXPECT_NEAR(s.colors[2].w, 0.2f, 1e-6f);  // 51 / 255
+  for (const glm::vec4& t : s.tangents) EXPECT_EQ(t, glm::vec4(-1, 0, 0, -1));
+  // Without the attributes nothing is allocated.
+  QuadFile plain({{"name", "plain"}}, nullptr, false);
+  clpt::Scene p = load_ok(plain.file);
+  EXPECT_TRUE(p.uvs1.empty());
+  EXPECT_TRUE(p.colors.empty());
+  EXPECT_TRUE(p.tangents.empty());
+}
+
+// A normal map without TANGENT: tangents are generated (+x along u, w = +1 with glTF UVs).
+TEST(GltfLoader, TangentsGeneratedForNormalMaps) {
+  QuadFile q({{"normalTexture", {{"index", 2}}}}, nullptr, false);
+  clpt::Scene s = load_ok(q.file);
+  ASSERT_EQ(s.tangents.size(), 4u);
+  for (const glm::vec4& t : s.tangents) {
+    EXPECT_NEAR(t.x, 1.0f, 1e-6f);
+    EXPECT_NEAR(t.y, 0.0f, 1e-6f);
+    EXPECT_NEAR(t.z, 0.0f, 1e-6f);
+    EXPECT_EQ(t.w, 1.0f);
+  }
+  EXPECT_TRUE(s.uvs1.empty());
+  EXPECT_TRUE(s.colors.empty());
 }
 
 // ------------------------------------------------------------------------------------------
@@ -683,11 +898,24 @@ TEST(GltfFuzz, MutatedSparse) {
 
 }  // namespace
 
-// Until textures are supported, a material with an emissive texture emits nothing (a whole
-// surface glowing at emissiveFactor would be further from the file's meaning).
-TEST(GltfConformance, EmissiveTextureMaterialsDoNotGlowUniformly) {
+// WaterBottle: four 2048x2048 textures (base colour, metallic-roughness with occlusion
+// packed in, normal, emissive), TANGENT from the file; the emissive texture makes it an
+// emitter (emissiveFactor 1 x texture).
+TEST(GltfConformance, WaterBottleTextures) {
   REQUIRE_SHARED("WaterBottle/glTF/WaterBottle.gltf");
   clpt::Scene s = load_ok(kShared / "WaterBottle/glTF/WaterBottle.gltf");
   EXPECT_GT(s.triangles.size(), 4000u);
-  EXPECT_EQ(s.emissive_triangle_count(), 0u);
+  EXPECT_GT(s.emissive_triangle_count(), 0u);
+  ASSERT_EQ(s.materials.size(), 1u);
+  const clpt::Material& m = s.materials[0];
+  EXPECT_TRUE(m.base_color_texture.used());
+  EXPECT_TRUE(m.metallic_roughness_texture.used());
+  EXPECT_TRUE(m.normal_texture.used());
+  EXPECT_TRUE(m.emissive_texture.used());
+  EXPECT_EQ(s.textures.size(), 4u);
+  for (const clpt::Texture& t : s.textures) {
+    EXPECT_EQ(t.width, 2048u) << t.name;
+    EXPECT_EQ(t.texels.size(), size_t(t.width) * t.height) << t.name;
+  }
+  EXPECT_EQ(s.tangents.size(), s.positions.size());
 }

@@ -251,14 +251,15 @@ TEST(UnwritableOutput, ParentIsARegularFile) {
   const Result r = run_clpt_env(tiny({kCornell, "-o", target}), {}, dir);
   EXPECT_EQ(r.exit_code, 4) << r.err;
   EXPECT_TRUE(contains(r.err, target)) << "the message must name the file: " << r.err;
+  EXPECT_TRUE(contains(r.err, "is a file, not a folder")) << r.err;
   EXPECT_EQ(slurp(dir / "existing_file"), "not a folder");
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"existing_file"});
 }
 
 TEST(UnwritableOutput, FolderOnAReadOnlyFileSystem) {
   // procfs refuses new files even to root. /proc/sys is a folder there; /proc itself is
-  // checked too. Both pass access(W_OK) for root, so the failure may come only at write time,
-  // after the render: it must still be exit 4 naming the file.
+  // checked too. Both pass access(W_OK) for root; the up-front check creates a probe file, so
+  // the run fails before it renders, with exit 4 naming the file.
   for (const std::string target : {"/proc/clpt-robustness-out.exr",
                                     "/proc/sys/clpt-robustness-out.png"}) {
     SCOPED_TRACE(target);
@@ -266,6 +267,7 @@ TEST(UnwritableOutput, FolderOnAReadOnlyFileSystem) {
     const Result r = run_clpt_env(tiny({kCornell, "-o", target}), {}, dir);
     EXPECT_EQ(r.exit_code, 4) << r.err;
     EXPECT_TRUE(contains(r.err, target)) << r.err;
+    EXPECT_FALSE(contains(r.err, "rendered ")) << "must fail before rendering: " << r.err;
     EXPECT_FALSE(fs::exists(target));
     // No temporary file either (write_image names them .<stem>.tmp<pid><ext>).
     for (const auto& e : fs::directory_iterator(fs::path(target).parent_path()))
@@ -297,11 +299,22 @@ TEST(UnwritableOutput, StatisticsFileCannotBeWritten) {
       run_clpt_env(tiny({kCornell, "-o", dir / "img.exr", "--stats=" + stats}), {}, dir);
   EXPECT_EQ(r.exit_code, 4) << r.err;
   EXPECT_TRUE(contains(r.err, stats)) << r.err;
-  // The statistics are written after the image: the image is complete and kept, and no
+  // The statistics path is checked before rendering: nothing is rendered or written, and no
   // temporary file is left.
-  std::vector<std::string> names = dir.entries();
-  std::sort(names.begin(), names.end());
-  EXPECT_EQ(names, (std::vector<std::string>{"existing_file", "img.exr"}));
+  EXPECT_FALSE(contains(r.err, "rendered ")) << "must fail before rendering: " << r.err;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"existing_file"});
+}
+
+TEST(UnwritableOutput, CheckpointFileCannotBeWritten) {
+  TempDir dir;
+  std::ofstream(dir / "existing_file") << "x";
+  const std::string checkpoint = dir / "existing_file/state.clpt";
+  const Result r =
+      run_clpt_env(tiny({kCornell, "-o", dir / "img.exr", "--checkpoint", checkpoint}), {}, dir);
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_TRUE(contains(r.err, checkpoint)) << r.err;
+  EXPECT_FALSE(contains(r.err, "rendered ")) << "must fail before rendering: " << r.err;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"existing_file"});
 }
 
 // ---------------------------------------------------------------------------------------------

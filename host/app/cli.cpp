@@ -14,6 +14,7 @@
 
 #include "cl/context.h"
 #include "io/image_io.h"
+#include "io/output_path.h"
 #include "options.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
@@ -75,13 +76,15 @@ int run(const Options& opt) {
   install_signal_handlers();  // from here on, Ctrl-C stops cleanly and saves what was rendered
   if (!opt.kernel_dir.empty()) ::setenv("CLPT_KERNEL_DIR", opt.kernel_dir.c_str(), 1);
   check_output_path(opt.output);
+  if (opt.stats && *opt.stats != "-") check_writable_path(*opt.stats, "--stats");
+  if (!opt.checkpoint.empty()) check_writable_path(opt.checkpoint, "--checkpoint");
 
   // A reference image is read before any work, so a bad one fails fast.
   std::optional<Image> reference;
   if (!opt.reference.empty()) reference = read_image(opt.reference);
 
   auto t0 = Clock::now();
-  const Scene scene = load_gltf(opt.scene);
+  const Scene scene = load_gltf(opt.scene, LoadOptions{opt.lenient});
   const double load_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   log::verbose("scene " + opt.scene + ": " + std::to_string(scene.triangles.size()) +
                " triangles, " + std::to_string(scene.materials.size()) + " materials, " +
@@ -102,6 +105,12 @@ int run(const Options& opt) {
   settings.seed = opt.seed;
   settings.integrator = opt.integrator;
   settings.camera = opt.camera;
+  settings.env_file = opt.env;
+  settings.env_scale = opt.env_scale;
+  settings.env_rotation = opt.env_rotate;
+  settings.background = glm::vec3(opt.background[0], opt.background[1], opt.background[2]);
+  settings.aperture = opt.aperture;
+  settings.focus_distance = opt.focus_distance;
   settings.sampler = opt.sampler == "stratified" ? dev::SAMPLER_STRATIFIED
                      : opt.sampler == "lhs"      ? dev::SAMPLER_LHS
                      : opt.sampler == "sobol"    ? dev::SAMPLER_SOBOL
@@ -202,7 +211,8 @@ int run(const Options& opt) {
 
   log::info((out.interrupted ? "interrupted: " : "") + std::string("rendered ") +
             std::to_string(film.samples_per_pixel) + " spp in " + std::to_string(st.render_seconds) +
-            " s (" + std::to_string(paths / secs / 1e6) + " M camera paths/s), wrote " + opt.output);
+            " s (" + std::to_string(paths / secs / 1e6) + " M camera paths/s)" +
+            (film.samples_per_pixel > 0 ? ", wrote " + opt.output : std::string()));
   if (film.dropped_samples)
     log::warn(std::to_string(film.dropped_samples) + " NaN/Inf samples were dropped");
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <unistd.h>
 
+#include "io/output_path.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -39,16 +40,7 @@ void check_output_path(const fs::path& path) {
   if (ext != ".exr" && ext != ".png" && ext != ".jpg" && ext != ".jpeg")
     throw Error(ExitCode::Usage, "output " + path.string() +
                                      ": unsupported format (use .exr, .png, .jpg or .jpeg)");
-  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw Error(ExitCode::Output, "output " + path.string() + ": folder " + dir.string() +
-                                      " does not exist");
-  if (::access(dir.c_str(), W_OK) != 0)
-    throw Error(ExitCode::Output, "output " + path.string() + ": folder " + dir.string() +
-                                      " is not writable");
-  if (fs::is_directory(path, ec))
-    throw Error(ExitCode::Output, "output " + path.string() + " is a folder");
+  check_writable_path(path, "output");
 }
 
 void write_image(const fs::path& path, const Image& image, const ImageMetadata& meta) {

@@ -59,4 +59,16 @@ dev::CameraData camera_data(const Camera& camera, uint32_t width, uint32_t heigh
   return c;
 }
 
+void set_thin_lens(dev::CameraData& camera, float aperture, float focus_distance,
+                   const Bounds& bounds) {
+  camera.lens_radius = aperture;
+  if (!(focus_distance > 0.0f) && !bounds.empty()) {
+    const glm::vec3 origin(camera.origin[0], camera.origin[1], camera.origin[2]);
+    const glm::vec3 forward(camera.forward[0], camera.forward[1], camera.forward[2]);
+    focus_distance = glm::dot(bounds.center() - origin, forward);
+    if (!(focus_distance > 0.0f)) focus_distance = 0.5f * glm::length(bounds.extent());
+  }
+  camera.focus_distance = focus_distance > 0.0f && std::isfinite(focus_distance) ? focus_distance : 1.0f;
+}
+
 }  // namespace clpt

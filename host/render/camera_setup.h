@@ -20,4 +20,10 @@ void default_resolution(const Camera& camera, uint32_t* width, uint32_t* height)
 // The vertical field of view is kept; the horizontal one follows the image's aspect ratio.
 dev::CameraData camera_data(const Camera& camera, uint32_t width, uint32_t height);
 
+// Makes the camera a thin lens of the given aperture radius, in focus at focus_distance along
+// the view (0: at the centre of `bounds`, projected on the view direction; if that is behind
+// the camera, at the bounding sphere's radius). aperture 0 keeps a pinhole.
+void set_thin_lens(dev::CameraData& camera, float aperture, float focus_distance,
+                   const Bounds& bounds);
+
 }  // namespace clpt

@@ -45,11 +45,16 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
                std::to_string(bvh.depth) + ", built in " + std::to_string(stats_.bvh_build_seconds) +
                " s");
 
-  const FlatScene flat = flatten_scene(scene, bvh);
+  Environment env;  // --env (read before anything renders) or the constant --background
+  if (!settings_.env_file.empty())
+    env = load_environment(settings_.env_file, settings_.env_scale, settings_.env_rotation);
+  env.background = settings_.background;
+  const FlatScene flat = flatten_scene(scene, bvh, env);
   stats_.emitters = flat.emissive_triangles;
   stats_.lights = static_cast<uint32_t>(flat.lights.size());
   if (flat.lights.empty() && settings_.integrator != "ao")
-    log::warn("the scene has no emissive surfaces: the image will be black");
+    log::warn("the scene has no lights (emissive surfaces, punctual lights or environment): "
+              "the image will be black");
   scene_buffers_ = std::make_unique<SceneBuffers>(ctx_, flat);
   film_ = std::make_unique<Film>(ctx_, width_, height_);
   stats_.scene_device_bytes = scene_buffers_->device_bytes();
@@ -57,6 +62,7 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   stats_.texture_device_bytes = scene_buffers_->texture_bytes();
 
   params_.camera = camera_data(camera, width_, height_);
+  set_thin_lens(params_.camera, settings_.aperture, settings_.focus_distance, scene.bounds());
   params_.width = width_;
   params_.height = height_;
   params_.max_depth = settings_.max_depth;

@@ -35,6 +35,12 @@ struct RenderSettings {
   uint32_t branching = 1;      // continuations from the first hit
   float ao_radius = 0.0f;      // ambient occlusion distance; 0: 10 % of the scene's diagonal
   std::string camera;              // index or name; empty: the first camera or a default one
+  std::string env_file;            // equirectangular environment map; empty: none
+  float env_scale = 1.0f;          // multiplies the map
+  float env_rotation = 0.0f;       // degrees about +y
+  glm::vec3 background{0.0f};      // constant radiance of escaping rays when there is no map
+  float aperture = 0.0f;           // thin-lens aperture radius; 0: pinhole
+  float focus_distance = 0.0f;     // 0: distance to the scene's centre along the view
   double target_pass_seconds = 0.0;  // pass length aimed at; 0: 0.03 s on GPUs, 0.1 s otherwise
   uint32_t max_samples_per_pass = 0; // 0: no cap (tests use 1 to force many passes)
 };

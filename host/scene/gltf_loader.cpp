@@ -20,7 +20,10 @@
 // file is read once, size-capped, and the base folder is ours rather than tinygltf's guess) with
 // file-system callbacks that only open files inside the scene's folder (defence in depth: its
 // own fallback of looking in the current directory is refused too) and an image loader that
-// keeps no pixels (textures come later; a broken, missing or undecodable image is a warning).
+// decodes nothing: it only keeps a copy of the encoded bytes of external and data: URI images.
+// Images are decoded by scene/image_decode (OpenImageIO), from those bytes or from a
+// range-checked GLB bufferView, never by tinygltf's stb_image. A missing or undecodable image
+// is an error, or with --lenient a warning and a magenta texture.
 //
 // URI policy: `data:` URIs (base64, the media types tinygltf knows) and relative paths that
 // stay inside the folder of the scene file (percent-encoding decoded, `..` allowed only while
@@ -40,6 +43,10 @@
 //   kMaxNodeDepth        1024       depth of the node hierarchy
 //   kMaxNodeVisits       2^24       node visits while walking the scene (a node graph that
 //                                   reuses children could otherwise explode)
+//   kMaxImageDimension   16384      width or height of one image (image_decode.h; checked
+//                                   from the header before decoding)
+//   kMaxImagePixels      2^26       pixels of one image (256 MiB as RGBA8)
+//   kMaxTotalTexels      2^28       texels of all textures together (1 GiB as RGBA8)
 // Cycles in the node graph are errors.
 #include "scene/gltf_loader.h"
 
@@ -52,6 +59,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <memory>
 #include <set>
@@ -64,6 +72,9 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <nlohmann/json.hpp>
 
+#include "scene/gltf_lights.h"
+#include "scene/image_decode.h"
+#include "scene/tangents.h"
 #include "util/error.h"
 #include "util/log.h"
 
@@ -81,13 +92,20 @@ constexpr uint64_t kMaxVertices = uint64_t{1} << 28;
 constexpr uint64_t kMaxTriangles = uint64_t{1} << 28;
 constexpr int kMaxNodeDepth = 1024;
 constexpr uint64_t kMaxNodeVisits = uint64_t{1} << 24;
+constexpr uint64_t kMaxTotalTexels = uint64_t{1} << 28;
 constexpr double kPi = 3.14159265358979323846;
 
 // Extensions clpt implements. Anything else in extensionsRequired is refused; anything else in
 // extensionsUsed is ignored with one warning.
 const char* const kSupportedExtensions[] = {
     "KHR_materials_emissive_strength",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+    "KHR_materials_specular",
+    "KHR_materials_volume",
+    "KHR_texture_transform",
     "EXT_mesh_gpu_instancing",
+    "KHR_lights_punctual",
 };
 
 bool is_supported_extension(const std::string& name) {
@@ -355,10 +373,21 @@ bool fs_write_whole_file(std::string* err, const std::string&, const std::vector
   return false;
 }
 
-// Textures are not decoded in this version: accept whatever bytes there are, without touching
-// them (for images in a bufferView tinygltf does not range-check the pointer it passes).
-bool keep_image_undecoded(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                          const unsigned char*, int, void*) {
+// What the loader knows about each glTF image before conversion: the encoded bytes of external
+// files and data: URIs (copied by keep_image_undecoded), and why an image has none.
+struct ImageSources {
+  std::map<int, std::vector<unsigned char>> bytes;
+  std::map<int, std::string> problem;
+  bool lenient = false;
+};
+
+// tinygltf's image callback: decode nothing, keep a copy of the bytes of external and data:
+// URI images. Images in a bufferView are skipped here (tinygltf does not range-check the
+// pointer it passes for them); the converter reads them through its checked buffer_view().
+bool keep_image_undecoded(tinygltf::Image* image, const int image_idx, std::string*, std::string*, int, int,
+                          const unsigned char* bytes, int size, void* user) {
+  if (!image || !user || image->bufferView >= 0 || !bytes || size <= 0) return true;
+  static_cast<ImageSources*>(user)->bytes[image_idx].assign(bytes, bytes + size);
   return true;
 }
 
@@ -449,6 +478,9 @@ struct LocalPrimitive {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;  // empty when the primitive has none
   std::vector<glm::vec2> uvs;      // empty when the primitive has none
+  std::vector<glm::vec2> uvs1;     // TEXCOORD_1, empty when the primitive has none
+  std::vector<glm::vec4> tangents; // TANGENT or generated, empty when none
+  std::vector<glm::vec4> colors;   // COLOR_0 as linear RGBA, empty when none
   std::vector<glm::uvec3> triangles;
 };
 
@@ -574,7 +606,8 @@ enum class Components {
 
 class Converter {
  public:
-  Converter(const tinygltf::Model& model, std::string display) : m_(model), display_(std::move(display)) {}
+  Converter(const tinygltf::Model& model, std::string display, ImageSources& images)
+      : m_(model), display_(std::move(display)), images_(images) {}
 
   Scene convert();
 
@@ -612,6 +645,10 @@ class Converter {
   std::vector<uint32_t> read_indices(int index, const std::string& what) const;
 
   void convert_materials();
+  TextureRef texture_ref(int index, int texcoord, const tinygltf::Value* transform, const std::string& where);
+  TextureRef texture_info(const tinygltf::Value& info, const std::string& where);
+  int scene_texture(int texture, const std::string& where);
+  const DecodedImage& image(int index, const std::string& where);
   uint32_t material_for(int gltf_material, const std::string& where);
   const LocalPrimitive& local_primitive(int mesh, int prim);
   void add_instance(const LocalPrimitive& lp, const glm::dmat4& world, uint32_t material, int node,
@@ -624,10 +661,16 @@ class Converter {
 
   const tinygltf::Model& m_;
   std::string display_;
+  ImageSources& images_;
+  std::map<int, DecodedImage> decoded_;                  // by glTF image
+  std::map<std::tuple<int, int, int, bool>, int> textures_;  // (image, wrapS, wrapT, nearest) -> scene texture
+  std::map<int, int> texture_of_;                        // glTF texture -> scene texture (-1: none)
+  uint64_t total_texels_ = 0;
   Scene scene_;
   int default_material_ = -1;
   std::map<std::pair<int, int>, LocalPrimitive> cache_;
   std::vector<char> on_path_;
+  GltfLights lights_{m_, [this](const std::string& message) { fail(message); }};  // KHR_lights_punctual
   uint64_t visits_ = 0;
   uint64_t skipped_primitives_ = 0;  // points and lines
   std::set<int> skipped_modes_;
@@ -783,12 +826,186 @@ std::vector<uint32_t> Converter::read_indices(int index, const std::string& what
   return out;
 }
 
+// ---- textures
+
+const DecodedImage& Converter::image(int index, const std::string& where) {
+  auto found = decoded_.find(index);
+  if (found != decoded_.end()) return found->second;
+  const tinygltf::Image& gi = m_.images[size_t(index)];
+  std::string label = "image " + std::to_string(index);
+  if (!gi.name.empty()) label += " " + printable(gi.name);
+  else if (!gi.uri.empty() && gi.uri.rfind("data:", 0) != 0) label += " " + printable(gi.uri);
+  DecodedImage img;
+  std::string why;
+  bool ok = false;
+  if (gi.bufferView >= 0) {
+    const ViewBytes v = buffer_view(gi.bufferView, label);
+    ok = decode_image(v.data, size_t(v.length), &img, &why);
+  } else {
+    auto bytes = images_.bytes.find(index);
+    if (bytes != images_.bytes.end()) {
+      ok = decode_image(bytes->second.data(), bytes->second.size(), &img, &why);
+      images_.bytes.erase(bytes);  // decoded once; the encoded copy is no longer needed
+    } else {
+      auto p = images_.problem.find(index);
+      why = p != images_.problem.end() ? p->second : "its data could not be read";
+    }
+  }
+  if (ok && total_texels_ + uint64_t(img.width) * img.height > kMaxTotalTexels) {
+    ok = false;
+    why = "the scene's textures together exceed the limit of " + std::to_string(kMaxTotalTexels) + " texels";
+  }
+  if (!ok) {
+    if (!images_.lenient)
+      fail(label + " (used by " + where + "): " + why + " (--lenient: warn and use a magenta texture)");
+    log::warn(display_ + ": " + label + " (used by " + where + "): " + why + "; using a magenta texture");
+    img = placeholder_image();
+  }
+  return decoded_.emplace(index, std::move(img)).first->second;
+}
+
+// The scene texture for glTF texture `texture` (decoded image + its sampler), or -1 when the
+// texture has no image clpt can use. Textures with the same image and sampler settings share.
+int Converter::scene_texture(int texture, const std::string& where) {
+  if (texture < 0 || size_t(texture) >= m_.textures.size())
+    fail(where + " refers to texture " + std::to_string(texture) + ", which does not exist (the file has " +
+         std::to_string(m_.textures.size()) + ")");
+  auto known = texture_of_.find(texture);
+  if (known != texture_of_.end()) return known->second;
+  const tinygltf::Texture& gt = m_.textures[size_t(texture)];
+  const std::string tdesc = "texture " + std::to_string(texture);
+  if (gt.source < 0) {
+    log::warn(display_ + ": " + tdesc + " has no PNG/JPEG source (e.g. only a KTX2 or WebP one); " + where +
+              " is rendered without it");
+    return texture_of_[texture] = -1;
+  }
+  if (size_t(gt.source) >= m_.images.size())
+    fail(tdesc + " refers to image " + std::to_string(gt.source) + ", which does not exist (the file has " +
+         std::to_string(m_.images.size()) + ")");
+  Texture::Wrap ws = Texture::Wrap::Repeat, wt = Texture::Wrap::Repeat;
+  bool nearest = false;
+  if (gt.sampler >= 0) {
+    if (size_t(gt.sampler) >= m_.samplers.size())
+      fail(tdesc + " refers to sampler " + std::to_string(gt.sampler) + ", which does not exist (the file has " +
+           std::to_string(m_.samplers.size()) + ")");
+    const tinygltf::Sampler& sm = m_.samplers[size_t(gt.sampler)];
+    auto wrap = [&](int mode, const char* name) {
+      switch (mode) {
+        case TINYGLTF_TEXTURE_WRAP_REPEAT: return Texture::Wrap::Repeat;
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return Texture::Wrap::Clamp;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return Texture::Wrap::Mirror;
+        default:
+          log::warn(display_ + ": sampler " + std::to_string(gt.sampler) + " has " + name + " " +
+                    std::to_string(mode) + ", not a glTF wrap mode; using REPEAT");
+          return Texture::Wrap::Repeat;
+      }
+    };
+    ws = wrap(sm.wrapS, "wrapS");
+    wt = wrap(sm.wrapT, "wrapT");
+    nearest = sm.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+  }
+  const auto key = std::make_tuple(gt.source, int(ws), int(wt), nearest);
+  auto shared = textures_.find(key);
+  if (shared != textures_.end()) return texture_of_[texture] = shared->second;
+  const DecodedImage& img = image(gt.source, where);
+  total_texels_ += uint64_t(img.width) * img.height;
+  Texture t;
+  const tinygltf::Image& gi = m_.images[size_t(gt.source)];
+  t.name = !gi.name.empty() ? gi.name : (!gi.uri.empty() && gi.uri.rfind("data:", 0) != 0 ? gi.uri
+                                                                                          : "image " + std::to_string(gt.source));
+  t.width = img.width;
+  t.height = img.height;
+  t.texels = img.texels;
+  t.wrap_s = ws;
+  t.wrap_t = wt;
+  t.nearest = nearest;
+  const int id = int(scene_.textures.size());
+  scene_.textures.push_back(std::move(t));
+  textures_.emplace(key, id);
+  return texture_of_[texture] = id;
+}
+
+// A textureInfo: texture, UV set and KHR_texture_transform (offset, rotation, scale, texCoord
+// override) folded into uv' = T * R * S * (u, v, 1), as the extension defines it.
+TextureRef Converter::texture_ref(int index, int texcoord, const tinygltf::Value* transform,
+                                  const std::string& where) {
+  TextureRef ref;
+  if (index < 0) return ref;
+  double ox = 0, oy = 0, rot = 0, sx = 1, sy = 1;
+  if (transform) {
+    const std::string tw = where + " KHR_texture_transform";
+    if (!transform->IsObject()) fail(tw + " is not an object");
+    auto vec2 = [&](const char* key, double* x, double* y) {
+      if (!transform->Has(key)) return;
+      const tinygltf::Value& v = transform->Get(key);
+      if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+        fail(tw + " " + key + " is not an array of 2 numbers");
+      *x = v.Get(0).GetNumberAsDouble();
+      *y = v.Get(1).GetNumberAsDouble();
+      if (!std::isfinite(*x) || !std::isfinite(*y)) fail(tw + " " + key + " is not finite");
+    };
+    vec2("offset", &ox, &oy);
+    vec2("scale", &sx, &sy);
+    if (transform->Has("rotation")) {
+      const tinygltf::Value& r = transform->Get("rotation");
+      if (!r.IsNumber() || !std::isfinite(r.GetNumberAsDouble())) fail(tw + " rotation is not a finite number");
+      rot = r.GetNumberAsDouble();
+    }
+    if (transform->Has("texCoord")) {
+      const tinygltf::Value& t = transform->Get("texCoord");
+      if (!t.IsInt()) fail(tw + " texCoord is not an integer");
+      texcoord = t.GetNumberAsInt();
+    }
+  }
+  if (texcoord != 0 && texcoord != 1) {
+    const std::string msg = where + " uses texCoord " + std::to_string(texcoord) +
+                            "; clpt reads TEXCOORD_0 and TEXCOORD_1 only";
+    if (!images_.lenient) fail(msg + " (--lenient: use TEXCOORD_0)");
+    log::warn(display_ + ": " + msg + "; using TEXCOORD_0");
+    texcoord = 0;
+  }
+  ref.texture = scene_texture(index, where);
+  if (ref.texture < 0) return TextureRef{};
+  ref.texcoord = uint32_t(texcoord);
+  const double c = std::cos(rot), s = std::sin(rot);
+  // glm::mat3x2: column 0 multiplies u, column 1 v, column 2 is the offset.
+  ref.transform = glm::mat3x2(glm::vec2(float(sx * c), float(-sx * s)), glm::vec2(float(sy * s), float(sy * c)),
+                              glm::vec2(float(ox), float(oy)));
+  return ref;
+}
+
+// A textureInfo inside an extension (a JSON value tinygltf does not interpret).
+TextureRef Converter::texture_info(const tinygltf::Value& info, const std::string& where) {
+  if (!info.IsObject()) fail(where + " is not an object");
+  if (!info.Has("index") || !info.Get("index").IsInt()) fail(where + " has no integer index");
+  const int index = info.Get("index").GetNumberAsInt();
+  int texcoord = 0;
+  if (info.Has("texCoord")) {
+    if (!info.Get("texCoord").IsInt()) fail(where + " texCoord is not an integer");
+    texcoord = info.Get("texCoord").GetNumberAsInt();
+  }
+  const tinygltf::Value* transform = nullptr;
+  if (info.Has("extensions") && info.Get("extensions").IsObject() &&
+      info.Get("extensions").Has("KHR_texture_transform"))
+    transform = &info.Get("extensions").Get("KHR_texture_transform");
+  if (index < 0)
+    fail(where + " refers to texture " + std::to_string(index) + ", which does not exist (the file has " +
+         std::to_string(m_.textures.size()) + ")");
+  return texture_ref(index, texcoord, transform, where);
+}
+
 // ---- materials
 
+namespace {
+const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& ext, const char* name) {
+  auto it = ext.find(name);
+  return it == ext.end() ? nullptr : &it->second;
+}
+}  // namespace
+
 void Converter::convert_materials() {
-  bool textures = false;
-  size_t emissive_textures = 0;
   scene_.materials.reserve(m_.materials.size() + 1);
+  size_t occlusion = 0;
   for (size_t i = 0; i < m_.materials.size(); ++i) {
     const tinygltf::Material& gm = m_.materials[i];
     const std::string where = "material " + std::to_string(i);
@@ -799,17 +1016,61 @@ void Converter::convert_materials() {
       if (!std::isfinite(v)) fail(where + " has a non-finite " + field);
       return v;
     };
+    // A textureInfo of the core material.
+    auto core_texture = [&](int index, int texcoord, const tinygltf::ExtensionMap& ext, const char* name) {
+      return texture_ref(index, texcoord, find_extension(ext, "KHR_texture_transform"), where + " " + name);
+    };
+    // The members of an extension object.
+    auto ext_number = [&](const tinygltf::Value& e, const char* ext_name, const char* key, double def) {
+      if (!e.Has(key)) return def;
+      const tinygltf::Value& v = e.Get(key);
+      if (!v.IsNumber()) fail(where + " " + ext_name + " " + key + " is not a number");
+      const double d = v.GetNumberAsDouble();
+      if (!std::isfinite(d)) fail(where + " " + ext_name + " " + key + " is not finite");
+      return d;
+    };
+    auto ext_color = [&](const tinygltf::Value& e, const char* ext_name, const char* key) {
+      glm::vec3 c(1.0f);
+      if (!e.Has(key)) return c;
+      const tinygltf::Value& v = e.Get(key);
+      if (!v.IsArray() || v.ArrayLen() != 3) fail(where + " " + ext_name + " " + key + " is not an array of 3 numbers");
+      for (int k = 0; k < 3; ++k) {
+        if (!v.Get(k).IsNumber() || !std::isfinite(v.Get(k).GetNumberAsDouble()))
+          fail(where + " " + ext_name + " " + key + " is not an array of 3 finite numbers");
+        c[k] = float(std::max(v.Get(k).GetNumberAsDouble(), 0.0));
+      }
+      return c;
+    };
+    auto ext_texture = [&](const tinygltf::Value& e, const char* ext_name, const char* key) {
+      if (!e.Has(key)) return TextureRef{};
+      return texture_info(e.Get(key), where + " " + ext_name + " " + key);
+    };
+    auto extension = [&](const char* name) -> const tinygltf::Value* {
+      const tinygltf::Value* e = find_extension(gm.extensions, name);
+      if (e && !e->IsObject()) fail(where + " " + name + " is not an object");
+      return e;
+    };
+
     if (pbr.baseColorFactor.size() == 4)
       for (int c = 0; c < 4; ++c)
         mat.base_color[c] = float(std::clamp(check(pbr.baseColorFactor[size_t(c)], "baseColorFactor"), 0.0, 1.0));
     mat.metallic = float(std::clamp(check(pbr.metallicFactor, "metallicFactor"), 0.0, 1.0));
     mat.roughness = float(std::clamp(check(pbr.roughnessFactor, "roughnessFactor"), 0.0, 1.0));
+    mat.base_color_texture = core_texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                          pbr.baseColorTexture.extensions, "baseColorTexture");
+    mat.metallic_roughness_texture =
+        core_texture(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                     pbr.metallicRoughnessTexture.extensions, "metallicRoughnessTexture");
+    mat.normal_texture = core_texture(gm.normalTexture.index, gm.normalTexture.texCoord,
+                                      gm.normalTexture.extensions, "normalTexture");
+    if (mat.normal_texture.used()) mat.normal_scale = float(check(gm.normalTexture.scale, "normalTexture.scale"));
+    mat.emissive_texture = core_texture(gm.emissiveTexture.index, gm.emissiveTexture.texCoord,
+                                        gm.emissiveTexture.extensions, "emissiveTexture");
+    if (gm.occlusionTexture.index >= 0) ++occlusion;
+
     double strength = 1.0;
-    auto ext = gm.extensions.find("KHR_materials_emissive_strength");
-    if (ext != gm.extensions.end() && ext->second.IsObject() && ext->second.Has("emissiveStrength")) {
-      const tinygltf::Value& s = ext->second.Get("emissiveStrength");
-      if (!s.IsNumber()) fail(where + " has an emissiveStrength that is not a number");
-      strength = check(s.GetNumberAsDouble(), "emissiveStrength");
+    if (const tinygltf::Value* e = extension("KHR_materials_emissive_strength")) {
+      strength = ext_number(*e, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
       if (strength < 0) fail(where + " has a negative emissiveStrength " + number(strength));
     }
     if (gm.emissiveFactor.size() == 3)
@@ -819,22 +1080,50 @@ void Converter::convert_materials() {
         mat.emission[c] = float(e);
       }
     mat.double_sided = gm.doubleSided;
-    // Until textures are supported, a textured emitter emits nothing: emissive textures are
-    // mostly dark, so a whole surface glowing at emissiveFactor would be further from the
-    // file's meaning than no emission.
-    if (gm.emissiveTexture.index >= 0 && mat.emission != glm::vec3(0.0f)) {
-      ++emissive_textures;
-      mat.emission = glm::vec3(0.0f);
+
+    if (gm.alphaMode == "MASK") {
+      mat.alpha_mode = Material::AlphaMode::Mask;
+    } else if (gm.alphaMode == "BLEND") {
+      mat.alpha_mode = Material::AlphaMode::Blend;
+    } else if (!gm.alphaMode.empty() && gm.alphaMode != "OPAQUE") {
+      log::warn(display_ + ": " + where + " has alphaMode " + printable(gm.alphaMode) + "; treated as OPAQUE");
     }
-    textures = textures || pbr.baseColorTexture.index >= 0 || pbr.metallicRoughnessTexture.index >= 0 ||
-               gm.normalTexture.index >= 0 || gm.emissiveTexture.index >= 0 || gm.occlusionTexture.index >= 0;
+    mat.alpha_cutoff = float(check(gm.alphaCutoff, "alphaCutoff"));
+
+    if (const tinygltf::Value* e = extension("KHR_materials_transmission")) {
+      const char* n = "KHR_materials_transmission";
+      mat.transmission = float(std::clamp(ext_number(*e, n, "transmissionFactor", 0.0), 0.0, 1.0));
+      mat.transmission_texture = ext_texture(*e, n, "transmissionTexture");
+    }
+    if (const tinygltf::Value* e = extension("KHR_materials_ior")) {
+      const double ior = ext_number(*e, "KHR_materials_ior", "ior", 1.5);
+      // The extension allows 0 ("no refraction"); clpt keeps indices in [1, 10].
+      mat.ior = float(std::clamp(ior, 1.0, 10.0));
+    }
+    if (const tinygltf::Value* e = extension("KHR_materials_specular")) {
+      const char* n = "KHR_materials_specular";
+      mat.specular = float(std::clamp(ext_number(*e, n, "specularFactor", 1.0), 0.0, 1.0));
+      mat.specular_color = ext_color(*e, n, "specularColorFactor");
+      mat.specular_texture = ext_texture(*e, n, "specularTexture");
+      mat.specular_color_texture = ext_texture(*e, n, "specularColorTexture");
+    }
+    if (const tinygltf::Value* e = extension("KHR_materials_volume")) {
+      const char* n = "KHR_materials_volume";
+      const double inf = std::numeric_limits<double>::infinity();
+      double dist = inf;
+      if (e->Has("attenuationDistance")) {
+        dist = ext_number(*e, n, "attenuationDistance", inf);
+        if (!(dist > 0.0)) fail(where + " " + n + " attenuationDistance " + number(dist) + " is not positive");
+      }
+      mat.attenuation_distance = float(dist);
+      mat.attenuation_color = glm::clamp(ext_color(*e, n, "attenuationColor"), 0.0f, 1.0f);
+      mat.volume = std::isfinite(mat.attenuation_distance);
+    }
     scene_.materials.push_back(std::move(mat));
   }
-  if (textures || !m_.textures.empty())
-    log::verbose(display_ + ": textures are ignored (clpt does not use textures yet)");
-  if (emissive_textures > 0)
-    log::warn(display_ + ": " + std::to_string(emissive_textures) +
-              " material(s) have an emissive texture; textures are not supported yet, so they emit nothing");
+  if (occlusion > 0)
+    log::verbose(display_ + ": " + std::to_string(occlusion) +
+                 " material(s) have an occlusion texture; ignored (a path tracer computes occlusion)");
 }
 
 uint32_t Converter::material_for(int gltf_material, const std::string& where) {
@@ -906,6 +1195,50 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
       lp.uvs[i] = std::isfinite(q.x) && std::isfinite(q.y) ? glm::vec2(q) : glm::vec2(0.0f);
     }
   }
+  auto uv1_it = p.attributes.find("TEXCOORD_1");
+  if (uv1_it != p.attributes.end()) {
+    std::vector<float> v =
+        read_values(uv1_it->second, "TEXCOORD_1 of " + where, TINYGLTF_TYPE_VEC2, Components::FloatOrUNorm);
+    check_count("TEXCOORD_1", v.size() / 2);
+    lp.uvs1.resize(nverts);
+    for (size_t i = 0; i < nverts; ++i) {
+      glm::dvec2 q(v[2 * i], v[2 * i + 1]);
+      lp.uvs1[i] = std::isfinite(q.x) && std::isfinite(q.y) ? glm::vec2(q) : glm::vec2(0.0f);
+    }
+  }
+  auto tan_it = p.attributes.find("TANGENT");
+  if (tan_it != p.attributes.end()) {
+    std::vector<float> v = read_values(tan_it->second, "TANGENT of " + where, TINYGLTF_TYPE_VEC4, Components::Float);
+    check_count("TANGENT", v.size() / 4);
+    lp.tangents.resize(nverts);
+    for (size_t i = 0; i < nverts; ++i) {
+      glm::dvec3 t(v[4 * i], v[4 * i + 1], v[4 * i + 2]);
+      const double len = glm::length(t);
+      // A tangent that is not finite or zero means "no normal mapping here", not an error.
+      if (finite(t) && len > 0.0 && std::isfinite(len))
+        lp.tangents[i] = glm::vec4(glm::vec3(t / len), v[4 * i + 3] < 0.0f ? -1.0f : 1.0f);
+    }
+  }
+  auto col_it = p.attributes.find("COLOR_0");
+  if (col_it != p.attributes.end()) {
+    if (col_it->second < 0 || size_t(col_it->second) >= m_.accessors.size())
+      fail("COLOR_0 of " + where + " refers to accessor " + std::to_string(col_it->second) +
+           ", which does not exist (the file has " + std::to_string(m_.accessors.size()) + ")");
+    const int type = m_.accessors[size_t(col_it->second)].type == TINYGLTF_TYPE_VEC3 ? TINYGLTF_TYPE_VEC3
+                                                                                      : TINYGLTF_TYPE_VEC4;
+    const size_t nc = type == TINYGLTF_TYPE_VEC3 ? 3 : 4;
+    std::vector<float> v = read_values(col_it->second, "COLOR_0 of " + where, type, Components::FloatOrUNorm);
+    check_count("COLOR_0", v.size() / nc);
+    lp.colors.resize(nverts);
+    for (size_t i = 0; i < nverts; ++i) {
+      glm::vec4 c(1.0f);
+      for (size_t k = 0; k < nc; ++k) {
+        const float x = v[nc * i + k];
+        c[int(k)] = std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 1.0f;
+      }
+      lp.colors[i] = c;
+    }
+  }
 
   std::vector<uint32_t> idx;
   if (p.indices >= 0) {
@@ -945,6 +1278,20 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
     default:
       fail(where + " has mode " + std::to_string(p.mode) + ", which is not a triangle mode");
   }
+  // A normal map needs tangents: generate them from the normal map's UV set when the file
+  // gives none (the material index is checked by material_for before this is called).
+  if (lp.tangents.empty() && p.material >= 0 && size_t(p.material) < scene_.materials.size() &&
+      scene_.materials[size_t(p.material)].normal_texture.used()) {
+    const bool set1 = scene_.materials[size_t(p.material)].normal_texture.texcoord == 1;
+    const std::vector<glm::vec2>& uv = set1 ? lp.uvs1 : lp.uvs;
+    if (uv.empty()) {
+      log::warn(display_ + ": " + where + " has a normal map but no TEXCOORD_" + (set1 ? "1" : "0") +
+                "; the normal map is ignored");
+    } else {
+      lp.tangents = generate_tangents(lp.positions, lp.normals, uv, lp.triangles);
+      log::verbose(display_ + ": " + where + ": generated tangents (no TANGENT attribute)");
+    }
+  }
   return cache_.emplace(key, std::move(lp)).first->second;
 }
 
@@ -980,7 +1327,25 @@ void Converter::add_instance(const LocalPrimitive& lp, const glm::dmat4& world, 
     scene_.normals.push_back(n);
     scene_.uvs.push_back(lp.uvs.empty() ? glm::vec2(0.0f) : lp.uvs[i]);
   }
+  // Optional attributes: the scene's array stays empty until some primitive has one, then
+  // holds a default for every vertex that has none.
+  auto append = [&](auto& dst, const auto& src, auto def, auto&& convert) {
+    if (src.empty() && dst.empty()) return;
+    if (dst.empty()) dst.assign(base, def);
+    for (size_t i = 0; i < lp.positions.size(); ++i) dst.push_back(src.empty() ? def : convert(src[i]));
+  };
   const bool mirror = det < 0.0;
+  append(scene_.uvs1, lp.uvs1, glm::vec2(0.0f), [](const glm::vec2& v) { return v; });
+  append(scene_.colors, lp.colors, glm::vec4(1.0f), [](const glm::vec4& v) { return v; });
+  // Tangents follow the surface: the linear part, not the normal matrix; a mirror flips the
+  // handedness (cross(n', t') turns against the transformed bitangent).
+  append(scene_.tangents, lp.tangents, glm::vec4(0.0f), [&](const glm::vec4& t) {
+    if (t == glm::vec4(0.0f)) return t;
+    const glm::dvec3 v = linear * glm::dvec3(t);
+    const double len = glm::length(v);
+    if (!(len > 0.0) || !std::isfinite(len)) return glm::vec4(0.0f);
+    return glm::vec4(glm::vec3(v / len), mirror ? -t.w : t.w);
+  });
   for (const glm::uvec3& t : lp.triangles) {
     glm::uvec3 w = t + glm::uvec3(base);
     if (mirror) std::swap(w.y, w.z);
@@ -1175,6 +1540,11 @@ void Converter::visit(int node, int parent, const glm::dmat4& parent_world, int 
 
   const tinygltf::Node& n = m_.nodes[size_t(node)];
   if (n.camera >= 0) add_camera(node, world);
+  if (const int light = lights_.node_light(node); light >= 0) {  // KHR_lights_punctual
+    PunctualLight placed;
+    if (lights_.place(light, world, &placed)) scene_.lights.push_back(placed);
+    else log::warn(display_ + ": light on node " + std::to_string(node) + " has a degenerate transform; ignored");
+  }
   if (n.mesh >= 0) add_mesh(node, n.mesh, world);
   on_path_[size_t(node)] = 1;
   for (int child : n.children) visit(child, node, world, depth + 1);
@@ -1226,7 +1596,7 @@ Scene Converter::convert() {
 
 }  // namespace
 
-Scene load_gltf(const std::filesystem::path& file) {
+Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options) {
   const std::string display = file.string();
   auto fail = [&](const std::string& message) -> void {
     throw Error(ExitCode::BadInput, display + ": " + message);
@@ -1287,6 +1657,8 @@ Scene load_gltf(const std::filesystem::path& file) {
            join(unsupported_required, ", ") + ", which clpt does not support");
 
     // URIs: data: or relative inside the folder.
+    ImageSources images;
+    images.lenient = options.lenient;
     FsContext ctx;
     {
       std::error_code ec;
@@ -1315,8 +1687,8 @@ Scene load_gltf(const std::filesystem::path& file) {
         if (!required && raw.rfind("data:", 0) == 0) {
           // E.g. image/webp or a URI that is not base64: tinygltf would take it for a file name.
           ctx.skip.insert(tinygltf_urldecode(raw));
-          log::warn(display + ": " + std::string(what) + " " + std::to_string(i) +
-                    " is a data: URI tinygltf cannot decode (ignored: clpt does not use textures yet)");
+          images.problem[int(i)] =
+              "its data: URI cannot be decoded (base64 image/png or image/jpeg are supported)";
           continue;
         }
         std::string problem = uri_problem(raw);
@@ -1327,7 +1699,7 @@ Scene load_gltf(const std::filesystem::path& file) {
         std::error_code ec;
         if (!fs::is_regular_file(ctx.base / decoded, ec)) {
           if (required) fail(label + ": file " + printable(decoded) + " not found next to the scene file");
-          log::warn(display + ": " + label + ": file not found (ignored: clpt does not use textures yet)");
+          images.problem[int(i)] = "file " + printable(decoded) + " not found next to the scene file";
         }
       }
     };
@@ -1339,7 +1711,7 @@ Scene load_gltf(const std::filesystem::path& file) {
     tinygltf::FsCallbacks callbacks{&fs_file_exists, &fs_expand_file_path, &fs_read_whole_file,
                                     &fs_write_whole_file, &ctx};
     loader.SetFsCallbacks(callbacks);
-    loader.SetImageLoader(&keep_image_undecoded, nullptr);
+    loader.SetImageLoader(&keep_image_undecoded, &images);
     tinygltf::Model model;
     std::string err, warn;
     bool ok = false;
@@ -1369,7 +1741,7 @@ Scene load_gltf(const std::filesystem::path& file) {
       log::warn(display + ": ignoring unsupported extension" + (unsupported_used.size() > 1 ? "s " : " ") +
                 join(unsupported_used, ", "));
 
-    Scene scene = Converter(model, display).convert();
+    Scene scene = Converter(model, display, images).convert();
     log::verbose(display + ": " + std::to_string(scene.triangles.size()) + " triangles, " +
                  std::to_string(scene.positions.size()) + " vertices, " + std::to_string(scene.materials.size()) +
                  " materials, " + std::to_string(scene.cameras.size()) + " cameras");

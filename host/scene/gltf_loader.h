@@ -14,6 +14,13 @@ namespace clpt {
 // needs an extension clpt does not support, reaches outside its folder, exceeds one of the
 // limits listed in gltf_loader.cpp, or has nothing to render. The message is one line that
 // names the file and the problem. Never crashes or reads out of bounds on hostile input.
-Scene load_gltf(const std::filesystem::path& file);
+//
+// Textures: PNG and JPEG images are decoded (scene/image_decode.h). An image that cannot be read
+// or decoded is an error, or with `lenient` a warning and a 1x1 magenta texture; so is a
+// texCoord other than 0 or 1 (lenient: TEXCOORD_0).
+struct LoadOptions {
+  bool lenient = false;
+};
+Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options = {});
 
 }  // namespace clpt

@@ -1,20 +1,21 @@
-/* The surface BSDF. In this slice: Lambertian diffuse with the glTF base colour as albedo.
- * Directions are world space; wo points away from the surface towards the viewer.
- * Scattering happens only on the side of the geometric normal that wo is on (no light
- * leaks through shading normals); cosines are taken with the shading normal. */
+/* The surface BSDF at a hit: the glTF BSDF of kernels/bsdf/gltf_bsdf.cl on the hit's
+ * resolved parameters (sh->bsdf), in world space. Directions are world space; wo points away
+ * from the surface towards the viewer.
+ *
+ * The local frame's +z is the shading normal of the front face (the outside of the closed
+ * volume the surface bounds); whether wo is outside comes from sh->front, set by
+ * surface_at from the ray. That works whether or not bsdf_orient has flipped the normals.
+ * Geometric-side checks: a direction the shading frame calls a reflection must be on wo's
+ * side of the geometric normal, a transmission on the other side; otherwise f = 0, so no
+ * light leaks through shading normals. When wo itself is on the wrong side of the shading
+ * hemisphere, the geometric normal shades. Cosines are taken with the shading normal. */
 #ifndef CLPT_BSDF_BSDF_CL
 #define CLPT_BSDF_BSDF_CL
 
+#include "bsdf/gltf_bsdf.cl"
 #include "core/surface.cl"
-#include "core/warp.cl"
 
-typedef struct BsdfSample {
-  float3 wi;
-  float3 weight; /* f * |cos| / pdf_w */
-  float pdf_w;
-} BsdfSample;
-
-/* Orients the hit's normals to the side wo comes from. */
+/* Orients the hit's normals to the side wo comes from (sh->front keeps the original side). */
 inline void bsdf_orient(SurfaceHit* sh, float3 wo) {
   if (dot(sh->ng, wo) < 0.0f) {
     sh->ng = -sh->ng;
@@ -22,28 +23,67 @@ inline void bsdf_orient(SurfaceHit* sh, float3 wo) {
   }
 }
 
-inline float3 bsdf_albedo(const SceneView* s, const SurfaceHit* sh) {
-  return vload3(0, s->materials[sh->material].base_color);
+/* The shading frame at sh for wo: tangents t, b and the front-face normal n. */
+typedef struct BsdfFrame {
+  float3 t, b, n;
+  float go; /* dot(ng, wo) with ng as stored in sh */
+} BsdfFrame;
+
+inline BsdfFrame bsdf_frame(const SurfaceHit* sh, float3 wo) {
+  BsdfFrame f;
+  f.go = dot(sh->ng, wo);
+  /* ng and ns are on one side: the front one, or wo's after bsdf_orient. */
+  const float sign = ((f.go > 0.0f) == (sh->front != 0u)) ? 1.0f : -1.0f;
+  const float3 ng_front = sign * sh->ng;
+  f.n = sign * sh->ns;
+  if (dot(f.n, wo) * dot(ng_front, wo) <= 0.0f) f.n = ng_front;
+  make_basis(f.n, &f.t, &f.b);
+  return f;
 }
 
-/* f(wo, wi) * |cos(ns, wi)|, with normals oriented by bsdf_orient. */
-inline float3 bsdf_eval_cos(const SceneView* s, const SurfaceHit* sh, float3 wo, float3 wi) {
-  const float cos_i = dot(sh->ns, wi);
-  if (dot(sh->ng, wi) <= 0.0f || cos_i <= 0.0f) return (float3)(0.0f);
-  return bsdf_albedo(s, sh) * (INV_PI_F * cos_i);
+inline float3 bsdf_to_local(const BsdfFrame* f, float3 w) {
+  return (float3)(dot(w, f->t), dot(w, f->b), dot(w, f->n));
 }
 
-inline float bsdf_pdf_w(const SceneView* s, const SurfaceHit* sh, float3 wo, float3 wi) {
-  return warp_cosine_hemisphere_pdf(dot(sh->ns, wi));
+inline float3 bsdf_to_world(const BsdfFrame* f, float3 w) {
+  return w.x * f->t + w.y * f->b + w.z * f->n;
 }
 
-inline BsdfSample bsdf_sample(const SceneView* s, const SurfaceHit* sh, float3 wo, float2 u) {
-  BsdfSample bs;
-  const float3 h = warp_cosine_hemisphere(u);
-  bs.wi = to_world(h, sh->ns);
-  bs.pdf_w = warp_cosine_hemisphere_pdf(h.z);
-  /* f * cos / pdf = albedo for a Lambertian surface, when wi is above the geometric surface. */
-  bs.weight = (bs.pdf_w > 0.0f && dot(sh->ng, bs.wi) > 0.0f) ? bsdf_albedo(s, sh) : (float3)(0.0f);
+/* Whether the geometric normal agrees with the shading frame about the side of wi. */
+inline bool bsdf_sides_agree(const BsdfFrame* f, const SurfaceHit* sh, float3 wo_l, float3 wi_l,
+                             float3 wi) {
+  const float gi = dot(sh->ng, wi);
+  return (wo_l.z * wi_l.z > 0.0f) ? (gi * f->go > 0.0f) : (gi * f->go < 0.0f);
+}
+
+/* f(wo, wi) |cos(ns, wi)| of the non-delta lobes. */
+inline float3 bsdf_eval_cos(const SurfaceHit* sh, float3 wo, float3 wi, int mode) {
+  const BsdfFrame f = bsdf_frame(sh, wo);
+  const float3 wo_l = bsdf_to_local(&f, wo), wi_l = bsdf_to_local(&f, wi);
+  if (!bsdf_sides_agree(&f, sh, wo_l, wi_l, wi)) return (float3)(0.0f);
+  return gltf_bsdf_eval(&sh->bsdf, wo_l, wi_l, mode);
+}
+
+/* Density of bsdf_sample at wi (solid angle), the delta lobes left out. */
+inline float bsdf_pdf_w(const SurfaceHit* sh, float3 wo, float3 wi) {
+  const BsdfFrame f = bsdf_frame(sh, wo);
+  return gltf_bsdf_pdf(&sh->bsdf, bsdf_to_local(&f, wo), bsdf_to_local(&f, wi));
+}
+
+/* Whether the BSDF has a non-delta lobe: NEE and MIS apply only then. */
+inline bool bsdf_has_smooth_lobe(const SurfaceHit* sh) {
+  return gltf_bsdf_has_smooth_lobe(&sh->bsdf);
+}
+
+/* A direction from the BSDF's lobe mixture (u: within the lobe, u_lobe: which lobe). A
+ * direction on the wrong geometric side keeps its pdf but gets weight 0. */
+inline BsdfSample bsdf_sample(const SurfaceHit* sh, float3 wo, float2 u, float u_lobe, int mode) {
+  const BsdfFrame f = bsdf_frame(sh, wo);
+  const float3 wo_l = bsdf_to_local(&f, wo);
+  BsdfSample bs = gltf_bsdf_sample(&sh->bsdf, wo_l, u, u_lobe, mode);
+  const float3 wi_l = bs.wi;
+  bs.wi = bsdf_to_world(&f, wi_l);
+  if (!bsdf_sides_agree(&f, sh, wo_l, wi_l, bs.wi)) bs.weight = (float3)(0.0f);
   return bs;
 }
 

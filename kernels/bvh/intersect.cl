@@ -22,11 +22,15 @@
  * floating-point contraction off so the two evaluations are exact negatives. (The paper's
  * double-precision fallback for edge functions that are exactly zero is omitted: OpenCL
  * 1.2 devices need not support double; zeros are accepted, so a ray exactly through an
- * edge hits both triangles rather than neither.) */
+ * edge hits both triangles rather than neither.)
+ *
+ * Alpha: a candidate hit on a MASK or BLEND material may be a hole (material/alpha.cl); the
+ * material's flags are read only for candidates that pass the triangle test. */
 #ifndef CLPT_BVH_INTERSECT_CL
 #define CLPT_BVH_INTERSECT_CL
 
 #include "core/scene_view.cl"
+#include "material/alpha.cl"
 #include "shared/bvh_constants.h"
 
 /* The traversal functions are large and called from several places; inlining them into
@@ -192,7 +196,8 @@ CLPT_INLINE bool intersect_closest(const SceneView* s, float3 org, float3 dir, f
       }
       for (int i = offset; i < offset + count; ++i) {
         float t, b1, b2;
-        if (intersect_triangle(s, &tr, (u32)i, best_t, &t, &b1, &b2)) {
+        if (intersect_triangle(s, &tr, (u32)i, best_t, &t, &b1, &b2) &&
+            !alpha_hole(s, (u32)i, b1, b2, org, dir)) {
           best_t = t;
           best_b1 = b1;
           best_b2 = b2;
@@ -239,7 +244,9 @@ CLPT_INLINE bool intersect_any(const SceneView* s, float3 org, float3 dir, float
       }
       for (int i = offset; i < offset + count; ++i) {
         float t, b1, b2;
-        if (intersect_triangle(s, &tr, (u32)i, tmax, &t, &b1, &b2)) return true;
+        if (intersect_triangle(s, &tr, (u32)i, tmax, &t, &b1, &b2) &&
+            !alpha_hole(s, (u32)i, b1, b2, org, dir))
+          return true;
       }
     }
     if (sp == 0) break;

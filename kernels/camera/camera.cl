@@ -1,7 +1,8 @@
-/* Camera rays for a film point. */
+/* Camera rays for a film point: pinhole or orthographic, each optionally through a thin lens. */
 #ifndef CLPT_CAMERA_CAMERA_CL
 #define CLPT_CAMERA_CAMERA_CL
 
+#include "core/warp.cl"
 #include "shared/render_types.h"
 
 /* Film coordinates of pixel (x, y) (y = 0 is the top row) offset by u in [0,1)^2,
@@ -11,7 +12,9 @@ inline float2 film_point(u32 x, u32 y, u32 width, u32 height, float2 u) {
                   1.0f - 2.0f * ((float)y + u.y) / (float)height);
 }
 
-inline void camera_ray(__constant const CameraData* cam, float2 film, float3* org, float3* dir) {
+/* The ray through film point `film`; `lens` in [0,1)^2 picks the point on the aperture. */
+inline void camera_ray(__constant const CameraData* cam, float2 film, float2 lens, float3* org,
+                       float3* dir) {
   const float3 o = vload3(0, cam->origin), r = vload3(0, cam->right), u = vload3(0, cam->up),
                f = vload3(0, cam->forward);
   if (cam->type == CAMERA_ORTHOGRAPHIC) {
@@ -20,6 +23,14 @@ inline void camera_ray(__constant const CameraData* cam, float2 film, float3* or
   } else {
     *org = o;
     *dir = normalize(f + film.x * r + film.y * u);
+  }
+  if (cam->lens_radius > 0.0f) {
+    /* Where the pinhole ray meets the plane in focus stays sharp; the origin moves over
+     * the aperture disk. dot(dir, f) > 0 for every film point. */
+    const float3 focus = *org + *dir * (cam->focus_distance / dot(*dir, f));
+    const float2 d = cam->lens_radius * warp_concentric_disk(lens);
+    *org += d.x * normalize(r) + d.y * normalize(u);
+    *dir = normalize(focus - *org);
   }
 }
 

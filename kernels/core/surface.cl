@@ -5,6 +5,7 @@
 #include "bvh/intersect.cl"
 #include "core/math.cl"
 #include "core/scene_view.cl"
+#include "core/vertex_attributes.cl"
 #include "bsdf/bsdf_params.h"
 
 typedef struct SurfaceHit {
@@ -12,6 +13,9 @@ typedef struct SurfaceHit {
   float3 ng;          /* geometric normal, from the winding (front side), unit */
   float3 ns;          /* shading normal, on the same side as ng, unit */
   float2 uv;
+  float2 uv1;         /* TEXCOORD_1 (0 without) */
+  float4 color;       /* COLOR_0, linear RGBA (1 without) */
+  float4 tangent;     /* interpolated tangent xyz and bitangent sign w; zero: none */
   u32 triangle;
   u32 material;
   u32 front;          /* 1 when the ray arrived on the front (winding) side */
@@ -52,6 +56,8 @@ inline SurfaceHit surface_at(const SceneView* s, const Hit* hit, float3 org, flo
   sh.ns = (n_len > 1e-12f && isfinite(n_len)) ? n / n_len : sh.ng;
   if (dot(sh.ns, sh.ng) < 0.0f) sh.ns = -sh.ns;
   sh.uv = b0 * (float2)(v0.u, v0.v) + b1 * (float2)(v1.u, v1.v) + b2 * (float2)(v2.u, v2.v);
+  hit_extra(s, &t, b1, b2, &sh.uv1, &sh.color);
+  sh.tangent = hit_tangent(s, &t, b1, b2);
   sh.triangle = hit->triangle;
   sh.material = t.material;
   sh.front = dot(sh.ng, dir) < 0.0f ? 1u : 0u;

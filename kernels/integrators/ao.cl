@@ -4,7 +4,7 @@
  * shaded like any other surface. Camera rays that hit nothing give 0 (so objects stand out
  * against the background); occlusion rays that hit nothing count as unoccluded. */
 #include "bsdf/bsdf.cl"
-#include "camera/camera.cl"
+#include "camera/pixel_ray.cl"
 #include "core/ray.cl"
 #include "film/film.cl"
 #include "sampler/sampler.cl"
@@ -34,9 +34,7 @@ __kernel void ao_render(SCENE_KERNEL_ARGS, __constant const RenderParams* params
   for (u32 i = 0; i < params->samples_per_pass; ++i) {
     const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
     float3 org, dir;
-    camera_ray(&params->camera,
-               film_point(x, y, params->width, params->height, sample_2d(&sampler, DIM_PIXEL)),
-               &org, &dir);
+    pixel_ray(params, &sampler, x, y, &org, &dir);
     film_add(&film, (float3)(ao_sample(&scene, params, &sampler, org, dir, &rays)));
   }
   film_store(film_sum, film_sum_sq, pixel, &film);

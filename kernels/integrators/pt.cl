@@ -1,5 +1,5 @@
 /* Entry point of the path tracer: one work-item per pixel, samples_per_pass samples each. */
-#include "camera/camera.cl"
+#include "camera/pixel_ray.cl"
 #include "film/film.cl"
 #include "integrators/path_trace.cl"
 
@@ -16,9 +16,7 @@ __kernel void pt_render(SCENE_KERNEL_ARGS, __constant const RenderParams* params
   for (u32 i = 0; i < params->samples_per_pass; ++i) {
     const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
     float3 org, dir;
-    camera_ray(&params->camera,
-               film_point(x, y, params->width, params->height, sample_2d(&sampler, DIM_PIXEL)),
-               &org, &dir);
+    pixel_ray(params, &sampler, x, y, &org, &dir);
     film_add(&film, pt_radiance(&scene, params, &sampler, org, dir, &rays));
   }
   film_store(film_sum, film_sum_sq, pixel, &film);

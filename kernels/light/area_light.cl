@@ -1,56 +1,54 @@
-/* Emissive triangles as area lights, with the three verbs every integrator needs:
- *   light_illuminate: sample a point on a light as seen from a shading point (NEE),
- *   light_radiance:   the radiance a ray sees when it hits an emitter,
- *   light_pdf_w:      the solid-angle density light_illuminate has for that hit (for MIS).
- * An emitter is chosen in proportion to its power through an alias table built on the host,
- * then a point uniformly on its area. Emission is one-sided (front face, counter-clockwise
- * winding) unless the material is double-sided. */
+/* Emissive triangles as area lights. A point is chosen uniformly on the triangle's area
+ * (pdf_a = 1 / area); emission is one-sided (front face, counter-clockwise winding) unless
+ * the material is double-sided. */
 #ifndef CLPT_LIGHT_AREA_LIGHT_CL
 #define CLPT_LIGHT_AREA_LIGHT_CL
 
 #include "core/surface.cl"
 #include "core/warp.cl"
+#include "light/light_types.cl"
+#include "material/material.cl"
 
-typedef struct LightSample {
-  float3 p;      /* point on the light */
-  float3 wi;     /* unit direction from the shading point to p */
-  float dist;    /* distance to p */
-  float3 Le;     /* emitted radiance towards the shading point */
-  float pdf_w;   /* solid-angle density at the shading point, 0 if the sample is invalid */
-} LightSample;
-
-inline float3 material_emission(const SceneView* s, u32 material) {
-  return vload3(0, s->materials[material].emission);
+/* Emitted radiance of triangle `tri` at barycentrics (b1, b2), front side: the emission
+ * factor times the emissive texture at that point (kernels/material/material.cl), so NEE
+ * sees the same radiance as a ray that hits the point. */
+inline float3 area_light_emission(const SceneView* s, u32 tri, float b1, float b2) {
+  return material_emission_at(s, tri, b1, b2);
 }
 
-/* Radiance leaving the emitter triangle `tri` with geometric normal ng towards direction w. */
-inline float3 light_radiance(const SceneView* s, u32 material, float3 ng, float3 w) {
-  const __global Material* m = &s->materials[material];
-  if (!(m->flags & MATERIAL_EMISSIVE)) return (float3)(0.0f);
-  if (!(m->flags & MATERIAL_DOUBLE_SIDED) && dot(ng, w) <= 0.0f) return (float3)(0.0f);
-  return vload3(0, m->emission);
+/* Whether emission leaves towards w from a surface with geometric normal ng. */
+inline bool area_light_faces(const SceneView* s, u32 material, float3 ng, float3 w) {
+  return (s->materials[material].flags & MATERIAL_DOUBLE_SIDED) || dot(ng, w) > 0.0f;
 }
 
-inline u32 light_select(const SceneView* s, float u) {
-  const float scaled = u * (float)s->num_lights;
-  const u32 slot = min((u32)scaled, s->num_lights - 1u);
-  const __global Light* e = &s->lights[slot];
-  return (scaled - (float)slot) < e->alias_threshold ? slot : e->alias;
+/* Radiance a ray sees when it hits the surface sh, leaving towards wo (sh->emission is
+ * resolved at the hit point, textures included). */
+inline float3 area_light_radiance(const SceneView* s, const SurfaceHit* sh, float3 wo) {
+  if (is_black(sh->emission) || !area_light_faces(s, sh->material, sh->ng, wo)) return (float3)(0.0f);
+  return sh->emission;
 }
 
-inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select, float2 u_point) {
+/* Solid-angle density at a point dist away of choosing a point of triangle `tri` seen under
+ * cosine cos_light (selection not included). */
+inline float area_light_pdf_w(const SceneView* s, u32 tri, float dist, float cos_light) {
+  if (!(cos_light > 0.0f)) return 0.0f;
+  const float area = triangle_area(s, tri);
+  if (!(area > 0.0f)) return 0.0f;
+  return dist * dist / (area * cos_light);
+}
+
+/* A point of triangle `tri` as seen from p. ls->pdf_w excludes the selection probability. */
+inline LightSample area_light_illuminate(const SceneView* s, u32 tri, float3 p, float2 u) {
   LightSample ls;
   ls.pdf_w = 0.0f;
   ls.Le = (float3)(0.0f);
   ls.p = p;
   ls.wi = (float3)(0.0f, 0.0f, 1.0f);
   ls.dist = 0.0f;
-  if (s->num_lights == 0u) return ls;
-  const u32 e = light_select(s, u_select);
-  const u32 tri = s->lights[e].triangle;
+  ls.is_delta = 0;
   float3 p0, p1, p2;
   triangle_vertices(s, tri, &p0, &p1, &p2);
-  const float2 b = warp_uniform_triangle(u_point);
+  const float2 b = warp_uniform_triangle(u);
   const float3 c = cross(p1 - p0, p2 - p0);
   const float area = 0.5f * length(c);
   if (!(area > 0.0f)) return ls;
@@ -63,19 +61,51 @@ inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select
   ls.wi = d / ls.dist;
   const float cos_light = fabs(dot(ng, ls.wi));
   if (!(cos_light > 0.0f)) return ls;
-  ls.Le = light_radiance(s, s->triangles[tri].material, ng, -ls.wi);
-  ls.pdf_w = s->lights[e].pdf_select / area * dist2 / cos_light;
+  if (!area_light_faces(s, s->triangles[tri].material, ng, -ls.wi)) return ls;
+  ls.Le = area_light_emission(s, tri, b.x, b.y);
+  ls.pdf_w = dist2 / (area * cos_light);
   return ls;
 }
 
-/* Density of light_illuminate, in solid angle at a point `dist` away, for a ray that hit
- * emitter triangle `tri` (leaf order) under cosine cos_light at the light. */
-inline float light_pdf_w(const SceneView* s, u32 tri, float dist, float cos_light) {
-  const int e = s->triangle_light[tri];
-  if (e < 0 || !(cos_light > 0.0f)) return 0.0f;
-  const float area = triangle_area(s, tri);
-  if (!(area > 0.0f)) return 0.0f;
-  return s->lights[e].pdf_select / area * dist * dist / cos_light;
+/* A ray leaving triangle `tri`: a uniform point, a cosine-distributed direction about the
+ * front normal (either side with probability 1/2 when double-sided). */
+inline LightEmission area_light_emit(const SceneView* s, u32 tri, float2 u_pos, float2 u_dir) {
+  LightEmission e;
+  e.pdf_a = 0.0f;
+  e.pdf_w = 0.0f;
+  e.is_delta_pos = 0;
+  e.is_delta_dir = 0;
+  e.Le = (float3)(0.0f);
+  e.cos_light = 0.0f;
+  float3 p0, p1, p2;
+  triangle_vertices(s, tri, &p0, &p1, &p2);
+  const float3 c = cross(p1 - p0, p2 - p0);
+  const float area = 0.5f * length(c);
+  e.p = p0;
+  e.dir = (float3)(0.0f, 0.0f, 1.0f);
+  if (!(area > 0.0f)) return e;
+  float3 ng = c / (2.0f * area);
+  const float2 b = warp_uniform_triangle(u_pos);
+  e.p = (1.0f - b.x - b.y) * p0 + b.x * p1 + b.y * p2;
+  float side_pdf = 1.0f;
+  float2 ud = u_dir;
+  if (s->materials[s->triangles[tri].material].flags & MATERIAL_DOUBLE_SIDED) {
+    side_pdf = 0.5f;
+    if (ud.x < 0.5f) {
+      ud.x *= 2.0f;
+    } else {
+      ud.x = 2.0f * ud.x - 1.0f;
+      ng = -ng;
+    }
+    ud.x = fmin(ud.x, 0x1.fffffep-1f);
+  }
+  const float3 h = warp_cosine_hemisphere(ud);
+  e.dir = to_world(h, ng);
+  e.cos_light = h.z;
+  e.pdf_a = 1.0f / area;
+  e.pdf_w = side_pdf * warp_cosine_hemisphere_pdf(h.z);
+  e.Le = area_light_emission(s, tri, b.x, b.y);
+  return e;
 }
 
 #endif

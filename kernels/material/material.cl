@@ -1,20 +1,81 @@
-/* Material evaluation at a surface point: the glTF material's factors (and, once textures
- * exist, its textures and the vertex colour) resolved into the BSDF inputs and emission. */
+/* Material evaluation at a surface point: the glTF material's factors, its textures (by
+ * slot, each with its UV set and KHR_texture_transform) and the vertex colour, resolved into
+ * the BSDF inputs, the shading normal (normal map) and the emission. */
 #ifndef CLPT_MATERIAL_MATERIAL_CL
 #define CLPT_MATERIAL_MATERIAL_CL
 
 #include "core/surface.cl"
+#include "core/vertex_attributes.cl"
+#include "texture/texture.cl"
+
+/* Emitted radiance of material m at the given UVs (front side): emissiveFactor x
+ * emissive_strength x the emissive texture (sRGB). */
+inline float3 material_emission_uv(const SceneView* s, __global const Material* m, float2 uv0,
+                                   float2 uv1) {
+  if (!(m->flags & MATERIAL_EMISSIVE)) return (float3)(0.0f);
+  const float3 e = vload3(0, m->emission);
+  return e * texture_slot_sample(s, &m->tex[TEX_EMISSIVE], uv0, uv1, true, (float4)(1.0f)).xyz;
+}
+
+/* Emitted radiance at a point of leaf-order triangle `triangle` (front side), for lights
+ * that sample a point on an emissive triangle. */
+inline float3 material_emission_at(const SceneView* s, u32 triangle, float b1, float b2) {
+  const Triangle t = s->triangles[triangle];
+  __global const Material* m = &s->materials[t.material];
+  if (!(m->flags & MATERIAL_EMISSIVE)) return (float3)(0.0f);
+  if (m->tex[TEX_EMISSIVE].texture < 0) return vload3(0, m->emission);
+  float2 uv1;
+  float4 color;
+  hit_extra(s, &t, b1, b2, &uv1, &color);
+  return material_emission_uv(s, m, hit_uv0(s, &t, b1, b2), uv1);
+}
+
+/* The normal map: tangent-space normal (x, y scaled by normal_scale) in the frame of the
+ * interpolated tangent, bitangent = sign * cross(n, t) and the shading normal. Without a
+ * usable tangent the shading normal is left as it is. The result stays on the geometric
+ * normal's side. */
+inline float3 material_normal_map(const SceneView* s, __global const Material* m,
+                                  const SurfaceHit* sh) {
+  const float3 n = sh->ns;
+  float3 t = sh->tangent.xyz - n * dot(n, sh->tangent.xyz);
+  const float tl = length(t);
+  if (!(tl > 1e-8f)) return n;
+  t /= tl;
+  const float3 b = sh->tangent.w * cross(n, t);
+  float3 c = texture_slot_sample(s, &m->tex[TEX_NORMAL], sh->uv, sh->uv1, false, (float4)(0.5f, 0.5f, 1.0f, 1.0f)).xyz;
+  c = c * 2.0f - 1.0f;
+  c.xy *= m->normal_scale;
+  float3 p = c.x * t + c.y * b + c.z * n;
+  const float pl = length(p);
+  if (!(pl > 1e-8f) || !isfinite(pl)) return n;
+  p /= pl;
+  /* Keep it in the geometric normal's hemisphere (a strong map at a grazing mesh normal can
+   * tip it over): lift it just above the tangent plane of ng. */
+  const float cos_g = dot(p, sh->ng);
+  if (cos_g < 1e-3f) p = normalize(p + (1e-3f - cos_g) * sh->ng);
+  return p;
+}
 
 inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
-  const __global Material* m = &s->materials[sh->material];
-  sh->bsdf.base_color = vload3(0, m->base_color);
-  sh->bsdf.specular_color = vload3(0, m->specular_color);
-  sh->bsdf.metallic = m->metallic;
-  sh->bsdf.roughness = m->roughness;
-  sh->bsdf.specular = m->specular;
-  sh->bsdf.transmission = m->transmission;
+  __global const Material* m = &s->materials[sh->material];
+  const float2 uv0 = sh->uv, uv1 = sh->uv1;
+  const float4 white = (float4)(1.0f);
+  const float4 base = vload4(0, m->base_color) * sh->color *
+                      texture_slot_sample(s, &m->tex[TEX_BASE_COLOR], uv0, uv1, true, white);
+  sh->bsdf.base_color = base.xyz;
+  const float4 mr = texture_slot_sample(s, &m->tex[TEX_METALLIC_ROUGHNESS], uv0, uv1, false, white);
+  sh->bsdf.metallic = m->metallic * mr.z;
+  sh->bsdf.roughness = m->roughness * mr.y;
+  sh->bsdf.transmission =
+      m->transmission * texture_slot_sample(s, &m->tex[TEX_TRANSMISSION], uv0, uv1, false, white).x;
+  sh->bsdf.specular =
+      m->specular * texture_slot_sample(s, &m->tex[TEX_SPECULAR], uv0, uv1, false, white).w;
+  sh->bsdf.specular_color =
+      vload3(0, m->specular_color) *
+      texture_slot_sample(s, &m->tex[TEX_SPECULAR_COLOR], uv0, uv1, true, white).xyz;
   sh->bsdf.ior = m->ior;
-  sh->emission = (m->flags & MATERIAL_EMISSIVE) ? vload3(0, m->emission) : (float3)(0.0f);
+  sh->emission = material_emission_uv(s, m, uv0, uv1);
+  if (m->tex[TEX_NORMAL].texture >= 0) sh->ns = material_normal_map(s, m, sh);
 }
 
 /* The hit's surface with its material resolved: what integrators shade with. */

@@ -4,7 +4,7 @@
 #define CLPT_SAMPLER_DIMENSIONS_H
 
 #define DIM_PIXEL 0u        /* 2D: position inside the pixel */
-#define DIM_CAMERA_LENS 2u  /* 2D: reserved for thin-lens cameras */
+#define DIM_CAMERA_LENS 2u  /* 2D: the point on a thin lens (--aperture) */
 #define DIM_BOUNCE_BASE 4u  /* first dimension of bounce 0 */
 #define DIM_PER_BOUNCE 8u
 
@@ -12,7 +12,7 @@
 #define DIM_LIGHT_POINT 0u  /* 2D */
 #define DIM_BSDF_DIR 2u     /* 2D */
 #define DIM_LIGHT_SELECT 4u /* 1D */
-#define DIM_BSDF_LOBE 5u    /* 1D, reserved for layered BSDFs */
+#define DIM_BSDF_LOBE 5u    /* 1D: which lobe of the BSDF mixture samples the direction */
 #define DIM_RR 6u           /* 1D */
 #define DIM_SPARE 7u        /* 1D, unused */
 

@@ -27,14 +27,19 @@ enum RussianRoulette { RR_THROUGHPUT = 0, RR_FIXED = 1 };
 
 /* A pinhole or orthographic camera as world-space vectors. For a film point (sx, sy) in
  * [-1, 1]^2 (+y up), a perspective ray has direction forward + sx*right + sy*up from
- * origin; an orthographic ray starts at origin + sx*right + sy*up along forward. */
+ * origin; an orthographic ray starts at origin + sx*right + sy*up along forward.
+ * A thin lens (lens_radius > 0) moves the origin over a disk of that radius in the
+ * right/up plane and aims the ray at the point the pinhole ray reaches on the plane
+ * focus_distance ahead (Kolb et al. 1995; pbrt's thin lens). */
 typedef struct CameraData {
   float origin[4];
   float right[4];   /* perspective: tan(fov_x / 2) * camera x; orthographic: half width * x */
   float up[4];      /* perspective: tan(fov_y / 2) * camera y; orthographic: half height * y */
   float forward[4]; /* unit view direction (camera -z) */
   u32 type;         /* CameraType */
-  u32 pad[3];
+  float lens_radius;    /* thin lens: aperture radius in scene units; 0 = pinhole */
+  float focus_distance; /* thin lens: distance along forward of the plane in focus */
+  u32 pad;
 } CameraData;
 
 typedef struct RenderParams {

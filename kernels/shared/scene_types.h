@@ -121,13 +121,17 @@ typedef struct Light {
   u32 pad[3];
   float position[4];     /* point, spot: world position */
   float direction[4];    /* spot, directional: unit direction the light travels */
-  float intensity[4];    /* point, spot: radiant intensity (W/sr); directional: irradiance */
+  float intensity[4];    /* point, spot: radiant intensity (W/sr); directional: irradiance
+                          * (W/m^2): the glTF intensity times the colour (README "Lights") */
   float cos_outer;       /* spot: cosine of the outer cone angle */
   float cos_inner;       /* spot: cosine of the inner cone angle */
   float pad2[2];
 } Light;
 
-enum SceneFlags { SCENE_VERTEX_EXTRA = 1u };
+enum SceneFlags {
+  SCENE_VERTEX_EXTRA = 1u,
+  SCENE_DELTA_LIGHTS = 2u  /* some light is a point, spot or directional light */
+};
 
 /* Scene-wide scalars, one struct in a small buffer. */
 typedef struct SceneInfo {
@@ -140,8 +144,8 @@ typedef struct SceneInfo {
   u32 env_width;       /* environment map, equirectangular; 0 x 0: constant background */
   u32 env_height;
   float env_rotation;  /* radians about +y */
-  float background[4]; /* constant environment radiance (also scales nothing else) */
-  float env_scale;
+  float background[4]; /* constant environment radiance when env_width is 0 (--background) */
+  float env_scale;     /* multiplies the map's texels (--env-scale) */
   float pad[3];
 } SceneInfo;
 

@@ -78,7 +78,10 @@ RunResult run_program(const std::string& binary, const std::vector<std::string>&
       }
       if (read_file(err_path).find(interrupt_after) != std::string::npos) {
         std::this_thread::sleep_for(std::chrono::duration<double>(delay));
-        ::kill(pid, SIGINT);
+        for (int i = 0; i < options.interrupts; ++i) {
+          if (i > 0) std::this_thread::sleep_for(std::chrono::duration<double>(options.interval));
+          ::kill(pid, SIGINT);
+        }
         break;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(50));

@@ -16,6 +16,8 @@ struct RunOptions {
   std::vector<std::pair<std::string, std::string>> env;  // set in the child only
   std::string interrupt_after;  // if not empty: SIGINT `delay` s after stderr first shows it
   double delay = 1.0;
+  int interrupts = 1;             // SIGINTs to send, `interval` s apart
+  double interval = 0.2;
 };
 
 // Runs `binary` with args (no shell involved), stdin from /dev/null.

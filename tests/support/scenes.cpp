@@ -27,6 +27,7 @@ Scene furnace_scene(float rho, float Le) {
   m.base_color = glm::vec4(rho, rho, rho, 1.0f);
   m.emission = glm::vec3(Le);
   m.metallic = 0.0f;
+  m.specular = 0.0f;  // KHR_materials_specular 0: exactly Lambertian, as the closed form needs
   m.double_sided = true;
   add_mesh(scene, icosphere(glm::vec3(0.0f), 1.0f, 3), m);
   Mesh outer = icosphere(glm::vec3(0.0f), 5.0f, 3);

@@ -10,6 +10,7 @@ import copy
 import json
 import os
 import struct
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 F32 = 5126
@@ -134,7 +135,25 @@ def main():
             d["extensionsRequired"] = [ext]
         return f
     variant("draco_required.gltf", require("KHR_draco_mesh_compression"))
-    variant("lights_required.gltf", require("KHR_lights_punctual"))
+
+    # --- KHR_lights_punctual (host/scene/gltf_lights.cpp): one light on node 1
+    def lit(light, node_ext=None):
+        def f(d):
+            require("KHR_lights_punctual")(d)
+            d["extensions"] = {"KHR_lights_punctual": {"lights": [light]}}
+            ext = {"light": 0} if node_ext is None else node_ext
+            d["nodes"].append({"translation": [0, 1, 0], "extensions": {"KHR_lights_punctual": ext}})
+            d["scenes"][0]["nodes"].append(1)
+        return f
+    variant("lights_bad_type.gltf", lit({"type": "area"}))
+    variant("lights_negative_intensity.gltf", lit({"type": "point", "intensity": -1}))
+    variant("lights_bad_color.gltf", lit({"type": "point", "color": [1, 1]}))
+    variant("lights_cone_order.gltf",
+            lit({"type": "spot", "spot": {"innerConeAngle": 0.5, "outerConeAngle": 0.25}}))
+    variant("lights_cone_too_wide.gltf", lit({"type": "spot", "spot": {"outerConeAngle": 2}}))
+    variant("lights_spot_without_cone.gltf", lit({"type": "spot"}))
+    variant("lights_index_out_of_range.gltf", lit({"type": "point"}, {"light": 3}))
+    variant("lights_node_without_index.gltf", lit({"type": "point"}, {}))
 
     # --- scenes and nodes
     variant("empty_scene.gltf", lambda d: d["scenes"][0].update(nodes=[]))
@@ -173,6 +192,44 @@ def main():
     doc2 = copy.deepcopy(doc)
     doc2["buffers"][0]["byteLength"] = len(data) + 64
     write("glb_bin_too_short.glb", glb(doc2, data))
+
+    # --- textures (decoded by host/scene/image_decode.cpp)
+    def png_chunk(kind, payload):
+        return (struct.pack(">I", len(payload)) + kind + payload +
+                struct.pack(">I", zlib.crc32(kind + payload) & 0xFFFFFFFF))
+
+    def png(width, height, rows=None):
+        """An 8-bit RGB PNG; rows=None gives a valid header with an empty image stream."""
+        ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+        raw = zlib.compress(rows if rows is not None else b"")
+        return (b"\x89PNG\r\n\x1a\n" + png_chunk(b"IHDR", ihdr) + png_chunk(b"IDAT", raw) +
+                png_chunk(b"IEND", b""))
+
+    def textured(image_uri=None, texture=0, tex_coord=None, image=None):
+        def f(d):
+            info = {"index": texture}
+            if tex_coord is not None:
+                info["texCoord"] = tex_coord
+            d["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": info}}]
+            d["meshes"][0]["primitives"][0]["material"] = 0
+            d["textures"] = [{"source": 0}]
+            d["images"] = [image if image is not None else {"uri": image_uri}]
+        return f
+
+    def png_uri(data):
+        return "data:image/png;base64," + base64.b64encode(data).decode()
+
+    good_png = png(1, 1, b"\0\xff\0\0")
+    variant("texture_bad_image.gltf", textured(png_uri(good_png[:8] + b"this is not a PNG stream")))
+    variant("texture_too_large.gltf", textured(png_uri(png(16385, 1))))
+    variant("texture_index_out_of_range.gltf", textured(png_uri(good_png), texture=5))
+    variant("texture_texcoord_7.gltf", textured(png_uri(good_png), tex_coord=7))
+    # An image in a bufferView that runs past its buffer (tinygltf passes such a pointer on
+    # unchecked; clpt reads images only through its checked bufferView accessor).
+    doc, data = glb_triangle()
+    textured(image={"bufferView": 2, "mimeType": "image/png"})(doc)
+    doc["bufferViews"].append({"buffer": 0, "byteOffset": 40, "byteLength": 4096})
+    write("texture_bufferview_overrun.glb", glb(doc, data))
 
 
 if __name__ == "__main__":

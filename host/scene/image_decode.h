@@ -1,0 +1,31 @@
+// PNG and JPEG decoding for textures, from bytes in memory (an external file, a data: URI or
+// a GLB bufferView), through OpenImageIO. The glTF loader hands it bytes it has already
+// range-checked; this file knows nothing of glTF.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace clpt {
+
+// Limits against hostile images (checked from the header, before any pixel is decoded).
+constexpr uint32_t kMaxImageDimension = 16384;            // width or height
+constexpr uint64_t kMaxImagePixels = uint64_t{1} << 26;  // 64 Mpixel = 256 MiB of RGBA8
+
+struct DecodedImage {
+  uint32_t width = 0, height = 0;
+  std::vector<uint32_t> texels;  // width * height RGBA8, R in the low byte, row 0 at the top
+};
+
+// Decodes a PNG or JPEG (recognised by its first bytes, not by a name or media type) into
+// 8-bit RGBA: grey becomes RGB, a missing alpha is 255, alpha stays unassociated (straight),
+// 16-bit channels are rounded to 8 bits, no colour-space conversion. Returns false with a
+// one-line reason (bad bytes, not PNG/JPEG, too large, decoder error).
+bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std::string* why);
+
+// One magenta texel: what --lenient puts in place of an image that cannot be decoded.
+DecodedImage placeholder_image();
+
+}  // namespace clpt

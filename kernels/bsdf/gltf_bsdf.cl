@@ -1,0 +1,287 @@
+/* The glTF 2.0 BSDF (specification Appendix B) with KHR_materials_specular,
+ * KHR_materials_transmission and KHR_materials_ior, in a local frame: +z is the shading
+ * normal of the FRONT face, the outside of a closed volume whose inside has index p->ior.
+ * wo points away from the surface (towards the viewer); it may lie on either side.
+ *
+ *   f = metallic                              x  metal:   GGX reflection, Schlick F0 = base
+ *     + (1 - metallic)(1 - transmission)      x  plastic: Lambert base under a Schlick coat
+ *     + (1 - metallic) transmission           x  glass:   Walter et al. 2007 dielectric
+ *
+ * plastic: coat F(c) = specular (F0 + (1 - F0)(1 - c)^5), F0 = min(F0(ior) specular_color, 1)
+ *   (KHR_materials_specular); the coat is GGX reflection with F(wo.h); the diffuse layer is
+ *   base / pi x (1 - max F(cos_o)) (1 - max F(cos_i)): light crosses the coat twice. glTF's
+ *   fresnel_mix weights the base by 1 - max F(wo.h) instead; with h the half vector of a
+ *   diffuse pair that does not conserve energy at grazing wo for smooth coats (the sum
+ *   reaches ~1.7 at a mirror coat), while this form is reciprocal, <= 1 (tests/bsdf_test.cpp,
+ *   BsdfEnergy), equal to glTF's at normal incidence up to F0^2, and exactly Lambert when
+ *   specular = 0.
+ * glass: reflection r(h) = min(tint F(wo.h, eta), 1) with the exact Fresnel F and
+ *   tint = specular min(F0(ior) specular_color, 1) / F0(ior) (1 at the defaults), refraction
+ *   base (1 - max r(h)) through the generalised half vector; total internal reflection
+ *   inside; radiance is scaled by 1 / eta^2 on refraction in TRANSPORT_RADIANCE mode only.
+ * All specular lobes share alpha = roughness^2 and the height-correlated Smith G2; below
+ *   GGX_ALPHA_DELTA they are Dirac deltas: eval and pdf leave them out, and sampling flags
+ *   them (is_delta) with the selection probability folded into the weight.
+ * From the back (wo.z < 0) the opaque lobes are mirrored (a double-sided or closed opaque
+ *   surface looks the same from both sides); the glass sees eta = 1 / ior.
+ *
+ * Sampling: one sample from a mixture of three lobes, chosen by u_lobe with probabilities
+ * proportional to estimates of each lobe's albedo at wo (Fresnel at cos_o, metallic,
+ * transmission): diffuse (cosine), reflection (GGX visible normals, Heitz 2018) and glass
+ * (visible normals, then reflection with probability max r(h), else refraction, the
+ * rescaled u_lobe deciding). pdf() is that mixture's density, sum_lobe p_lobe pdf_lobe, and
+ * a non-delta sample's weight is eval / pdf at the sampled direction, so MIS sees exactly the
+ * density the sampler has. A sample may be absorbed (weight 0, pdf_w 0): a reflection below
+ * the horizon, a refraction under total internal reflection. */
+#ifndef CLPT_BSDF_GLTF_BSDF_CL
+#define CLPT_BSDF_GLTF_BSDF_CL
+
+#include "bsdf/bsdf_params.h"
+#include "bsdf/fresnel.cl"
+#include "bsdf/microfacet.cl"
+#include "core/warp.cl"
+
+typedef struct BsdfSample {
+  float3 wi;
+  float3 weight; /* f |cos| / pdf_w; delta lobes: their reflectance / selection probability */
+  float pdf_w;   /* the mixture's solid-angle density at wi; delta: the discrete probability */
+  int is_delta;  /* wi came from a Dirac lobe: no MIS, no NEE through it */
+} BsdfSample;
+
+/* A lobe whose albedo estimate is tiny still gets this share of its weight, so that a lobe
+ * with some f (black metal, F0 = 0 coat) is never given probability 0. */
+#define GLTF_LOBE_FLOOR 0.02f
+
+typedef struct GltfLobes {
+  float alpha;
+  int delta;         /* alpha < GGX_ALPHA_DELTA */
+  float eta;         /* glass: index of wi's side over wo's when refracting */
+  float w_plastic;   /* (1 - metallic)(1 - transmission) */
+  float w_glass;     /* (1 - metallic) transmission */
+  float w_metal;     /* metallic */
+  float3 f0;         /* coat: min(F0(ior) specular_color, 1) */
+  float3 glass_tint; /* scales the glass's exact Fresnel */
+  float p_diffuse, p_reflect, p_glass;
+} GltfLobes;
+
+inline float avg3(float3 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
+
+inline float3 gltf_coat(const BsdfParams* p, const GltfLobes* L, float c) {
+  return p->specular * fresnel_schlick(L->f0, c);
+}
+
+inline float3 gltf_glass_r(const GltfLobes* L, float c) {
+  return fmin(L->glass_tint * fresnel_dielectric(c, L->eta), (float3)(1.0f));
+}
+
+/* Weights and lobe probabilities at wo, given cos_o = |wo.z| and the side of wo. */
+inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outside) {
+  GltfLobes L;
+  L.alpha = ggx_alpha(p->roughness);
+  L.delta = L.alpha < GGX_ALPHA_DELTA;
+  const float ior = fmax(p->ior, 1.0f);
+  L.eta = outside ? ior : 1.0f / ior;
+  const float m = clamp(p->metallic, 0.0f, 1.0f), t = clamp(p->transmission, 0.0f, 1.0f);
+  L.w_metal = m;
+  L.w_plastic = (1.0f - m) * (1.0f - t);
+  L.w_glass = (1.0f - m) * t;
+  const float f0_ior = fresnel_f0_from_ior(ior);
+  const float3 spec_color = fmax(p->specular_color, (float3)(0.0f));
+  L.f0 = fmin(f0_ior * spec_color, (float3)(1.0f));
+  L.glass_tint = p->specular * (f0_ior > 0.0f ? L.f0 / f0_ior : spec_color);
+
+  const float coat = max_component(gltf_coat(p, &L, cos_o));
+  const float e_d = L.w_plastic * avg3(p->base_color) * (1.0f - coat);
+  const float e_r =
+      L.w_plastic * p->specular * fmax(max_component(fresnel_schlick(L.f0, cos_o)), GLTF_LOBE_FLOOR) +
+      L.w_metal * fmax(avg3(fresnel_schlick(p->base_color, cos_o)), GLTF_LOBE_FLOOR);
+  const float r_g = max_component(gltf_glass_r(&L, cos_o));
+  const float e_g = L.w_glass * fmax(r_g + (1.0f - r_g) * avg3(p->base_color), GLTF_LOBE_FLOOR);
+  const float sum = fmax(e_d, 0.0f) + fmax(e_r, 0.0f) + fmax(e_g, 0.0f);
+  if (!(sum > 0.0f)) {
+    L.p_diffuse = L.p_reflect = L.p_glass = 0.0f;
+  } else {
+    L.p_diffuse = fmax(e_d, 0.0f) / sum;
+    L.p_reflect = fmax(e_r, 0.0f) / sum;
+    L.p_glass = fmax(e_g, 0.0f) / sum;
+  }
+  return L;
+}
+
+/* The microfacet normal of a refraction pair (wo above, wi below, after mirroring), on wo's
+ * side, or 0 when the pair cannot refract through any microfacet (Walter et al. 2007, eq. 16). */
+inline float3 gltf_transmission_half(float3 wo, float3 wi, float eta) {
+  float3 h = wo + eta * wi;
+  const float len2 = dot(h, h);
+  if (!(len2 > 1e-12f)) return (float3)(0.0f);
+  h *= rsqrt(len2);
+  if (h.z < 0.0f) h = -h;
+  if (!(dot(wo, h) > 0.0f) || !(dot(wi, h) < 0.0f)) return (float3)(0.0f);
+  return h;
+}
+
+/* Combined reflectance of the three specular reflection lobes at cos(wo, h) = c. */
+inline float3 gltf_reflectance(const BsdfParams* p, const GltfLobes* L, float c) {
+  float3 F = L->w_metal * fresnel_schlick(p->base_color, c);
+  if (L->w_plastic > 0.0f) F += L->w_plastic * gltf_coat(p, L, c);
+  if (L->w_glass > 0.0f) F += L->w_glass * gltf_glass_r(L, c);
+  return F;
+}
+
+/* f |wi.z| with wo.z > 0 (mirrored). */
+inline float3 gltf_eval_up(const BsdfParams* p, const GltfLobes* L, float3 wo, float3 wi,
+                           int mode) {
+  if (wi.z > 0.0f) {
+    float3 f = (float3)(0.0f);
+    if (L->w_plastic > 0.0f) {
+      const float3 d = (1.0f - max_component(gltf_coat(p, L, wo.z))) *
+                       (1.0f - max_component(gltf_coat(p, L, wi.z))) * INV_PI_F *
+                       p->base_color;
+      f += L->w_plastic * d;
+    }
+    if (!L->delta) {
+      const float3 h = normalize(wo + wi);
+      f += gltf_reflectance(p, L, dot(wo, h)) *
+           (ggx_d(h, L->alpha) * ggx_g2(wo, wi, L->alpha) / (4.0f * wo.z * wi.z));
+    }
+    return f * wi.z;
+  }
+  if (wi.z < 0.0f && !L->delta && L->w_glass > 0.0f) {
+    const float3 h = gltf_transmission_half(wo, wi, L->eta);
+    if (h.z == 0.0f) return (float3)(0.0f);
+    const float wo_h = dot(wo, h), wi_h = dot(wi, h);
+    const float3 T = p->base_color * (1.0f - max_component(gltf_glass_r(L, wo_h)));
+    const float denom = wo_h + L->eta * wi_h;
+    /* Radiance: Walter's eta_o^2 / (eta_i wi.h + eta_o wo.h)^2 = 1 / (eta wi.h + wo.h)^2;
+     * importance (the adjoint) has eta_i^2 in place of eta_o^2. */
+    float k = ggx_d(h, L->alpha) * ggx_g2(wo, wi, L->alpha) * fabs(wi_h) * wo_h /
+              (wo.z * denom * denom);
+    if (mode == TRANSPORT_IMPORTANCE) k *= L->eta * L->eta;
+    return L->w_glass * T * k;
+  }
+  return (float3)(0.0f);
+}
+
+/* The mixture's density with wo.z > 0 (mirrored). */
+inline float gltf_pdf_up(const GltfLobes* L, float3 wo, float3 wi) {
+  if (wi.z > 0.0f) {
+    float pdf = L->p_diffuse * warp_cosine_hemisphere_pdf(wi.z);
+    if (!L->delta && L->p_reflect + L->p_glass > 0.0f) {
+      const float3 h = normalize(wo + wi);
+      const float wo_h = dot(wo, h);
+      const float p_r = L->p_glass > 0.0f ? max_component(gltf_glass_r(L, wo_h)) : 0.0f;
+      pdf += (L->p_reflect + L->p_glass * p_r) * warp_ggx_vndf_pdf(wo, h, L->alpha) /
+             (4.0f * wo_h);
+    }
+    return pdf;
+  }
+  if (wi.z < 0.0f && !L->delta && L->p_glass > 0.0f) {
+    const float3 h = gltf_transmission_half(wo, wi, L->eta);
+    if (h.z == 0.0f) return 0.0f;
+    const float wo_h = dot(wo, h), wi_h = dot(wi, h);
+    const float p_t = 1.0f - max_component(gltf_glass_r(L, wo_h));
+    const float denom = wo_h + L->eta * wi_h;
+    return L->p_glass * p_t * warp_ggx_vndf_pdf(wo, h, L->alpha) * L->eta * L->eta *
+           fabs(wi_h) / (denom * denom);
+  }
+  return 0.0f;
+}
+
+/* Mirrors w through the tangent plane when flip. */
+inline float3 gltf_flip(float3 w, bool flip) { return flip ? (float3)(w.x, w.y, -w.z) : w; }
+
+/* f(wo, wi) |wi.z| of the non-delta lobes. */
+inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, int mode) {
+  if (wo.z == 0.0f) return (float3)(0.0f);
+  const bool flip = wo.z < 0.0f;
+  const GltfLobes L = gltf_lobes(p, fabs(wo.z), !flip);
+  return gltf_eval_up(p, &L, gltf_flip(wo, flip), gltf_flip(wi, flip), mode);
+}
+
+/* Density of gltf_bsdf_sample at wi, per steradian, the delta lobes left out. */
+inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
+  if (wo.z == 0.0f) return 0.0f;
+  const bool flip = wo.z < 0.0f;
+  const GltfLobes L = gltf_lobes(p, fabs(wo.z), !flip);
+  return gltf_pdf_up(&L, gltf_flip(wo, flip), gltf_flip(wi, flip));
+}
+
+/* Whether some lobe is not a Dirac delta (NEE and MIS make sense). */
+inline bool gltf_bsdf_has_smooth_lobe(const BsdfParams* p) {
+  if (!(ggx_alpha(p->roughness) < GGX_ALPHA_DELTA)) return true;
+  return (1.0f - clamp(p->metallic, 0.0f, 1.0f)) * (1.0f - clamp(p->transmission, 0.0f, 1.0f)) *
+             max_component(p->base_color) > 0.0f;
+}
+
+inline BsdfSample gltf_absorbed(void) {
+  BsdfSample bs;
+  bs.wi = (float3)(0.0f, 0.0f, 1.0f);
+  bs.weight = (float3)(0.0f);
+  bs.pdf_w = 0.0f;
+  bs.is_delta = 0;
+  return bs;
+}
+
+/* One direction from the lobe mixture: u picks the direction within the lobe, u_lobe the
+ * lobe (and, rescaled, reflection or refraction within the glass lobe). */
+inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, float u_lobe,
+                                   int mode) {
+  if (wo_in.z == 0.0f) return gltf_absorbed();
+  const bool flip = wo_in.z < 0.0f;
+  const GltfLobes L = gltf_lobes(p, fabs(wo_in.z), !flip);
+  const float3 wo = gltf_flip(wo_in, flip);
+  BsdfSample bs = gltf_absorbed();
+  float3 wi;
+  bool reflect = true; /* the side wi must end on; the other side absorbs the sample */
+  if (u_lobe < L.p_diffuse) {
+    wi = warp_cosine_hemisphere(u);
+  } else if (u_lobe < L.p_diffuse + L.p_reflect || !(L.p_glass > 0.0f)) {
+    if (!(L.p_reflect > 0.0f)) return bs;
+    if (L.delta) {
+      /* Mirror: all reflection lobes at once (the glass's share too). */
+      const float p_r = L.p_glass > 0.0f ? max_component(gltf_glass_r(&L, wo.z)) : 0.0f;
+      bs.pdf_w = L.p_reflect + L.p_glass * p_r;
+      bs.wi = gltf_flip((float3)(-wo.x, -wo.y, wo.z), flip);
+      bs.weight = gltf_reflectance(p, &L, wo.z) / bs.pdf_w;
+      bs.is_delta = 1;
+      return bs;
+    }
+    const float3 h = warp_ggx_vndf(u, wo, L.alpha);
+    wi = 2.0f * dot(wo, h) * h - wo;
+  } else {
+    const float v = fmin((u_lobe - L.p_diffuse - L.p_reflect) / L.p_glass, 0x1.fffffep-1f);
+    const float3 h = L.delta ? (float3)(0.0f, 0.0f, 1.0f) : warp_ggx_vndf(u, wo, L.alpha);
+    const float wo_h = dot(wo, h);
+    const float p_r = max_component(gltf_glass_r(&L, wo_h));
+    if (v < p_r) {
+      wi = 2.0f * wo_h * h - wo;
+      if (L.delta) {
+        bs.pdf_w = L.p_reflect + L.p_glass * p_r;
+        bs.wi = gltf_flip(wi, flip);
+        bs.weight = gltf_reflectance(p, &L, wo.z) / bs.pdf_w;
+        bs.is_delta = 1;
+        return bs;
+      }
+    } else {
+      if (!refract_dir(wo, h, L.eta, &wi)) return bs;
+      reflect = false;
+      if (L.delta) {
+        bs.pdf_w = L.p_glass * (1.0f - p_r);
+        bs.wi = gltf_flip(wi, flip);
+        bs.weight = (L.w_glass / L.p_glass) * p->base_color;
+        if (mode == TRANSPORT_RADIANCE) bs.weight /= L.eta * L.eta;
+        bs.is_delta = 1;
+        return bs;
+      }
+    }
+  }
+  if (reflect ? !(wi.z > 0.0f) : !(wi.z < 0.0f)) return bs;
+  const float pdf = gltf_pdf_up(&L, wo, wi);
+  if (!(pdf > 0.0f)) return bs; /* e.g. a reflection below the horizon */
+  bs.wi = gltf_flip(wi, flip);
+  bs.pdf_w = pdf;
+  bs.weight = gltf_eval_up(p, &L, wo, wi, mode) / pdf;
+  return bs;
+}
+
+#endif

@@ -1,0 +1,122 @@
+/* One light interface over emissive triangles, glTF punctual lights and the environment,
+ * with the verbs of SmallVCM's lights:
+ *   light_illuminate   sample a light as seen from a shading point (next-event estimation),
+ *   light_emit         sample a ray leaving a light (light tracing, issue 5),
+ *   light_radiance     the radiance a ray sees when it hits an emitting surface,
+ *   env_radiance       ... or when it escapes (light/environment.cl),
+ *   light_pdf_w        light_illuminate's solid-angle density for such a hit,
+ *   light_env_pdf_w    ... or for such an escape.
+ * A light is chosen in proportion to its power through an alias table built on the host
+ * (host/render/scene_buffers.cpp, docs/concepts/lights.md); densities include the selection
+ * probability. Delta lights (point, spot, directional) report pdf_w = their selection
+ * probability and is_delta, and take no MIS weight. */
+#ifndef CLPT_LIGHT_LIGHT_CL
+#define CLPT_LIGHT_LIGHT_CL
+
+#include "light/area_light.cl"
+#include "light/environment.cl"
+#include "light/punctual.cl"
+
+inline bool light_is_delta(const __global Light* l) {
+  return l->type == LIGHT_POINT || l->type == LIGHT_SPOT || l->type == LIGHT_DIRECTIONAL;
+}
+
+/* Light chosen by u in [0, 1): slot floor(u n), kept with its threshold, else its alias. */
+inline u32 light_select(const SceneView* s, float u) {
+  const float scaled = u * (float)s->num_lights;
+  const u32 slot = min((u32)scaled, s->num_lights - 1u);
+  const __global Light* e = &s->lights[slot];
+  return (scaled - (float)slot) < e->alias_threshold ? slot : e->alias;
+}
+
+inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select, float2 u_point) {
+  LightSample ls;
+  ls.pdf_w = 0.0f;
+  ls.Le = (float3)(0.0f);
+  ls.p = p;
+  ls.wi = (float3)(0.0f, 0.0f, 1.0f);
+  ls.dist = 0.0f;
+  ls.is_delta = 0;
+  if (s->num_lights == 0u) return ls;
+  const u32 i = light_select(s, u_select);
+  const __global Light* l = &s->lights[i];
+  switch (l->type) {
+    case LIGHT_TRIANGLE:
+      ls = area_light_illuminate(s, l->triangle, p, u_point);
+      break;
+    case LIGHT_ENVIRONMENT: {
+      float pdf;
+      ls.wi = env_sample_w(s, u_point, &pdf);
+      ls.dist = INFINITY;
+      ls.p = p + ls.wi;
+      ls.pdf_w = pdf;
+      ls.Le = pdf > 0.0f ? env_radiance(s, ls.wi) : (float3)(0.0f);
+      break;
+    }
+    default:
+      ls = punctual_illuminate(l, p);
+      break;
+  }
+  ls.pdf_w *= l->pdf_select;
+  return ls;
+}
+
+/* light_illuminate's density for a ray that hit emitter triangle `tri` (leaf order) at
+ * distance dist under cosine cos_light at the light. */
+inline float light_pdf_w(const SceneView* s, u32 tri, float dist, float cos_light) {
+  const int e = s->triangle_light[tri];
+  if (e < 0) return 0.0f;
+  return s->lights[e].pdf_select * area_light_pdf_w(s, tri, dist, cos_light);
+}
+
+/* light_illuminate's density for a ray that escaped in direction w. */
+inline float light_env_pdf_w(const SceneView* s, float3 w) {
+  if (!env_present(s)) return 0.0f;
+  return s->lights[s->info->env_light].pdf_select * env_pdf_w(s, w);
+}
+
+/* Radiance seen by a ray that hit surface sh (before bsdf_orient), leaving towards wo. */
+inline float3 light_radiance(const SceneView* s, const SurfaceHit* sh, float3 wo) {
+  return area_light_radiance(s, sh, wo);
+}
+
+/* A ray leaving a light chosen in proportion to power. Environment: the direction from the
+ * environment's distribution, the origin a uniform point of the disk of the scene's bounding
+ * radius perpendicular to it, one radius out from the bounding sphere's centre. */
+inline LightEmission light_emit(const SceneView* s, float u_select, float2 u_pos, float2 u_dir) {
+  LightEmission e;
+  e.pdf_a = 0.0f;
+  e.pdf_w = 0.0f;
+  e.pdf_select = 0.0f;
+  e.Le = (float3)(0.0f);
+  e.p = (float3)(0.0f);
+  e.dir = (float3)(0.0f, 0.0f, 1.0f);
+  e.cos_light = 0.0f;
+  e.is_delta_pos = 0;
+  e.is_delta_dir = 0;
+  if (s->num_lights == 0u) return e;
+  const u32 i = light_select(s, u_select);
+  const __global Light* l = &s->lights[i];
+  if (l->type == LIGHT_TRIANGLE) {
+    e = area_light_emit(s, l->triangle, u_pos, u_dir);
+  } else if (l->type == LIGHT_ENVIRONMENT) {
+    float pdf;
+    const float3 w = env_sample_w(s, u_dir, &pdf); /* towards the environment */
+    const float r = s->info->bounds_radius;
+    const float2 q = warp_concentric_disk(u_pos) * r;
+    float3 t, b;
+    make_basis(w, &t, &b);
+    e.p = vload3(0, s->info->bounds_center) + r * w + q.x * t + q.y * b;
+    e.dir = -w;
+    e.pdf_w = pdf;
+    e.pdf_a = r > 0.0f ? INV_PI_F / (r * r) : 0.0f;
+    e.Le = pdf > 0.0f ? env_radiance(s, w) : (float3)(0.0f);
+    e.cos_light = 1.0f;
+  } else {
+    e = punctual_emit(s, l, u_pos, u_dir);
+  }
+  e.pdf_select = l->pdf_select;
+  return e;
+}
+
+#endif

@@ -1,0 +1,130 @@
+/* Thin wrappers around kernels/bsdf/ for tests/bsdf_test.cpp.
+ * A BSDF configuration arrives as 12 floats (tests/bsdf_test.cpp `pack`): base colour[3],
+ * specular colour[3], metallic, roughness, specular, transmission, ior, unused. Directions
+ * are local (+z the front-face normal) unless the kernel says world. Sample outputs:
+ *   dir_pdf[i]  = (wi, pdf_w): pdf_w 0 for an absorbed sample, the discrete probability for
+ *                 a delta one;
+ *   weight[i]   = (f |cos| / pdf, is_delta). */
+#include "bsdf/bsdf.cl"
+
+inline BsdfParams test_params(__global const float* c) {
+  BsdfParams p;
+  p.base_color = (float3)(c[0], c[1], c[2]);
+  p.specular_color = (float3)(c[3], c[4], c[5]);
+  p.metallic = c[6];
+  p.roughness = c[7];
+  p.specular = c[8];
+  p.transmission = c[9];
+  p.ior = c[10];
+  return p;
+}
+
+/* The test's own random numbers (as warp_test.cl): SplitMix64 at position i of stream
+ * `seed`, 23 bits per coordinate as (k + 1/2) / 2^23, in the open interval (0, 1). */
+inline ulong test_splitmix(ulong z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ul;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebul;
+  return z ^ (z >> 31);
+}
+
+inline float4 test_random_4d(uint seed, uint i) {
+  const ulong base = ((ulong)seed << 32) + ((ulong)i + 1ul) * 0x9e3779b97f4a7c15ul;
+  const ulong a = test_splitmix(base), b = test_splitmix(base ^ 0x632be59bd9b4e019ul);
+  const float scale = 0x1.0p-23f;
+  return (float4)(((float)(uint)(a >> 41) + 0.5f) * scale, ((float)((uint)a >> 9) + 0.5f) * scale,
+                  ((float)(uint)(b >> 41) + 0.5f) * scale, ((float)((uint)b >> 9) + 0.5f) * scale);
+}
+
+/* wo[i * wo_stride]: one direction for all (stride 0) or one per item (stride 1). */
+__kernel void bsdf_sample_random(__global const float* cfg, int mode, __global const float4* wo,
+                                 uint wo_stride, uint seed, __global float4* dir_pdf,
+                                 __global float4* weight, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const BsdfParams p = test_params(cfg);
+  const float4 u = test_random_4d(seed, i);
+  const BsdfSample bs = gltf_bsdf_sample(&p, wo[i * wo_stride].xyz, u.xy, u.z, mode);
+  dir_pdf[i] = (float4)(bs.wi, bs.pdf_w);
+  weight[i] = (float4)(bs.weight, (float)bs.is_delta);
+}
+
+/* pdf and f |cos| at pairs (wo[i * wo_stride], wi[i]). */
+__kernel void bsdf_eval_pairs(__global const float* cfg, int mode, __global const float4* wo,
+                              uint wo_stride, __global const float4* wi, __global float4* out,
+                              uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const BsdfParams p = test_params(cfg);
+  const float3 o = wo[i * wo_stride].xyz, d = wi[i].xyz;
+  out[i] = (float4)(gltf_bsdf_eval(&p, o, d, mode), gltf_bsdf_pdf(&p, o, d));
+}
+
+/* The world-space wrapper (bsdf.cl) on random surface frames: ng uniform, ns tilted from it
+ * by up to ~35 degrees, wo on either side (sh.front says which), normals oriented by
+ * bsdf_orient or not. Per item, 4 float4:
+ *   (weight, pdf_w) of a sample, (eval_cos, pdf) at the sampled wi,
+ *   (dot(ng, wo) dot(ng, wi), the same with the normal that shades, is_delta, 0), (wi, 0). */
+__kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
+                               __global float4* out, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const float4 r0 = test_random_4d(seed, 4u * i), r1 = test_random_4d(seed, 4u * i + 1u);
+  const float4 r2 = test_random_4d(seed, 4u * i + 2u);
+  SurfaceHit sh;
+  sh.p = (float3)(0.0f);
+  sh.ng = warp_uniform_sphere(r0.xy);
+  const float3 tilt = 0.7f * warp_uniform_sphere(r0.zw);
+  sh.ns = normalize(sh.ng + tilt);
+  if (dot(sh.ns, sh.ng) < 0.0f) sh.ns = -sh.ns;
+  sh.uv = (float2)(0.0f);
+  sh.triangle = 0u;
+  sh.material = 0u;
+  sh.bsdf = test_params(cfg);
+  sh.emission = (float3)(0.0f);
+  float3 wo = warp_uniform_sphere(r1.xy);
+  if (fabs(dot(wo, sh.ng)) < 1e-3f) wo = sh.ng;
+  sh.front = dot(wo, sh.ng) > 0.0f ? 1u : 0u;
+  const float3 ng0 = sh.ng, ns0 = sh.ns;
+  if (r1.z < 0.5f) bsdf_orient(&sh, wo);
+  const BsdfSample bs = bsdf_sample(&sh, wo, r2.xy, r2.z, mode);
+  const float3 e = bsdf_eval_cos(&sh, wo, bs.wi, mode);
+  const float q = bsdf_pdf_w(&sh, wo, bs.wi);
+  out[4u * i] = (float4)(bs.weight, bs.pdf_w);
+  out[4u * i + 1u] = (float4)(e, q);
+  /* The normal that shades: ns, or ng when wo is below the shading hemisphere (bsdf_frame). */
+  const float3 n_eff = dot(ns0, wo) * dot(ng0, wo) > 0.0f ? ns0 : ng0;
+  out[4u * i + 2u] = (float4)(dot(ng0, wo) * dot(ng0, bs.wi), dot(n_eff, wo) * dot(n_eff, bs.wi),
+                              (float)bs.is_delta, 0.0f);
+  out[4u * i + 3u] = (float4)(bs.wi, 0.0f);
+}
+
+/* The GGX visible-normal warp: h for wo with its pdf; pdf at points; invert. */
+__kernel void ggx_vndf_sample_random(float4 wo, float alpha, uint seed, __global float4* out,
+                                     uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const float3 h = warp_ggx_vndf(test_random_4d(seed, i).xy, wo.xyz, alpha);
+  out[i] = (float4)(h, warp_ggx_vndf_pdf(wo.xyz, h, alpha));
+}
+
+__kernel void ggx_vndf_sample_at(float4 wo, float alpha, __global const float2* u,
+                                 __global float4* out, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const float3 h = warp_ggx_vndf(u[i], wo.xyz, alpha);
+  out[i] = (float4)(h, warp_ggx_vndf_pdf(wo.xyz, h, alpha));
+}
+
+__kernel void ggx_vndf_pdf_at(float4 wo, float alpha, __global const float4* h,
+                              __global float* out, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  out[i] = warp_ggx_vndf_pdf(wo.xyz, h[i].xyz, alpha);
+}
+
+__kernel void ggx_vndf_invert_at(float4 wo, float alpha, __global const float4* h,
+                                 __global float2* out, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  out[i] = warp_ggx_vndf_invert(wo.xyz, h[i].xyz, alpha);
+}

@@ -1,0 +1,61 @@
+/* Thin wrappers around texture/texture.cl, material/material.cl and the alpha test of
+ * bvh/intersect.cl for tests/texture_test.cpp and tests/material_test.cpp. Every kernel takes
+ * the scene arguments first (SceneBuffers::bind). */
+#include "material/material.cl"
+
+/* out[i] = texture_sample(texture, uv[i]) (srgb: decoded). */
+__kernel void texture_lookup(SCENE_KERNEL_ARGS, int texture, u32 srgb, __global const float2* uv,
+                             __global float4* out, u32 n) {
+  const u32 i = get_global_id(0);
+  if (i >= n) return;
+  const SceneView s = SCENE_VIEW();
+  out[i] = texture_sample(&s, texture, uv[i], srgb != 0u);
+}
+
+/* out[i] = srgb_to_linear(in[i]) (the formula; the table is read through texture_lookup). */
+__kernel void srgb_formula(__global const float* in, __global float* out, u32 n) {
+  const u32 i = get_global_id(0);
+  if (i >= n) return;
+  out[i] = srgb_to_linear(in[i]);
+}
+
+/* out[i] = the UV that slot `slot` of material `material` reads for (uv0[i], uv1[i]). */
+__kernel void slot_uv(SCENE_KERNEL_ARGS, u32 material, u32 slot, __global const float4* uvs,
+                      __global float2* out, u32 n) {
+  const u32 i = get_global_id(0);
+  if (i >= n) return;
+  const SceneView s = SCENE_VIEW();
+  out[i] = texture_slot_uv(&s.materials[material].tex[slot], uvs[i].xy, uvs[i].zw);
+}
+
+/* Traces ray i (origin, direction) and resolves its material. Per ray, 5 float4s out:
+ * (hit, t, uv1), base colour + alpha-free, shading normal, emission, material_emission_at. */
+__kernel void resolve_rays(SCENE_KERNEL_ARGS, __global const float4* org, __global const float4* dir,
+                           __global float4* out, u32 n) {
+  const u32 i = get_global_id(0);
+  if (i >= n) return;
+  const SceneView s = SCENE_VIEW();
+  Hit hit;
+  __global float4* o = out + 5 * i;
+  if (!intersect_closest(&s, org[i].xyz, dir[i].xyz, INFINITY, &hit)) {
+    o[0] = (float4)(0.0f);
+    return;
+  }
+  const SurfaceHit sh = surface_shade(&s, &hit, org[i].xyz, dir[i].xyz);
+  o[0] = (float4)(1.0f, hit.t, sh.uv1.x, sh.uv1.y);
+  o[1] = (float4)(sh.bsdf.base_color, sh.bsdf.metallic);
+  o[2] = (float4)(sh.ns, sh.bsdf.roughness);
+  o[3] = (float4)(sh.emission, sh.bsdf.specular);
+  o[4] = (float4)(material_emission_at(&s, hit.triangle, hit.b1, hit.b2), sh.color.w);
+}
+
+/* Closest-hit and any-hit answers for ray i: out[2i] = closest hit?, out[2i+1] = any hit?. */
+__kernel void alpha_rays(SCENE_KERNEL_ARGS, __global const float4* org, __global const float4* dir,
+                         __global int* out, u32 n) {
+  const u32 i = get_global_id(0);
+  if (i >= n) return;
+  const SceneView s = SCENE_VIEW();
+  Hit hit;
+  out[2 * i] = intersect_closest(&s, org[i].xyz, dir[i].xyz, INFINITY, &hit) ? 1 : 0;
+  out[2 * i + 1] = intersect_any(&s, org[i].xyz, dir[i].xyz, INFINITY) ? 1 : 0;
+}
