@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "integrators/integrator.h"
+#include "scene/load_limits.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -124,6 +125,11 @@ struct Parser {
     app.add_option("--resume", o.resume,
                    "Continue the render saved in FILE; --spp stays the total sample count")
         ->type_name("FILE");
+    app.add_option("--limit", o.limits,
+                   "Change a loader limit, e.g. triangles=1G or memory=64G (repeatable; "
+                   "names in the README)")
+        ->type_name("NAME=VALUE")
+        ->allow_extra_args(false);
     app.add_flag("--lenient", o.lenient,
                  "Warn about images that cannot be decoded (magenta instead) and texCoord "
                  "sets other than 0 or 1 (0 instead), rather than failing");
@@ -200,6 +206,10 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
                                        ": expected R,G,B, three finite numbers >= 0, e.g. 1,1,1");
     if (!o.env.empty())
       throw Error(ExitCode::Usage, "--background and --env exclude each other");
+  }
+  {
+    LoadLimits limits;  // names and values are checked here, before any work
+    for (const std::string& spec : o.limits) limits.set(spec);
   }
   if (!std::isfinite(o.env_rotate))
     throw Error(ExitCode::Usage, "--env-rotate needs a finite number of degrees");

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace clpt {
 
@@ -44,6 +45,7 @@ struct Options {
   bool quiet = false, verbose = false;
   std::string kernel_dir;         // load kernel sources from disk (development)
   bool lenient = false;           // undecodable image / bad texCoord: warn and go on
+  std::vector<std::string> limits;  // --limit NAME=VALUE (scene/load_limits.h)
 };
 
 // Parses argv. Returns nullopt when the program should exit 0 after printing (--help,

@@ -583,7 +583,7 @@ TEST(GltfLoader, UriDecodingAndBrokenImages) {
   EXPECT_NE(msg.find("image 0 'not_a_png.png' (used by material 0 baseColorTexture): not a PNG or JPEG image"),
             std::string::npos) << msg;
   EXPECT_NE(msg.find("--lenient"), std::string::npos) << msg;
-  clpt::Scene s = clpt::load_gltf(kValid / "percent_uri_broken_images.gltf", clpt::LoadOptions{true});
+  clpt::Scene s = clpt::load_gltf(kValid / "percent_uri_broken_images.gltf", clpt::LoadOptions{true, {}});
   EXPECT_EQ(s.triangles.size(), 1u);
   ASSERT_EQ(s.textures.size(), 3u);  // base colour, normal, emissive; the WebP one is unused
   for (const clpt::Texture& t : s.textures) {

@@ -84,7 +84,10 @@ int run(const Options& opt) {
   if (!opt.reference.empty()) reference = read_image(opt.reference);
 
   auto t0 = Clock::now();
-  const Scene scene = load_gltf(opt.scene, LoadOptions{opt.lenient});
+  LoadOptions load_options;
+  load_options.lenient = opt.lenient;
+  for (const std::string& spec : opt.limits) load_options.limits.set(spec);
+  const Scene scene = load_gltf(opt.scene, load_options);
   const double load_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   log::verbose("scene " + opt.scene + ": " + std::to_string(scene.triangles.size()) +
                " triangles, " + std::to_string(scene.materials.size()) + " materials, " +

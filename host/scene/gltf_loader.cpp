@@ -31,22 +31,14 @@
 // file:, C:, ...) are refused. The check is on the URI text: a symlink inside the folder that
 // points elsewhere is followed.
 //
-// Limits against hostile files (each one gives a BadInput error, not an attempt):
-//   kMaxFileBytes        2 GiB - 1  any single file read (the scene file, a .bin, an image)
-//   kMaxTotalBytes       4 GiB      all files read for one scene together
-//   kMaxJsonDepth        256        nesting of JSON arrays/objects
-//   kMaxAccessorCount    2^30       elements in one accessor
-//   kMaxZeroAccessorCount 2^24      elements in an accessor with no bufferView (all zeros:
-//                                   it costs memory without costing file size)
-//   kMaxVertices         2^28       vertices in the whole scene (after instancing)
-//   kMaxTriangles        2^28       triangles in the whole scene (after instancing)
-//   kMaxNodeDepth        1024       depth of the node hierarchy
-//   kMaxNodeVisits       2^24       node visits while walking the scene (a node graph that
-//                                   reuses children could otherwise explode)
-//   kMaxImageDimension   16384      width or height of one image (image_decode.h; checked
-//                                   from the header before decoding)
-//   kMaxImagePixels      2^26       pixels of one image (256 MiB as RGBA8)
-//   kMaxTotalTexels      2^28       texels of all textures together (1 GiB as RGBA8)
+// Limits against hostile files (each one gives a BadInput error, not an attempt) are in
+// scene/load_limits.h, with their defaults; --limit NAME=VALUE changes one. They cap single
+// and total file sizes, JSON nesting, accessor element counts (with a much lower cap for
+// accessors without a bufferView: zeros cost memory without costing file size), vertices and
+// triangles after instancing, node hierarchy depth and node visits (a graph that reuses
+// children could otherwise explode), image width/height and pixels (checked from the header
+// before decoding), all textures' texels, and the host memory the geometry will need
+// (estimated per vertex and triangle, against 80 % of physical memory by default).
 // Cycles in the node graph are errors.
 #include "scene/gltf_loader.h"
 
@@ -83,16 +75,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr uint64_t kMaxFileBytes = (uint64_t{1} << 31) - 1;
-constexpr uint64_t kMaxTotalBytes = uint64_t{1} << 32;
-constexpr size_t kMaxJsonDepth = 256;
-constexpr uint64_t kMaxAccessorCount = uint64_t{1} << 30;
-constexpr uint64_t kMaxZeroAccessorCount = uint64_t{1} << 24;
-constexpr uint64_t kMaxVertices = uint64_t{1} << 28;
-constexpr uint64_t kMaxTriangles = uint64_t{1} << 28;
-constexpr int kMaxNodeDepth = 1024;
-constexpr uint64_t kMaxNodeVisits = uint64_t{1} << 24;
-constexpr uint64_t kMaxTotalTexels = uint64_t{1} << 28;
 constexpr double kPi = 3.14159265358979323846;
 
 // Extensions clpt implements. Anything else in extensionsRequired is refused; anything else in
@@ -131,6 +113,17 @@ std::string number(double v) {
   std::ostringstream out;
   out << v;
   return out.str();
+}
+
+// 1536 -> "1.5 KiB": sizes in messages.
+std::string bytes_text(uint64_t b) {
+  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+  double v = double(b);
+  int u = 0;
+  while (v >= 1024.0 && u < 4) v /= 1024.0, ++u;
+  char buf[48];
+  std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", v, units[u]);
+  return buf;
 }
 
 std::string join(const std::vector<std::string>& items, const char* sep) {
@@ -304,6 +297,7 @@ std::string uri_problem(const std::string& uri) {
 
 // State shared with tinygltf's file-system callbacks.
 struct FsContext {
+  const LoadLimits* limits = nullptr;
   std::string prefix;  // scene folder + '/', as tinygltf joins it with a URI
   fs::path base;
   std::map<std::string, std::string> rewrite;  // tinygltf's URI decoding -> RFC 3986 decoding
@@ -354,7 +348,8 @@ bool fs_read_whole_file(std::vector<unsigned char>* out, std::string* err,
       return false;
     }
     std::string why;
-    uint64_t cap = std::min(kMaxFileBytes, kMaxTotalBytes - std::min(kMaxTotalBytes, ctx.bytes_read));
+    const LoadLimits& lim = *ctx.limits;
+    uint64_t cap = std::min(lim.file_bytes, lim.total_bytes - std::min(lim.total_bytes, ctx.bytes_read));
     if (!read_whole_file(path, cap, out, &why)) {
       if (err) *err += why + "\n";
       return false;
@@ -606,8 +601,9 @@ enum class Components {
 
 class Converter {
  public:
-  Converter(const tinygltf::Model& model, std::string display, ImageSources& images)
-      : m_(model), display_(std::move(display)), images_(images) {}
+  Converter(const tinygltf::Model& model, std::string display, ImageSources& images,
+            const LoadLimits& limits)
+      : m_(model), display_(std::move(display)), images_(images), limits_(limits) {}
 
   Scene convert();
 
@@ -662,6 +658,7 @@ class Converter {
   const tinygltf::Model& m_;
   std::string display_;
   ImageSources& images_;
+  const LoadLimits& limits_;
   std::map<int, DecodedImage> decoded_;                  // by glTF image
   std::map<std::tuple<int, int, int, bool>, int> textures_;  // (image, wrapS, wrapT, nearest) -> scene texture
   std::map<int, int> texture_of_;                        // glTF texture -> scene texture (-1: none)
@@ -728,14 +725,14 @@ Converter::Elements Converter::accessor_elements(int index, const std::string& w
 
   Elements e{&acc, nullptr, 0, acc.count, type_components(type), component_size(ct)};
   const uint64_t elem_size = uint64_t(e.ncomp) * e.comp_size;
-  if (acc.count > kMaxAccessorCount)
+  if (acc.count > limits_.accessor_count)
     fail(desc + " has count " + std::to_string(acc.count) + ", more than the limit of " +
-         std::to_string(kMaxAccessorCount));
+         std::to_string(limits_.accessor_count) + " (--limit accessor-count=N)");
 
   if (acc.bufferView < 0) {
-    if (acc.count > kMaxZeroAccessorCount)
+    if (acc.count > limits_.zero_accessor_count)
       fail(desc + " has no bufferView and count " + std::to_string(acc.count) + ", more than the limit of " +
-           std::to_string(kMaxZeroAccessorCount) + " for such accessors");
+           std::to_string(limits_.zero_accessor_count) + " for such accessors (--limit zero-accessor-count=N)");
     return e;  // zeros (then sparse values, if any)
   }
   ViewBytes view = buffer_view(acc.bufferView, desc);
@@ -840,20 +837,21 @@ const DecodedImage& Converter::image(int index, const std::string& where) {
   bool ok = false;
   if (gi.bufferView >= 0) {
     const ViewBytes v = buffer_view(gi.bufferView, label);
-    ok = decode_image(v.data, size_t(v.length), &img, &why);
+    ok = decode_image(v.data, size_t(v.length), &img, &why, limits_.image_dimension, limits_.image_pixels);
   } else {
     auto bytes = images_.bytes.find(index);
     if (bytes != images_.bytes.end()) {
-      ok = decode_image(bytes->second.data(), bytes->second.size(), &img, &why);
+      ok = decode_image(bytes->second.data(), bytes->second.size(), &img, &why, limits_.image_dimension,
+                        limits_.image_pixels);
       images_.bytes.erase(bytes);  // decoded once; the encoded copy is no longer needed
     } else {
       auto p = images_.problem.find(index);
       why = p != images_.problem.end() ? p->second : "its data could not be read";
     }
   }
-  if (ok && total_texels_ + uint64_t(img.width) * img.height > kMaxTotalTexels) {
+  if (ok && total_texels_ + uint64_t(img.width) * img.height > limits_.total_texels) {
     ok = false;
-    why = "the scene's textures together exceed the limit of " + std::to_string(kMaxTotalTexels) + " texels";
+    why = "the scene's textures together exceed the limit of " + std::to_string(limits_.total_texels) + " texels";
   }
   if (!ok) {
     if (!images_.lenient)
@@ -1168,8 +1166,9 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
     }
   }
   const size_t nverts = lp.positions.size();
-  if (nverts > kMaxVertices)
-    fail(where + " has " + std::to_string(nverts) + " vertices, more than the limit of " + std::to_string(kMaxVertices));
+  if (nverts > limits_.vertices)
+    fail(where + " has " + std::to_string(nverts) + " vertices, more than the limit of " + std::to_string(limits_.vertices) +
+         " (--limit vertices=N)");
   auto check_count = [&](const char* name, size_t n) {
     if (n != nverts)
       fail(where + " has " + std::to_string(n) + " " + name + " values but " + std::to_string(nverts) + " positions");
@@ -1255,8 +1254,9 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
 
   const size_t n = idx.size();
   const uint64_t ntri = p.mode == TINYGLTF_MODE_TRIANGLES ? n / 3 : (n >= 3 ? n - 2 : 0);
-  if (ntri > kMaxTriangles)
-    fail(where + " has " + std::to_string(ntri) + " triangles, more than the limit of " + std::to_string(kMaxTriangles));
+  if (ntri > limits_.triangles)
+    fail(where + " has " + std::to_string(ntri) + " triangles, more than the limit of " + std::to_string(limits_.triangles) +
+         " (--limit triangles=N)");
   switch (p.mode) {
     case TINYGLTF_MODE_TRIANGLES:
       if (n % 3 != 0) ++leftover_primitives_;
@@ -1297,10 +1297,24 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
 
 void Converter::add_instance(const LocalPrimitive& lp, const glm::dmat4& world, uint32_t material, int node,
                              int mesh, int prim) {
-  if (scene_.positions.size() + lp.positions.size() > kMaxVertices)
-    fail("the scene has more than " + std::to_string(kMaxVertices) + " vertices (the limit)");
-  if (scene_.triangles.size() + lp.triangles.size() > kMaxTriangles)
-    fail("the scene has more than " + std::to_string(kMaxTriangles) + " triangles (the limit)");
+  if (scene_.positions.size() + lp.positions.size() > limits_.vertices)
+    fail("the scene has more than " + std::to_string(limits_.vertices) + " vertices (the limit; --limit vertices=N)");
+  if (scene_.triangles.size() + lp.triangles.size() > limits_.triangles)
+    fail("the scene has more than " + std::to_string(limits_.triangles) + " triangles (the limit; --limit triangles=N)");
+  {
+    // The host memory the geometry will need up to upload (scene arrays, flattened arrays, BVH
+    // build), so that a small file cannot make clpt allocate until the system kills it.
+    const uint64_t v = scene_.positions.size() + lp.positions.size(),
+                   t = scene_.triangles.size() + lp.triangles.size();
+    const uint64_t need = v * kHostBytesPerVertex + t * kHostBytesPerTriangle,
+                   budget = limits_.memory_budget();
+    if (need > budget)
+      fail("the scene needs about " + bytes_text(need) + " of memory for " + std::to_string(v) +
+           " vertices and " + std::to_string(t) + " triangles (after instancing), more than the budget of " +
+           bytes_text(budget) + " (" +
+           (limits_.memory_bytes ? std::string("--limit memory") : std::string("80 % of this machine's memory")) +
+           "; --limit memory=BYTES changes it)");
+  }
   if (lp.triangles.empty()) return;
 
   const glm::dmat3 linear(world);
@@ -1530,10 +1544,10 @@ void Converter::visit(int node, int parent, const glm::dmat4& parent_world, int 
          std::to_string(node) + ", which does not exist (the file has " + std::to_string(m_.nodes.size()) + ")");
   if (on_path_[size_t(node)])
     fail("the node graph has a cycle: node " + std::to_string(node) + " is its own ancestor");
-  if (depth > kMaxNodeDepth)
-    fail("the node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) + " levels");
-  if (++visits_ > kMaxNodeVisits)
-    fail("walking the node graph visits more than " + std::to_string(kMaxNodeVisits) + " nodes (the limit)");
+  if (uint64_t(depth) > limits_.node_depth)
+    fail("the node hierarchy is deeper than " + std::to_string(limits_.node_depth) + " levels");
+  if (++visits_ > limits_.node_visits)
+    fail("walking the node graph visits more than " + std::to_string(limits_.node_visits) + " nodes (the limit; --limit node-visits=N)");
 
   const glm::dmat4 world = parent_world * local_transform(node);
   if (!finite(world)) fail("node " + std::to_string(node) + " has a non-finite world transform");
@@ -1605,7 +1619,7 @@ Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options) {
   try {
     std::vector<unsigned char> bytes;
     std::string why;
-    if (!read_whole_file(file, kMaxFileBytes, &bytes, &why)) fail(why);
+    if (!read_whole_file(file, options.limits.file_bytes, &bytes, &why)) fail(why);
     if (bytes.empty()) fail("the file is empty (0 bytes)");
 
     // GLB or JSON, by the first bytes.
@@ -1618,8 +1632,9 @@ Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options) {
       json_text = reinterpret_cast<const char*>(bytes.data());
       json_size = bytes.size();
     }
-    if (json_depth(json_text, json_size, kMaxJsonDepth) > kMaxJsonDepth)
-      fail("JSON nesting is deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    const size_t max_depth = size_t(std::min<uint64_t>(options.limits.json_depth, SIZE_MAX - 1));
+    if (json_depth(json_text, json_size, max_depth) > max_depth)
+      fail("JSON nesting is deeper than " + std::to_string(max_depth) + " levels");
 
     nlohmann::json doc;
     try {
@@ -1660,6 +1675,7 @@ Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options) {
     ImageSources images;
     images.lenient = options.lenient;
     FsContext ctx;
+    ctx.limits = &options.limits;
     {
       std::error_code ec;
       fs::path abs = fs::absolute(file, ec);
@@ -1741,7 +1757,7 @@ Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options) {
       log::warn(display + ": ignoring unsupported extension" + (unsupported_used.size() > 1 ? "s " : " ") +
                 join(unsupported_used, ", "));
 
-    Scene scene = Converter(model, display, images).convert();
+    Scene scene = Converter(model, display, images, options.limits).convert();
     log::verbose(display + ": " + std::to_string(scene.triangles.size()) + " triangles, " +
                  std::to_string(scene.positions.size()) + " vertices, " + std::to_string(scene.materials.size()) +
                  " materials, " + std::to_string(scene.cameras.size()) + " cameras");

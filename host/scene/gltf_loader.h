@@ -3,6 +3,7 @@
 
 #include <filesystem>
 
+#include "scene/load_limits.h"
 #include "scene/scene.h"
 
 namespace clpt {
@@ -12,7 +13,7 @@ namespace clpt {
 //
 // Throws clpt::Error(ExitCode::BadInput, message) when the file cannot be read, is malformed,
 // needs an extension clpt does not support, reaches outside its folder, exceeds one of the
-// limits listed in gltf_loader.cpp, or has nothing to render. The message is one line that
+// limits of options.limits, or has nothing to render. The message is one line that
 // names the file and the problem. Never crashes or reads out of bounds on hostile input.
 //
 // Textures: PNG and JPEG images are decoded (scene/image_decode.h). An image that cannot be read
@@ -20,6 +21,7 @@ namespace clpt {
 // texCoord other than 0 or 1 (lenient: TEXCOORD_0).
 struct LoadOptions {
   bool lenient = false;
+  LoadLimits limits;  // scene/load_limits.h; --limit NAME=VALUE
 };
 Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options = {});
 

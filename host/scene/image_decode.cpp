@@ -26,7 +26,8 @@ std::string one_line(std::string s) {
 
 }  // namespace
 
-bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std::string* why) {
+bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std::string* why,
+                  uint64_t max_dimension, uint64_t max_pixels) {
   const char* format = sniff_format(data, size);
   if (!format) {
     *why = size == 0 ? "the image is empty (0 bytes)" : "not a PNG or JPEG image (unknown signature)";
@@ -58,10 +59,10 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
       return false;
     }
     const uint64_t w = uint64_t(spec.width), h = uint64_t(spec.height);
-    if (w > kMaxImageDimension || h > kMaxImageDimension || w * h > kMaxImagePixels) {
+    if (w > max_dimension || h > max_dimension || w * h > max_pixels) {
       *why = "the image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than the limit of " +
-             std::to_string(kMaxImageDimension) + " per side and " + std::to_string(kMaxImagePixels) +
-             " pixels";
+             std::to_string(max_dimension) + " per side and " + std::to_string(max_pixels) +
+             " pixels (--limit image-dimension=N, image-pixels=N)";
       return false;
     }
     const int nc = spec.nchannels;

@@ -10,7 +10,8 @@
 
 namespace clpt {
 
-// Limits against hostile images (checked from the header, before any pixel is decoded).
+// Default limits against hostile images (checked from the header, before any pixel is
+// decoded); the loader passes LoadLimits::image_dimension and image_pixels.
 constexpr uint32_t kMaxImageDimension = 16384;            // width or height
 constexpr uint64_t kMaxImagePixels = uint64_t{1} << 26;  // 64 Mpixel = 256 MiB of RGBA8
 
@@ -23,7 +24,9 @@ struct DecodedImage {
 // 8-bit RGBA: grey becomes RGB, a missing alpha is 255, alpha stays unassociated (straight),
 // 16-bit channels are rounded to 8 bits, no colour-space conversion. Returns false with a
 // one-line reason (bad bytes, not PNG/JPEG, too large, decoder error).
-bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std::string* why);
+// max_dimension and max_pixels: the limits (LoadLimits::image_dimension, image_pixels).
+bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std::string* why,
+                  uint64_t max_dimension = kMaxImageDimension, uint64_t max_pixels = kMaxImagePixels);
 
 // One magenta texel: what --lenient puts in place of an image that cannot be decoded.
 DecodedImage placeholder_image();

@@ -1,0 +1,89 @@
+#include "scene/load_limits.h"
+
+#include <unistd.h>
+
+#include <cctype>
+#include <utility>
+
+#include "util/error.h"
+
+namespace clpt {
+namespace {
+
+// The limits by name, in --limit's spelling.
+std::vector<std::pair<const char*, uint64_t LoadLimits::*>> fields() {
+  return {{"file-bytes", &LoadLimits::file_bytes},
+          {"total-bytes", &LoadLimits::total_bytes},
+          {"json-depth", &LoadLimits::json_depth},
+          {"accessor-count", &LoadLimits::accessor_count},
+          {"zero-accessor-count", &LoadLimits::zero_accessor_count},
+          {"vertices", &LoadLimits::vertices},
+          {"triangles", &LoadLimits::triangles},
+          {"node-depth", &LoadLimits::node_depth},
+          {"node-visits", &LoadLimits::node_visits},
+          {"image-dimension", &LoadLimits::image_dimension},
+          {"image-pixels", &LoadLimits::image_pixels},
+          {"total-texels", &LoadLimits::total_texels},
+          {"memory", &LoadLimits::memory_bytes}};
+}
+
+bool parse_count(const std::string& text, uint64_t* out) {
+  if (text.empty() || !std::isdigit(static_cast<unsigned char>(text[0]))) return false;
+  size_t i = 0;
+  uint64_t v = 0;
+  for (; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])); ++i) {
+    const uint64_t d = uint64_t(text[i] - '0');
+    if (v > (UINT64_MAX - d) / 10) return false;
+    v = v * 10 + d;
+  }
+  int shift = 0;
+  if (i + 1 == text.size()) {
+    switch (text[i]) {
+      case 'k': case 'K': shift = 10; break;
+      case 'M': shift = 20; break;
+      case 'G': shift = 30; break;
+      default: return false;
+    }
+  } else if (i != text.size()) {
+    return false;
+  }
+  if (shift && v > (UINT64_MAX >> shift)) return false;
+  *out = v << shift;
+  return true;
+}
+
+}  // namespace
+
+void LoadLimits::set(const std::string& spec) {
+  const size_t eq = spec.find('=');
+  std::string names;
+  for (const auto& f : fields()) names += std::string(names.empty() ? "" : ", ") + f.first;
+  if (eq == std::string::npos)
+    throw Error(ExitCode::Usage, "--limit " + spec + ": expected NAME=VALUE (names: " + names + ")");
+  const std::string name = spec.substr(0, eq), value = spec.substr(eq + 1);
+  for (const auto& f : fields()) {
+    if (name != f.first) continue;
+    uint64_t v = 0;
+    if (!parse_count(value, &v))
+      throw Error(ExitCode::Usage, "--limit " + spec + ": '" + value +
+                                       "' is not a non-negative integer (k, M, G suffixes allowed)");
+    this->*f.second = v;
+    return;
+  }
+  throw Error(ExitCode::Usage, "--limit " + spec + ": unknown limit '" + name + "' (names: " + names + ")");
+}
+
+std::string LoadLimits::describe() const {
+  std::string s;
+  for (const auto& f : fields()) s += std::string(f.first) + "=" + std::to_string(this->*f.second) + "\n";
+  return s;
+}
+
+uint64_t LoadLimits::memory_budget() const {
+  if (memory_bytes > 0) return memory_bytes;
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return UINT64_MAX;
+  return uint64_t(pages) / 10 * 8 * uint64_t(page);
+}
+
+}  // namespace clpt

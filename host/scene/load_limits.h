@@ -1,0 +1,44 @@
+// Limits that keep a hostile scene file from taking unbounded memory or time. Each one, when
+// exceeded, is a clear BadInput error naming the file and the limit. Every limit can be
+// raised (or lowered) with --limit NAME=VALUE for scenes that are large on purpose.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace clpt {
+
+struct LoadLimits {
+  uint64_t file_bytes = (uint64_t{1} << 31) - 1;   // any single file read (scene, .bin, image)
+  uint64_t total_bytes = uint64_t{1} << 32;        // all files of one scene together
+  uint64_t json_depth = 256;                       // nesting of JSON arrays/objects
+  uint64_t accessor_count = uint64_t{1} << 30;     // elements in one accessor
+  uint64_t zero_accessor_count = uint64_t{1} << 24;  // elements in an accessor without
+                                                   // bufferView (zeros: memory without file size)
+  uint64_t vertices = uint64_t{1} << 28;           // in the whole scene, after instancing
+  uint64_t triangles = uint64_t{1} << 28;          // in the whole scene, after instancing
+  uint64_t node_depth = 1024;                      // depth of the node hierarchy
+  uint64_t node_visits = uint64_t{1} << 24;        // node visits while walking the scene
+  uint64_t image_dimension = 16384;                // width or height of one image
+  uint64_t image_pixels = uint64_t{1} << 26;       // pixels of one image (256 MiB as RGBA8)
+  uint64_t total_texels = uint64_t{1} << 28;       // texels of all textures (1 GiB as RGBA8)
+  uint64_t memory_bytes = 0;  // host memory the scene's geometry may need while loading and
+                              // flattening (estimated per vertex and triangle); 0: 80 % of
+                              // this machine's physical memory
+
+  // Sets one limit from "NAME=VALUE" (VALUE a non-negative integer, or with a suffix k, M, G
+  // for 2^10, 2^20, 2^30). Throws Error(Usage) naming the problem and the known names.
+  void set(const std::string& spec);
+  // The names set() accepts, with their current values, one per line.
+  std::string describe() const;
+  // memory_bytes, or 80 % of physical memory when it is 0.
+  uint64_t memory_budget() const;
+};
+
+// Host bytes one vertex and one triangle cost from loading to upload (scene arrays, flattened
+// arrays, BVH build): what the memory limit is checked against.
+constexpr uint64_t kHostBytesPerVertex = 160;
+constexpr uint64_t kHostBytesPerTriangle = 160;
+
+}  // namespace clpt
