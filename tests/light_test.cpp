@@ -422,6 +422,42 @@ TEST(LightSampling, EmittedPowerMatchesClosedForm) {
   }
 }
 
+// An emissive texture shapes the triangles' selection weights (host/render/scene_buffers.cpp):
+// a texture black on its left half and white on its right; triangle A maps into the black
+// half, B into the white one. Texture mean luminance 0.5, so A's weight is 0 + 0.05 * 0.5 and
+// B's 1 + 0.05 * 0.5 (corners and centroid sampled): A keeps a small probability (it could
+// emit between its samples), B takes nearly all.
+TEST(LightSampling, EmissiveTextureShapesSelection) {
+  Scene scene;
+  Texture tex;
+  tex.width = 2;
+  tex.height = 1;
+  tex.texels = {0xff000000u, 0xffffffffu};
+  scene.textures.push_back(tex);
+  Material m;
+  m.emission = glm::vec3(1.0f);
+  m.emissive_texture.texture = 0;
+  scene.materials.push_back(m);
+  for (int k = 0; k < 2; ++k) {
+    const float x = float(k) * 2.0f, u0 = k == 0 ? 0.05f : 0.55f;
+    const uint32_t b = uint32_t(scene.positions.size());
+    scene.positions.insert(scene.positions.end(), {{x, 0, 0}, {x + 1, 0, 0}, {x, 1, 0}});
+    scene.normals.insert(scene.normals.end(), 3, glm::vec3(0.0f));
+    scene.uvs.insert(scene.uvs.end(), {{u0, 0.1f}, {u0 + 0.4f, 0.1f}, {u0, 0.9f}});
+    scene.triangles.emplace_back(b, b + 1, b + 2);
+    scene.triangle_materials.push_back(0);
+  }
+  const Bvh bvh = build_bvh(scene.positions, scene.triangles);
+  const FlatScene flat = flatten_scene(scene, bvh);
+  ASSERT_EQ(flat.lights.size(), 2u);
+  // Leaf order may differ from input order: find each by its first vertex.
+  double pa = 0.0, pb = 0.0;
+  for (const dev::Light& l : flat.lights)
+    (flat.triangles[l.triangle].v[0] == 0 ? pa : pb) = l.pdf_select;
+  EXPECT_NEAR(pa, 0.025 / 1.05, 1e-6);
+  EXPECT_NEAR(pb, 1.025 / 1.05, 1e-6);
+}
+
 TEST(LightSampling, EnvironmentMappingCentreIsMinusZ) {
   // The map's centre texel is seen looking down -z; +x is to its right (u grows); the top row
   // is +y. With --env-rotate 90 the centre turns to -x (the rotation takes +z towards +x).

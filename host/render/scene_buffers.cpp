@@ -181,14 +181,69 @@ void build_environment(const Environment& env, FlatScene& flat) {
   }
 }
 
+namespace {
+
+double srgb_to_linear(double c) {
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+// Luminance of an emissive texture (sRGB) at uv, nearest texel with repeat wrapping: enough
+// for a selection weight.
+double texel_luminance(const Texture& tex, glm::vec2 uv) {
+  if (tex.width == 0 || tex.height == 0 || tex.texels.empty()) return 0.0;
+  auto wrap = [](float x, uint32_t n) {
+    const float f = x - std::floor(x);
+    return std::min<uint32_t>(uint32_t(f * float(n)), n - 1);
+  };
+  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return 0.0;
+  const uint32_t t = tex.texels[size_t(wrap(uv.y, tex.height)) * tex.width + wrap(uv.x, tex.width)];
+  return luminance(glm::dvec3(srgb_to_linear((t & 0xffu) / 255.0),
+                              srgb_to_linear(((t >> 8) & 0xffu) / 255.0),
+                              srgb_to_linear(((t >> 16) & 0xffu) / 255.0)));
+}
+
+// How much of its emission factor an emissive-textured triangle emits, for its selection
+// weight: the texture's luminance averaged over the three corners and the centroid, plus a
+// small share of the whole texture's mean so that a triangle whose samples all fall on black
+// texels but which emits elsewhere keeps some probability (any positive weight is unbiased).
+// 1 without a texture; 0 when the whole texture is black (the triangle emits nothing).
+double emissive_texture_scale(const Scene& scene, const Material& m, const dev::Triangle& t,
+                              std::vector<double>& texture_mean) {
+  const TextureRef& ref = m.emissive_texture;
+  if (!ref.used() || size_t(ref.texture) >= scene.textures.size()) return 1.0;
+  const Texture& tex = scene.textures[size_t(ref.texture)];
+  double& mean = texture_mean[size_t(ref.texture)];
+  if (mean < 0.0) {
+    double sum = 0.0;
+    for (uint32_t y = 0; y < tex.height; ++y)
+      for (uint32_t x = 0; x < tex.width; ++x)
+        sum += texel_luminance(tex, {(x + 0.5f) / float(tex.width), (y + 0.5f) / float(tex.height)});
+    mean = tex.width && tex.height ? sum / (double(tex.width) * tex.height) : 0.0;
+  }
+  if (!(mean > 0.0)) return 0.0;
+  const std::vector<glm::vec2>& uvs = ref.texcoord == 1 && !scene.uvs1.empty() ? scene.uvs1 : scene.uvs;
+  auto uv_of = [&](uint32_t v) {
+    const glm::vec2 uv = v < uvs.size() ? uvs[v] : glm::vec2(0.0f);
+    return glm::vec2(ref.transform * glm::vec3(uv, 1.0f));
+  };
+  const glm::vec2 a = uv_of(t.v[0]), b = uv_of(t.v[1]), c = uv_of(t.v[2]);
+  const double local = (texel_luminance(tex, a) + texel_luminance(tex, b) + texel_luminance(tex, c) +
+                        texel_luminance(tex, (a + b + c) / 3.0f)) / 4.0;
+  return local + 0.05 * mean;
+}
+
+}  // namespace
+
 void build_lights(const Scene& scene, FlatScene& flat) {
+  std::vector<double> texture_mean(scene.textures.size(), -1.0);
   std::vector<double> power;
   flat.lights.clear();
   flat.triangle_light.assign(flat.triangles.size(), -1);
   for (size_t i = 0; i < flat.triangles.size(); ++i) {
     const dev::Triangle& t = flat.triangles[i];
     const Material& m = scene.materials[t.material];
-    const double lum = luminance(glm::dvec3(m.emission));
+    const double lum =
+        luminance(glm::dvec3(m.emission)) * emissive_texture_scale(scene, m, t, texture_mean);
     if (!(lum > 0.0)) continue;
     // In double: a float cross product overflows or underflows for extreme areas.
     const glm::dvec3 p0 = scene.positions[t.v[0]], p1 = scene.positions[t.v[1]],

@@ -190,9 +190,19 @@ inline float gltf_pdf_up(const GltfLobes* L, float3 wo, float3 wi) {
 /* Mirrors w through the tangent plane when flip. */
 inline float3 gltf_flip(float3 w, bool flip) { return flip ? (float3)(w.x, w.y, -w.z) : w; }
 
+/* A purely Lambertian surface (metallic 0, no transmission, specular 0: the project's own
+ * scenes, and many exported ones): the mixture has the diffuse lobe alone, with factor
+ * (1 - 0)(1 - 0) = 1. These shortcuts give what the general path gives, without the lobe
+ * set-up (BsdfLambertLimit compares them with the closed form). */
+inline bool gltf_is_lambert(const BsdfParams* p) {
+  return !(p->specular > 0.0f) && !(p->metallic > 0.0f) && !(p->transmission > 0.0f);
+}
+
 /* f(wo, wi) |wi.z| of the non-delta lobes. */
 inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, int mode) {
   if (wo.z == 0.0f) return (float3)(0.0f);
+  if (gltf_is_lambert(p))
+    return wo.z * wi.z > 0.0f ? p->base_color * (INV_PI_F * fabs(wi.z)) : (float3)(0.0f);
   const bool flip = wo.z < 0.0f;
   const GltfLobes L = gltf_lobes(p, fabs(wo.z), !flip);
   return gltf_eval_up(p, &L, gltf_flip(wo, flip), gltf_flip(wi, flip), mode);
@@ -201,6 +211,7 @@ inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, int mode
 /* Density of gltf_bsdf_sample at wi, per steradian, the delta lobes left out. */
 inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
   if (wo.z == 0.0f) return 0.0f;
+  if (gltf_is_lambert(p)) return wo.z * wi.z > 0.0f ? warp_cosine_hemisphere_pdf(fabs(wi.z)) : 0.0f;
   const bool flip = wo.z < 0.0f;
   const GltfLobes L = gltf_lobes(p, fabs(wo.z), !flip);
   return gltf_pdf_up(&L, gltf_flip(wo, flip), gltf_flip(wi, flip));
@@ -228,6 +239,15 @@ inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, 
                                    int mode) {
   if (wo_in.z == 0.0f) return gltf_absorbed();
   const bool flip = wo_in.z < 0.0f;
+  if (gltf_is_lambert(p)) {
+    const float3 wi = warp_cosine_hemisphere(u);
+    BsdfSample bs = gltf_absorbed();
+    bs.pdf_w = warp_cosine_hemisphere_pdf(wi.z);
+    if (!(bs.pdf_w > 0.0f)) return bs;
+    bs.wi = gltf_flip(wi, flip);
+    bs.weight = p->base_color;
+    return bs;
+  }
   const GltfLobes L = gltf_lobes(p, fabs(wo_in.z), !flip);
   const float3 wo = gltf_flip(wo_in, flip);
   BsdfSample bs = gltf_absorbed();
