@@ -15,6 +15,7 @@
 #include "core/ray.cl"
 #include "light/light.cl"
 #include "material/material.cl"
+#include "material/volume.cl"
 #include "sampler/sampler.cl"
 #include "shared/render_types.h"
 
@@ -142,6 +143,7 @@ inline float3 pt_continue(__constant const RenderParams* p, const SceneView* s,
       L += beta * pt_emission_escaped(p, s, bs.wi, bs.pdf_w, bs.is_delta);
       break;
     }
+    beta *= volume_transmittance(s, &sh, bs.wi, hit.t); /* inside a KHR_materials_volume */
     sh = surface_shade(s, &hit, org, bs.wi);
     wo = -bs.wi;
     L += beta * pt_emission_by_scattering(p, s, &sh, wo, hit.t, bs.pdf_w, bs.is_delta);
@@ -161,7 +163,6 @@ inline float3 pt_radiance(const SceneView* s, __constant const RenderParams* p,
   if (!intersect_closest(s, org, dir, INFINITY, &hit)) return env_radiance(s, dir);
   SurfaceHit sh = surface_shade(s, &hit, org, dir);
   const float3 wo = -dir;
-  /* Emission seen by the camera ray has only one technique: no weight. */
   float3 L = light_radiance(s, &sh, wo);
   if (p->max_depth == 0u) return L;
   bsdf_orient(&sh, wo);
