@@ -74,7 +74,7 @@ struct Parser {
     for (const std::string& n : integrator_names())
       names += (names.empty() ? "" : "|") + n;
     app.add_option("--integrator", o.integrator,
-                   "Integrator: " + names + " (implemented: pt, direct, ao) [pt]")
+                   "Integrator: " + names + " (implemented: pt, lt, direct, ao) [pt]")
         ->type_name("NAME");
     app.add_option("--sampler", o.sampler,
                    "Sampler: independent|stratified|lhs|sobol; stratified and lhs need --spp "
@@ -244,6 +244,17 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
     if (!ok)
       throw Error(ExitCode::Usage, "--rr " + o.rr + ": expected throughput or fixed:ALPHA with "
                                    "0 <= ALPHA < 1");
+  }
+  if (o.integrator == "lt") {
+    // Splatted films: no per-pixel sample variance, and float atomics in no fixed order, so a
+    // resumed render could not equal an uninterrupted one bit for bit.
+    if (o.variance)
+      throw Error(ExitCode::Usage, "--variance is not available with --integrator lt: a light "
+                                   "tracer splats, so there is no per-pixel sample variance");
+    if (!o.checkpoint.empty() || !o.resume.empty())
+      throw Error(ExitCode::Usage, "--checkpoint and --resume are not supported with "
+                                   "--integrator lt (its splatted sums are not reproducible "
+                                   "bit for bit)");
   }
   return o;
 }

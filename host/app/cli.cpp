@@ -214,7 +214,8 @@ int run(const Options& opt) {
 
   log::info((out.interrupted ? "interrupted: " : "") + std::string("rendered ") +
             std::to_string(film.samples_per_pixel) + " spp in " + std::to_string(st.render_seconds) +
-            " s (" + std::to_string(paths / secs / 1e6) + " M camera paths/s)" +
+            " s (" + std::to_string(paths / secs / 1e6) +
+            (integrator_splats(opt.integrator) ? " M light paths/s)" : " M camera paths/s)") +
             (film.samples_per_pixel > 0 ? ", wrote " + opt.output : std::string()));
   if (film.dropped_samples)
     log::warn(std::to_string(film.dropped_samples) + " NaN/Inf samples were dropped");
@@ -230,7 +231,6 @@ int run(const Options& opt) {
     j["triangles"] = st.triangles;
     j["emitters"] = st.emitters;
     j["lights"] = st.lights;
-    j["texture_device_bytes"] = st.texture_device_bytes;
     j["scene_load_seconds"] = load_seconds;
     j["bvh"] = {{"build_seconds", st.bvh_build_seconds},
                 {"nodes", st.bvh_nodes},
@@ -240,7 +240,9 @@ int run(const Options& opt) {
     j["passes"] = st.passes;
     j["spp"] = film.samples_per_pixel;
     j["max_depth"] = opt.max_depth;
-    j["camera_paths_per_second"] = paths / secs;
+    // lt traces spp x width x height light paths: the same count, from the other end.
+    j[integrator_splats(opt.integrator) ? "light_paths_per_second" : "camera_paths_per_second"] =
+        paths / secs;
     j["rays"] = film.rays;
     j["rays_per_second"] = double(film.rays) / secs;
     j["dropped_samples"] = film.dropped_samples;
@@ -248,24 +250,34 @@ int run(const Options& opt) {
     // channels, and efficiency = 1 / (variance x seconds): comparable between estimators
     // rendered for any time, since variance of a mean falls as 1/time.
     const double mean_variance =
-        film.samples_per_pixel > 0
+        film.samples_per_pixel > 0 && film.variance_available
             ? clpt::mean_variance(variance_of_mean(film.variance, film.samples_per_pixel))
             : 0.0;
     j["mean_variance"] = mean_variance;
+    if (!film.variance_available) {
+      // Splatted films (lt) have no per-pixel sample variance; use --reference for errors.
+      j["mean_variance"] = nullptr;
+      j["variance"] = "unavailable: " + opt.integrator + " splats light paths into any pixel";
+    }
     if (reference && film.samples_per_pixel > 0) {
       const ImageComparison c = compare_images(film.mean, *reference);
       j["reference"] = {{"file", opt.reference}, {"rel_mse", c.rel_mse}, {"mse", c.mse},
                         {"smape", c.smape}, {"efficiency", efficiency(c.rel_mse, secs)}};
     }
     j["efficiency"] = mean_variance > 0.0 ? 1.0 / (mean_variance * secs) : 0.0;
+    if (!film.variance_available) j["efficiency"] = nullptr;
     j["estimator"] = {{"sampler", opt.sampler},       {"direct", opt.direct},
                       {"mis", opt.mis},               {"light_samples", opt.light_samples},
                       {"hemisphere", opt.hemisphere}, {"rr", opt.rr},
                       {"rr_depth", opt.rr_depth},     {"branching", opt.branching}};
     j["interrupted"] = out.interrupted;
+    // Per triangle: the geometry's share (BVH, triangles, vertices, lights), textures apart.
     j["memory"] = {{"scene_device_bytes", st.scene_device_bytes},
+                   {"texture_device_bytes", st.texture_device_bytes},
                    {"scene_device_bytes_per_triangle",
-                    st.triangles ? double(st.scene_device_bytes) / double(st.triangles) : 0.0},
+                    st.triangles ? double(st.scene_device_bytes - st.texture_device_bytes) /
+                                       double(st.triangles)
+                                 : 0.0},
                    {"film_device_bytes", st.film_device_bytes},
                    {"peak_host_rss_mib", peak_rss_mib()}};
     write_stats(*opt.stats, j);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "integrators/light_tracer.h"
 #include "integrators/megakernel.h"
 #include "util/error.h"
 
@@ -14,8 +15,10 @@ const std::vector<std::string>& integrator_names() {
 }
 
 bool integrator_implemented(const std::string& name) {
-  return name == "pt" || name == "direct" || name == "ao";
+  return name == "pt" || name == "lt" || name == "direct" || name == "ao";
 }
+
+bool integrator_splats(const std::string& name) { return name == "lt"; }
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::Context& ctx,
                                             const SceneBuffers& scene) {
@@ -26,10 +29,11 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::C
   if (name == "pt" || name == "direct")
     return std::make_unique<MegakernelIntegrator>(ctx, scene, name == "pt" ? "pt" : "direct",
                                                   "integrators/pt.cl", "pt_render");
+  if (name == "lt") return std::make_unique<LightTracer>(ctx, scene);
   if (name == "ao")
     return std::make_unique<MegakernelIntegrator>(ctx, scene, "ao", "integrators/ao.cl", "ao_render");
   throw Error(ExitCode::Usage,
-              "--integrator " + name + ": not implemented yet (available: pt, direct, ao)");
+              "--integrator " + name + ": not implemented yet (available: pt, lt, direct, ao)");
 }
 
 }  // namespace clpt

@@ -26,6 +26,8 @@ class Integrator {
 // Names accepted by --integrator, and which of them are implemented.
 const std::vector<std::string>& integrator_names();
 bool integrator_implemented(const std::string& name);
+// Whether it splats (lt): its film needs a splat buffer and has no per-pixel variance.
+bool integrator_splats(const std::string& name);
 
 // Throws Error(Usage) for an unknown or not yet implemented name.
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::Context& ctx,

@@ -1,4 +1,5 @@
-// Per-pixel accumulation on the device: sum, sum of squares, dropped samples, ray counts.
+// Per-pixel accumulation on the device: sum, sum of squares, dropped samples, ray counts,
+// and for splatting integrators (lt) a splat film that any work-item adds to atomically.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +12,9 @@ namespace clpt {
 struct FilmResult {
   Image mean;          // radiance estimate per pixel
   Image variance;      // sample variance of one sample per pixel (unbiased, spp - 1 denominator)
+  // False for splatted films (lt): a pixel's splats are not one sample per path, so there is
+  // no per-pixel sample variance; `variance` is then all zero and must not be used.
+  bool variance_available = true;
   uint64_t samples_per_pixel = 0;
   uint64_t dropped_samples = 0;  // NaN/Inf samples discarded by the kernels
   uint64_t rays = 0;             // rays traced (closest hit and shadow)
@@ -18,7 +22,9 @@ struct FilmResult {
 
 class Film {
  public:
-  Film(const cl::Context& ctx, uint32_t width, uint32_t height);
+  // splats: also allocate the splat film (kernels/film/splat.cl); its sums are added to the
+  // per-pixel sums at resolve and normalised the same way, by samples per pixel.
+  Film(const cl::Context& ctx, uint32_t width, uint32_t height, bool splats = false);
 
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
@@ -26,14 +32,19 @@ class Film {
   cl::Buffer& sum() { return sum_; }
   cl::Buffer& sum_sq() { return sum_sq_; }
   cl::Buffer& ray_counts() { return ray_counts_; }
-  size_t device_bytes() const { return sum_.size() + sum_sq_.size() + ray_counts_.size(); }
+  bool splats() const { return splats_; }
+  cl::Buffer& splat() { return splat_; }  // only with splats
+  size_t device_bytes() const {
+    return sum_.size() + sum_sq_.size() + ray_counts_.size() + (splats_ ? splat_.size() : 0);
+  }
 
   // Reads the film back and divides by the samples taken.
   FilmResult resolve(uint64_t samples_per_pixel) const;
 
  private:
   uint32_t width_, height_;
-  cl::Buffer sum_, sum_sq_, ray_counts_;
+  bool splats_;
+  cl::Buffer sum_, sum_sq_, ray_counts_, splat_;
 };
 
 }  // namespace clpt

@@ -56,12 +56,17 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
     log::warn("the scene has no lights (emissive surfaces, punctual lights or environment): "
               "the image will be black");
   scene_buffers_ = std::make_unique<SceneBuffers>(ctx_, flat);
-  film_ = std::make_unique<Film>(ctx_, width_, height_);
+  film_ = std::make_unique<Film>(ctx_, width_, height_, integrator_splats(settings_.integrator));
   stats_.scene_device_bytes = scene_buffers_->device_bytes();
   stats_.film_device_bytes = film_->device_bytes();
   stats_.texture_device_bytes = scene_buffers_->texture_bytes();
 
   params_.camera = camera_data(camera, width_, height_);
+  // A light path reaches a camera only through a non-delta direction: not an orthographic one.
+  if (settings_.integrator == "lt" && params_.camera.type == dev::CAMERA_ORTHOGRAPHIC)
+    throw Error(ExitCode::Usage,
+                "--integrator lt needs a perspective camera: light paths cannot reach an "
+                "orthographic camera (its rays all share one direction); use pt");
   set_thin_lens(params_.camera, settings_.aperture, settings_.focus_distance, scene.bounds());
   params_.width = width_;
   params_.height = height_;
@@ -98,6 +103,9 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
 Renderer::~Renderer() = default;
 
 FilmState Renderer::film_state(uint64_t samples_per_pixel) const {
+  if (film_->splats())
+    throw Error(ExitCode::Usage, "checkpoints are not supported with --integrator " +
+                                     settings_.integrator + " (splatted films)");
   FilmState s;
   s.width = width_;
   s.height = height_;
@@ -109,6 +117,9 @@ FilmState Renderer::film_state(uint64_t samples_per_pixel) const {
 }
 
 void Renderer::restore(const FilmState& s) {
+  if (film_->splats())
+    throw Error(ExitCode::Usage, "--resume is not supported with --integrator " +
+                                     settings_.integrator + " (splatted films)");
   if (s.width != width_ || s.height != height_)
     throw Error(ExitCode::Usage, "checkpoint is " + std::to_string(s.width) + "x" +
                                      std::to_string(s.height) + ", this render " +

@@ -1,4 +1,8 @@
-/* Camera rays for a film point: pinhole or orthographic, each optionally through a thin lens. */
+/* Camera rays for a film point: pinhole or orthographic, each optionally through a thin lens.
+ * The film plane is defined here once: film point (sx, sy) in [-1, 1]^2 is the point
+ * forward + sx*right + sy*up at distance 1 in front of the pinhole; film_point / film_raster
+ * and camera_ray / camera_film_of_direction are each other's inverses (camera_importance.cl
+ * projects scene points with the second of each pair). */
 #ifndef CLPT_CAMERA_CAMERA_CL
 #define CLPT_CAMERA_CAMERA_CL
 
@@ -10,6 +14,24 @@
 inline float2 film_point(u32 x, u32 y, u32 width, u32 height, float2 u) {
   return (float2)(2.0f * ((float)x + u.x) / (float)width - 1.0f,
                   1.0f - 2.0f * ((float)y + u.y) / (float)height);
+}
+
+/* Inverse of film_point: the raster position (pixels, x right, y down) of film point `film`. */
+inline float2 film_raster(float2 film, u32 width, u32 height) {
+  return (float2)(0.5f * (film.x + 1.0f) * (float)width, 0.5f * (1.0f - film.y) * (float)height);
+}
+
+/* Area of the film, [-1, 1]^2 on the plane at distance 1 in front of a pinhole. */
+inline float camera_film_area(__constant const CameraData* cam) {
+  return 4.0f * length(vload3(0, cam->right)) * length(vload3(0, cam->up));
+}
+
+/* Inverse of the perspective camera_ray for the pinhole ray: the film point whose ray has
+ * direction d (any length, dot(d, forward) > 0). right, up and forward are orthogonal. */
+inline float2 camera_film_of_direction(__constant const CameraData* cam, float3 d) {
+  const float3 r = vload3(0, cam->right), u = vload3(0, cam->up), f = vload3(0, cam->forward);
+  const float3 q = d / dot(d, f); /* on the film plane: f + sx r + sy u */
+  return (float2)(dot(q, r) / dot(r, r), dot(q, u) / dot(u, u));
 }
 
 /* The ray through film point `film`; `lens` in [0,1)^2 picks the point on the aperture. */

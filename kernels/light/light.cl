@@ -94,6 +94,7 @@ inline LightEmission light_emit(const SceneView* s, float u_select, float2 u_pos
   e.cos_light = 0.0f;
   e.is_delta_pos = 0;
   e.is_delta_dir = 0;
+  e.light = 0u;
   if (s->num_lights == 0u) return e;
   const u32 i = light_select(s, u_select);
   const __global Light* l = &s->lights[i];
@@ -116,6 +117,7 @@ inline LightEmission light_emit(const SceneView* s, float u_select, float2 u_pos
     e = punctual_emit(s, l, u_pos, u_dir);
   }
   e.pdf_select = l->pdf_select;
+  e.light = i;
   return e;
 }
 

@@ -28,6 +28,7 @@ typedef struct LightEmission {
   float cos_light; /* |cos| between dir and the emitting surface's normal (area), else 1 */
   int is_delta_pos;
   int is_delta_dir;
+  u32 light;       /* index of the chosen light in the light table */
 } LightEmission;
 
 #endif

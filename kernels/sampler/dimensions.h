@@ -16,6 +16,14 @@
 #define DIM_RR 6u           /* 1D */
 #define DIM_SPARE 7u        /* 1D, unused */
 
+/* Light paths (--integrator lt, kernels/integrators/light_trace.cl) use the same layout:
+ * the emitted ray takes the camera ray's places, and light vertex k (0: on the light) takes
+ * bounce k's: its camera connection's lens point, its BSDF direction, lobe and roulette.
+ * The light is chosen with bounce 0's DIM_LIGHT_SELECT. */
+#define DIM_LT_EMIT_POS DIM_PIXEL       /* 2D: the point on the light */
+#define DIM_LT_EMIT_DIR DIM_CAMERA_LENS /* 2D: the emitted direction */
+#define DIM_LT_LENS DIM_LIGHT_POINT     /* per vertex, 2D: the lens point it connects to */
+
 /* Extra light samples at a vertex (--light-samples) and extra branches at the first hit
  * (--branching) draw from their own streams of dimensions: stream = branch * 256 + light
  * sample index; stream 0 is the plain path. */

@@ -107,7 +107,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   write_file(g_dir / "scene.bin", bin, bin_size);
 
   try {
-    const clpt::Scene s = clpt::load_gltf(scene);
+    // The memory budget well under libFuzzer's -rss_limit_mb=2048 (ASan doubles allocations),
+    // so an input that asks for too much is refused by the loader, as a user's would be.
+    clpt::LoadOptions options;
+    options.limits.memory_bytes = uint64_t{256} << 20;
+    const clpt::Scene s = clpt::load_gltf(scene, options);
     check_scene(s);
   } catch (const clpt::Error& e) {
     if (e.code() != clpt::ExitCode::BadInput) finding("clpt::Error with an exit code other than BadInput");

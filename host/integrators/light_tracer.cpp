@@ -1,0 +1,22 @@
+#include "integrators/light_tracer.h"
+
+#include "util/error.h"
+
+namespace clpt {
+
+LightTracer::LightTracer(const cl::Context& ctx, const SceneBuffers& scene)
+    : ctx_(ctx),
+      program_(ctx, "integrators/lt.cl"),
+      kernel_(program_, "lt_render"),
+      params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
+  film_arg_ = scene.bind(kernel_, 0);
+}
+
+void LightTracer::render_pass(const dev::RenderParams& params, Film& film) {
+  if (!film.splats()) throw Error(ExitCode::Usage, "the light tracer needs a film with splats");
+  params_.write(&params, sizeof(params));
+  kernel_.args(film_arg_, params_, film.splat(), film.ray_counts());
+  kernel_.launch(ctx_, film.pixels());
+}
+
+}  // namespace clpt

@@ -1,0 +1,387 @@
+// The light tracer (--integrator lt) and what it is built from, on the PoCL device:
+//   AtomicSplat        float atomic adds (kernels/film/splat.cl) from many work-items into
+//                      few cells: integer-valued sums exact, random sums equal a double sum
+//                      (rel 1e-5), non-finite contributions counted as dropped;
+//   CameraImportance   the pinhole's We integrates to 1 over the film (pbrt's normalisation),
+//                      pdf_w = We cos and weight = We cos / d^2; camera_connect inverts
+//                      camera_ray (pinhole and thin lens): same raster position, direction;
+//   SphereFurnace.Lt   the closed form of the furnace, z-test over independent batches;
+//   CrossIntegrator    lt against a high-spp pt reference on the Cornell box: 4x4-pixel
+//                      block means over 16 batches (Student-t, Sidak, no block may fail),
+//                      a per-pixel z-test with the batches' variance (>= 99.75 %) and the
+//                      image mean (|z| < 4);
+//   LightTracer.Refuses orthographic cameras and checkpoints (usage errors).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "render/camera_setup.h"
+#include "render/renderer.h"
+#include "stats/image_stats.h"
+#include "support/block_test.h"
+#include "support/device.h"
+#include "support/scenes.h"
+#include "util/error.h"
+
+namespace clpt {
+namespace {
+
+const cl::Program& lt_program() {
+  static const cl::Program program(test::device_context(), "kernels/light_tracer_test.cl", "",
+                                   test::test_kernel_sources());
+  return program;
+}
+
+std::vector<std::array<float, 4>> run_splats(const std::vector<uint32_t>& cells,
+                                             const std::vector<float>& values, uint32_t n_cells) {
+  cl::Context& ctx = test::device_context();
+  const uint32_t n = uint32_t(cells.size());
+  cl::Buffer splat(ctx, n_cells * sizeof(cl_float4), CL_MEM_READ_WRITE, nullptr, "splat");
+  splat.fill_zero();
+  cl::Buffer c = cl::Buffer::from_vector(ctx, cells), v = cl::Buffer::from_vector(ctx, values);
+  cl::Kernel k(lt_program(), "splat_add");
+  k.args(0, splat, c, v, n);
+  k.launch(ctx, n);
+  return splat.read_vector<std::array<float, 4>>(n_cells);
+}
+
+TEST(AtomicSplat, IntegerSumsAreExact) {
+  // 300000 work-items into 5 cells (x 3 channels): sums up to about 2^20, exact in float.
+  constexpr uint32_t kN = 300000, kCells = 5;
+  std::vector<uint32_t> cells(kN);
+  std::vector<float> values(kN);
+  std::vector<std::array<double, 3>> expected(kCells, {0.0, 0.0, 0.0});
+  for (uint32_t i = 0; i < kN; ++i) {
+    cells[i] = (i / 3) % kCells;
+    values[i] = float(1 + i % 7);
+    expected[cells[i]][i % 3] += values[i];
+  }
+  const auto got = run_splats(cells, values, kCells);
+  for (uint32_t c = 0; c < kCells; ++c) {
+    for (int ch = 0; ch < 3; ++ch) EXPECT_EQ(double(got[c][ch]), expected[c][ch]) << c << " " << ch;
+    EXPECT_EQ(got[c][3], 0.0f);
+  }
+}
+
+TEST(AtomicSplat, RandomSumsMatchDoubleSum) {
+  constexpr uint32_t kN = 192000, kCells = 64;  // 1000 values per cell-channel
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<uint32_t> cells(kN);
+  std::vector<float> values(kN);
+  std::vector<std::array<double, 3>> expected(kCells, {0.0, 0.0, 0.0});
+  for (uint32_t i = 0; i < kN; ++i) {
+    cells[i] = (i / 3) % kCells;
+    values[i] = u(rng);
+    expected[cells[i]][i % 3] += values[i];
+  }
+  const auto got = run_splats(cells, values, kCells);
+  for (uint32_t c = 0; c < kCells; ++c)
+    for (int ch = 0; ch < 3; ++ch)
+      EXPECT_NEAR(got[c][ch], expected[c][ch], 1e-5 * expected[c][ch]) << c << " " << ch;
+}
+
+TEST(AtomicSplat, NonFiniteIsCountedAsDropped) {
+  const float inf = std::numeric_limits<float>::infinity();
+  const auto got = run_splats({0, 0, 0, 0, 1, 1}, {1.0f, inf, 2.0f, NAN, 3.0f, 4.0f}, 2);
+  EXPECT_EQ(got[0][0], 0.0f + 1.0f);  // i = 0: x
+  EXPECT_EQ(got[0][3], 2.0f);         // i = 1 (Inf), i = 3 (NaN)
+  EXPECT_EQ(got[0][2], 2.0f);         // i = 2: z
+  EXPECT_EQ(got[1][1], 3.0f);         // i = 4: y
+  EXPECT_EQ(got[1][2], 4.0f);         // i = 5: z
+}
+
+// A tilted perspective camera at (1, 2, 3), 0.7 rad vertical field of view, 3:2 film.
+dev::CameraData tilted_camera(float aperture) {
+  Camera c;
+  c.yfov = 0.7f;
+  const glm::vec3 z = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f));
+  const glm::vec3 x = glm::normalize(glm::cross(glm::vec3(0, 1, 0), z));
+  const glm::vec3 y = glm::cross(z, x);
+  c.camera_to_world = glm::mat4(glm::vec4(x, 0), glm::vec4(y, 0), glm::vec4(z, 0), glm::vec4(1, 2, 3, 1));
+  dev::CameraData d = camera_data(c, 48, 32);
+  Bounds b;
+  b.extend(glm::vec3(-2.0f));
+  b.extend(glm::vec3(2.0f));
+  set_thin_lens(d, aperture, 4.0f, b);
+  return d;
+}
+
+struct Connections {
+  std::vector<glm::vec4> raster_valid, values;  // (raster x, y, valid, dist), (We, pdf_w, weight, cos)
+};
+
+Connections connect(const dev::CameraData& cam, uint32_t w, uint32_t h,
+                    const std::vector<glm::vec4>& points, const std::vector<glm::vec2>& lens) {
+  cl::Context& ctx = test::device_context();
+  const uint32_t n = uint32_t(points.size());
+  cl::Buffer cb = cl::Buffer::from_vector(ctx, std::vector<dev::CameraData>{cam});
+  cl::Buffer pb = cl::Buffer::from_vector(ctx, points), lb = cl::Buffer::from_vector(ctx, lens);
+  cl::Buffer rv(ctx, n * sizeof(glm::vec4), CL_MEM_WRITE_ONLY, nullptr, "raster");
+  cl::Buffer vv(ctx, n * sizeof(glm::vec4), CL_MEM_WRITE_ONLY, nullptr, "values");
+  cl::Kernel k(lt_program(), "camera_connections");
+  k.args(0, cb, w, h, pb, lb, n, rv, vv);
+  k.launch(ctx, n);
+  return {rv.read_vector<glm::vec4>(n), vv.read_vector<glm::vec4>(n)};
+}
+
+glm::vec3 v3(const float* f) { return {f[0], f[1], f[2]}; }
+
+// integral of We(w) cos(w) dw over all directions = 1, by uniform sampling of a cone about
+// the forward axis that holds the whole film (1M directions; z-test with the sample's own
+// standard error). pdf_w = We cos and
+// weight = We cos / d^2 at every valid direction.
+TEST(CameraImportance, IntegratesToOneOverTheFilm) {
+  const dev::CameraData cam = tilted_camera(0.0f);
+  const glm::vec3 o = v3(cam.origin);
+  constexpr uint32_t kN = 1 << 20;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<glm::vec4> points(kN);
+  std::vector<glm::vec2> lens(kN, glm::vec2(0.5f));
+  // The film's corners are 33.4 degrees off the axis (tan = 0.66); the cone has 41.4.
+  constexpr double kCosMax = 0.75, kConePdf = 1.0 / (2.0 * M_PI * (1.0 - kCosMax));
+  const glm::vec3 f = v3(cam.forward);
+  const glm::vec3 t = glm::normalize(glm::cross(f, glm::vec3(0, 1, 0))), b = glm::cross(f, t);
+  for (auto& p : points) {
+    const float z = 1.0f - u(rng) * float(1.0 - kCosMax), phi = 6.2831853f * u(rng);
+    const float r = std::sqrt(1.0f - z * z);
+    p = glm::vec4(o + 2.5f * (r * std::cos(phi) * t + r * std::sin(phi) * b + z * f), 0.0f);
+  }
+  const Connections c = connect(cam, 48, 32, points, lens);
+  double sum = 0.0, sum_sq = 0.0;
+  size_t valid = 0;
+  for (uint32_t i = 0; i < kN; ++i) {
+    if (c.raster_valid[i].z == 0.0f) continue;
+    ++valid;
+    const glm::vec4 v = c.values[i];
+    const double g = double(v.x) * v.w / kConePdf;  // We cos / pdf
+    sum += g;
+    sum_sq += g * g;
+    ASSERT_NEAR(v.y, v.x * v.w, 1e-5 * v.y) << "pdf_w = We cos";
+    ASSERT_NEAR(v.z, v.x * v.w / (2.5f * 2.5f), 1e-5 * v.z) << "weight = We cos / d^2";
+    ASSERT_NEAR(c.raster_valid[i].w, 2.5f, 1e-5f);
+  }
+  ASSERT_GT(valid, kN / 3);
+  const double mean = sum / kN, var = (sum_sq / kN - mean * mean) / (kN - 1);
+  const double z = (mean - 1.0) / std::sqrt(var);
+  EXPECT_LT(std::fabs(z), 4.0) << "integral " << mean << " +- " << std::sqrt(var);
+  EXPECT_LT(4.0 * std::sqrt(var), 0.01) << "too few samples for a meaningful test";
+}
+
+// camera_connect(x on camera_ray(film, lens), lens) lands on film's raster position and
+// points back along the ray: the projection inverts the camera, pinhole and thin lens.
+void expect_connect_inverts_camera_ray(float aperture) {
+  const dev::CameraData cam = tilted_camera(aperture);
+  constexpr uint32_t kN = 4096, kW = 48, kH = 32;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<glm::vec4> film(kN);
+  for (auto& f : film) f = glm::vec4(2.0f * u(rng) - 1.0f, 2.0f * u(rng) - 1.0f, u(rng), u(rng));
+  cl::Context& ctx = test::device_context();
+  cl::Buffer cb = cl::Buffer::from_vector(ctx, std::vector<dev::CameraData>{cam});
+  cl::Buffer fb = cl::Buffer::from_vector(ctx, film);
+  cl::Buffer ob(ctx, kN * sizeof(glm::vec4), CL_MEM_WRITE_ONLY, nullptr, "org");
+  cl::Buffer db(ctx, kN * sizeof(glm::vec4), CL_MEM_WRITE_ONLY, nullptr, "dir");
+  cl::Kernel k(lt_program(), "camera_rays_lt");
+  k.args(0, cb, fb, kN, ob, db);
+  k.launch(ctx, kN);
+  const auto org = ob.read_vector<glm::vec4>(kN), dir = db.read_vector<glm::vec4>(kN);
+  std::vector<glm::vec4> points(kN);
+  std::vector<glm::vec2> lens(kN);
+  std::vector<float> t(kN);
+  for (uint32_t i = 0; i < kN; ++i) {
+    t[i] = 0.5f + 6.0f * u(rng);
+    points[i] = org[i] + t[i] * dir[i];
+    lens[i] = glm::vec2(film[i].z, film[i].w);
+  }
+  const Connections c = connect(cam, kW, kH, points, lens);
+  for (uint32_t i = 0; i < kN; ++i) {
+    const float rx = 0.5f * (film[i].x + 1.0f) * kW, ry = 0.5f * (1.0f - film[i].y) * kH;
+    ASSERT_EQ(c.raster_valid[i].z, 1.0f) << i;
+    EXPECT_NEAR(c.raster_valid[i].x, rx, 2e-3f) << i;
+    EXPECT_NEAR(c.raster_valid[i].y, ry, 2e-3f) << i;
+    EXPECT_NEAR(c.raster_valid[i].w, t[i], 1e-4f * t[i]) << i;
+  }
+}
+
+TEST(CameraImportance, ConnectInvertsCameraRayPinhole) { expect_connect_inverts_camera_ray(0.0f); }
+TEST(CameraImportance, ConnectInvertsCameraRayThinLens) { expect_connect_inverts_camera_ray(0.2f); }
+
+TEST(CameraImportance, BehindTheCameraIsInvalid) {
+  const dev::CameraData cam = tilted_camera(0.0f);
+  const glm::vec3 o = v3(cam.origin), f = v3(cam.forward);
+  const Connections c =
+      connect(cam, 48, 32, {glm::vec4(o - 2.0f * f, 0.0f), glm::vec4(o + 2.0f * f, 0.0f)},
+              {glm::vec2(0.5f), glm::vec2(0.5f)});
+  EXPECT_EQ(c.raster_valid[0].z, 0.0f);
+  EXPECT_EQ(c.raster_valid[1].z, 1.0f);
+  EXPECT_NEAR(c.raster_valid[1].x, 24.0f, 1e-3f);  // the centre of the film
+  EXPECT_NEAR(c.raster_valid[1].y, 16.0f, 1e-3f);
+}
+
+double image_mean_of(const Image& img) {
+  return std::accumulate(img.rgb.begin(), img.rgb.end(), 0.0) / double(img.rgb.size());
+}
+
+struct FurnaceCase {
+  float rho;
+  unsigned max_depth;
+};
+void PrintTo(const FurnaceCase& c, std::ostream* os) {
+  *os << "rho " << c.rho << ", max depth " << c.max_depth;
+}
+
+class SphereFurnaceLt : public ::testing::TestWithParam<FurnaceCase> {};
+
+// As SphereFurnace.PtMatchesClosedForm (tests/render_test.cpp): the emission the camera sees
+// directly comes only from the light vertices' own connections (s = 1, t = 1).
+TEST_P(SphereFurnaceLt, MatchesClosedForm) {
+  const FurnaceCase c = GetParam();
+  const Scene scene = test::furnace_scene(c.rho, 1.0f);
+  const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
+  constexpr int kBatches = 12;
+  std::vector<double> means;
+  for (int b = 0; b < kBatches; ++b) {
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = 128;  // the image mean of lt has about 8x pt's variance per path here
+    s.max_depth = c.max_depth;
+    s.seed = 2000 + b;
+    s.integrator = "lt";
+    Renderer r(test::device_context(), scene, s);
+    const RenderOutput out = r.render();
+    ASSERT_EQ(out.film.samples_per_pixel, 128u);
+    ASSERT_EQ(out.film.dropped_samples, 0u);
+    ASSERT_FALSE(out.film.variance_available);
+    means.push_back(image_mean_of(out.film.mean));
+  }
+  const double mean = std::accumulate(means.begin(), means.end(), 0.0) / kBatches;
+  double var = 0.0;
+  for (double m : means) var += (m - mean) * (m - mean);
+  var /= (kBatches - 1);
+  const double sigma = std::sqrt(var / kBatches);
+  const double z = (mean - expected) / sigma;
+  EXPECT_LT(std::fabs(z), 4.0) << "mean " << mean << " expected " << expected << " sigma " << sigma;
+  EXPECT_LT(4.0 * sigma, 0.02 * expected) << "too few samples for a meaningful test";
+  std::cout << "[ figures  ] lt furnace rho " << c.rho << " depth " << c.max_depth << ": mean "
+            << mean << " expected " << expected << " z " << z << "\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, SphereFurnaceLt,
+                         ::testing::Values(FurnaceCase{0.5f, 0}, FurnaceCase{0.5f, 1},
+                                           FurnaceCase{0.5f, 3}, FurnaceCase{0.8f, 8}),
+                         [](const auto& info) {
+                           return "rho" + std::to_string(int(info.param.rho * 100)) + "_depth" +
+                                  std::to_string(info.param.max_depth);
+                         });
+
+constexpr uint32_t kSize = 32;
+
+const Scene& cornell() {
+  static const Scene scene = test::cornell_box();
+  return scene;
+}
+
+FilmResult render_cornell(const std::string& integrator, uint64_t spp, uint32_t seed) {
+  RenderSettings s;
+  s.width = s.height = kSize;
+  s.spp = spp;
+  s.seed = seed;
+  s.integrator = integrator;
+  Renderer r(test::device_context(), cornell(), s);
+  return r.render().film;
+}
+
+TEST(CrossIntegrator, LtMatchesPtOnCornellBox) {
+  const FilmResult ref = render_cornell("pt", 8192, 4242);
+  const Image ref_var = variance_of_mean(ref.variance, ref.samples_per_pixel);
+  constexpr uint32_t kBatches = 16, kSpp = 64;
+  std::vector<Image> batches;
+  for (uint32_t b = 0; b < kBatches; ++b) {
+    const FilmResult f = render_cornell("lt", kSpp, 500 + b);
+    ASSERT_EQ(f.dropped_samples, 0u);
+    batches.push_back(f.mean);
+  }
+  // Block means over the batches.
+  const test::BlockTestResult t = test::block_means_test(batches, ref.mean, ref_var, 4);
+  EXPECT_EQ(t.failed, 0u) << t.summary();
+  std::cout << "[ figures  ] blocks: " << t.summary() << "\n";
+
+  // Per pixel: the mean of the batches with their sample variance / B as its variance.
+  const size_t n = size_t(kSize) * kSize * 3;
+  Image mean(kSize, kSize), var(kSize, kSize);
+  for (size_t i = 0; i < n; ++i) {
+    double m = 0.0, q = 0.0;
+    for (const Image& b : batches) m += b.rgb[i];
+    m /= kBatches;
+    for (const Image& b : batches) q += (b.rgb[i] - m) * (b.rgb[i] - m);
+    mean.rgb[i] = float(m);
+    var.rgb[i] = float(q / (kBatches - 1) / kBatches);
+  }
+  const ZTestResult z = z_test(mean, &var, ref.mean, &ref_var);
+  EXPECT_GE(z.pass_fraction(), 0.9975)
+      << z.failed() << " of " << z.tested << " pixel-channels fail |z| < " << z.threshold
+      << " (max |z| " << z.max_abs_z << ")";
+  std::cout << "[ figures  ] pixels: " << z.failed() << " of " << z.tested << " fail |z| < "
+            << z.threshold << ", max |z| " << z.max_abs_z << "\n";
+
+  // The image mean per channel, sigma from the batches' image means.
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> bm;
+    for (const Image& b : batches) {
+      double s = 0.0;
+      for (size_t i = c; i < n; i += 3) s += b.rgb[i];
+      bm.push_back(s / (n / 3));
+    }
+    const double m = std::accumulate(bm.begin(), bm.end(), 0.0) / kBatches;
+    double q = 0.0;
+    for (double v : bm) q += (v - m) * (v - m);
+    double rm = 0.0, rv = 0.0;
+    for (size_t i = c; i < n; i += 3) rm += ref.mean.rgb[i], rv += ref_var.rgb[i];
+    rm /= (n / 3);
+    rv /= double(n / 3) * double(n / 3);
+    const double image_z = (m - rm) / std::sqrt(q / (kBatches - 1) / kBatches + rv);
+    EXPECT_LT(std::fabs(image_z), 4.0) << "channel " << c << ": lt " << m << " pt " << rm;
+    std::cout << "[ figures  ] channel " << c << ": lt " << m << " pt " << rm << " z " << image_z
+              << "\n";
+  }
+}
+
+TEST(LightTracer, RefusesOrthographicCameras) {
+  Scene scene = test::furnace_scene(0.5f, 1.0f);
+  scene.cameras[0].type = Camera::Type::Orthographic;
+  RenderSettings s;
+  s.width = s.height = 8;
+  s.spp = 1;
+  s.integrator = "lt";
+  try {
+    Renderer r(test::device_context(), scene, s);
+    FAIL() << "an orthographic camera was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::Usage);
+    EXPECT_NE(std::string(e.what()).find("orthographic"), std::string::npos) << e.what();
+  }
+}
+
+TEST(LightTracer, RefusesCheckpoints) {
+  RenderSettings s;
+  s.width = s.height = 8;
+  s.spp = 1;
+  s.integrator = "lt";
+  Renderer r(test::device_context(), test::furnace_scene(0.5f, 1.0f), s);
+  try {
+    (void)r.film_state(1);
+    FAIL() << "a checkpoint of a splatted film was written";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::Usage);
+  }
+}
+
+}  // namespace
+}  // namespace clpt
