@@ -350,7 +350,10 @@ FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& e
     }
   }
   flat.materials.reserve(scene.materials.size());
-  for (const Material& m : scene.materials) flat.materials.push_back(to_device(m));
+  for (const Material& m : scene.materials) {
+    flat.materials.push_back(to_device(m));
+    if (m.alpha_mode != Material::AlphaMode::Opaque) flat.info.flags |= dev::SCENE_ALPHA;
+  }
   for (const Texture& t : scene.textures) {
     dev::Texture d{};
     d.offset = static_cast<dev::u32>(flat.texels.size());

@@ -22,6 +22,7 @@ typedef struct SceneView {
   __global const float* env_cdf;           /* environment sampling distribution */
   __global const SceneInfo* info;
   u32 num_lights;
+  u32 flags; /* info->flags (SceneFlags), kept private: the traversal tests SCENE_ALPHA */
 } SceneView;
 
 /* The scene arguments every kernel starts with, in SceneBuffers::bind order. */
@@ -59,6 +60,7 @@ inline SceneView scene_view(__global const BvhNode* nodes, __global const Triang
   s.env_cdf = env_cdf;
   s.info = info;
   s.num_lights = info ? info->num_lights : 0u; /* test kernels may pass no info */
+  s.flags = info ? info->flags : 0u;
   return s;
 }
 

@@ -57,7 +57,8 @@ inline float alpha_hash(float3 org, float3 dir, u32 tri) {
 /* Whether the hit of ray (org, dir) on leaf-order triangle `tri` at (b1, b2) falls in a hole
  * of its material. Kernels without a material buffer (tests) see no holes. */
 inline bool alpha_hole(const SceneView* s, u32 tri, float b1, float b2, float3 org, float3 dir) {
-  if (s->materials == 0) return false;
+  /* Opaque scenes skip the material look-up per candidate hit. */
+  if (!(s->flags & SCENE_ALPHA) || s->materials == 0) return false;
   const Triangle t = s->triangles[tri];
   __global const Material* m = &s->materials[t.material];
   const u32 flags = m->flags;

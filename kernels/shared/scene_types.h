@@ -130,7 +130,8 @@ typedef struct Light {
 
 enum SceneFlags {
   SCENE_VERTEX_EXTRA = 1u,
-  SCENE_DELTA_LIGHTS = 2u  /* some light is a point, spot or directional light */
+  SCENE_DELTA_LIGHTS = 2u, /* some light is a point, spot or directional light */
+  SCENE_ALPHA = 4u         /* some material has alphaMode MASK or BLEND */
 };
 
 /* Scene-wide scalars, one struct in a small buffer. */
