@@ -438,7 +438,7 @@ const MalformedCase kMalformedCases[] = {
     {"glb_chunk_length_overrun.glb", "GLB JSON chunk (4294967280 bytes at offset 20) runs past the end of the file"},
     {"glb_bad_bin_chunk.glb", "GLB chunk 1 has type 0x005A5958, expected BIN"},
     {"glb_bin_too_short.glb", "Invalid `byteLength'"},
-    {"texture_bad_image.gltf", "image 0 (used by material 0 baseColorTexture): cannot decode the png data"},
+    {"texture_bad_image.gltf", "image 0 (used by material 0 baseColorTexture): truncated PNG: chunk 0"},
     {"texture_too_large.gltf", "the image is 16385x1, larger than the limit of 16384 per side"},
     {"texture_index_out_of_range.gltf",
      "material 0 baseColorTexture refers to texture 5, which does not exist (the file has 1)"},

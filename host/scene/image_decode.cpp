@@ -3,6 +3,8 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
+#include <array>
 #include <memory>
 
 namespace clpt {
@@ -14,6 +16,59 @@ const char* sniff_format(const unsigned char* p, size_t n) {
   if (n >= 8 && std::equal(png, png + 8, p)) return "png";
   if (n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF) return "jpeg";
   return nullptr;
+}
+
+uint32_t read_u32be(const unsigned char* p) {
+  return (uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | uint32_t(p[3]);
+}
+
+// CRC-32 of PNG chunks (ISO 3309, as zlib's crc32), table-driven.
+uint32_t png_crc(const unsigned char* p, size_t n) {
+  static const std::array<uint32_t, 256> table = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  uint32_t c = 0xFFFFFFFFu;
+  for (size_t i = 0; i < n; ++i) c = table[(c ^ p[i]) & 0xFFu] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+// The chunk structure of a PNG (after its signature): every chunk within the data, with a
+// correct CRC, IHDR first, IEND present. OpenImageIO 2.4 lets libpng longjmp out of its
+// read callback on a truncated file, skipping destructors (the fuzzer found the leak), and
+// libpng prints its own messages: so truncated and damaged files are refused here first.
+bool check_png_chunks(const unsigned char* p, size_t n, std::string* why) {
+  size_t at = 8;
+  for (int index = 0;; ++index) {
+    if (n - at < 12) {
+      *why = "truncated PNG: chunk " + std::to_string(index) + " at byte " + std::to_string(at) +
+             " is cut off (no IEND chunk)";
+      return false;
+    }
+    const uint32_t length = read_u32be(p + at);
+    const std::string type(reinterpret_cast<const char*>(p + at + 4), 4);
+    if (length > 0x7FFFFFFFu || length > n - at - 12) {
+      *why = "truncated PNG: chunk " + std::to_string(index) + " at byte " + std::to_string(at) +
+             " claims " + std::to_string(length) + " bytes, past the end of the data";
+      return false;
+    }
+    if (png_crc(p + at + 4, size_t(length) + 4) != read_u32be(p + at + 8 + length)) {
+      *why = "damaged PNG: chunk " + std::to_string(index) + " at byte " + std::to_string(at) +
+             " has a wrong CRC";
+      return false;
+    }
+    if (index == 0 && type != "IHDR") {
+      *why = "damaged PNG: the first chunk is not IHDR";
+      return false;
+    }
+    at += size_t(length) + 12;
+    if (type == "IEND") return true;
+  }
 }
 
 std::string one_line(std::string s) {
@@ -33,6 +88,7 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
     *why = size == 0 ? "the image is empty (0 bytes)" : "not a PNG or JPEG image (unknown signature)";
     return false;
   }
+  if (std::string(format) == "png" && !check_png_chunks(data, size, why)) return false;
   try {
     OIIO::Filesystem::IOMemReader proxy(data, size);
     // Straight alpha, as glTF means it (OIIO would otherwise premultiply PNG alpha).
