@@ -32,10 +32,20 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 cmake --build --preset asan
 built=$(date +%s)
 
-tests='^(Gltf[A-Za-z]*|ClptDiff|ImageStats|Cli|KernelCache|KernelSource|OutOfMemory|UnwritableOutput|BuildFailure|ScaleInvariance)\.|/NoNaN\.'
+tests='^(Gltf[A-Za-z]*|ClptDiff|ImageStats|ImageDecode|LoadLimits|Cli|KernelCache|KernelSource|OutOfMemory|UnwritableOutput|BuildFailure|ScaleInvariance)\.|/NoNaN\.'
 jobs=$(nproc 2>/dev/null || echo 2)
 status=0
 ctest --test-dir build-asan --output-on-failure -j "$jobs" -R "$tests" "$@" || status=$?
+if [ $status -ne 0 ]; then
+  # LeakSanitizer's stop-the-world tracer now and then crashes at the exit of a process whose
+  # PoCL worker threads are shutting down ("Tracer caught signal 11 ... LeakSanitizer has
+  # encountered a fatal error": seen once in about 300 device-test processes, after the
+  # test itself passed). That is not a finding, so failed tests run once more; a real ASan,
+  # UBSan or leak report is deterministic and fails again.
+  echo "test-sanitize: re-running the failed tests once"
+  status=0
+  ctest --test-dir build-asan --output-on-failure --rerun-failed || status=$?
+fi
 end=$(date +%s)
 echo "test-sanitize: build $((built - start)) s, tests $((end - built)) s, total $((end - start)) s"
 exit $status
