@@ -7,6 +7,7 @@
 #include <ostream>
 
 #include "render/renderer.h"
+#include "stats/image_stats.h"
 #include "support/device.h"
 #include "support/scenes.h"
 
@@ -31,7 +32,7 @@ TEST_P(EstimatorFurnace, MatchesClosedForm) {
   const Scene scene = test::furnace_scene(kRho, 1.0f);
   const double expected = test::furnace_radiance(kRho, 1.0, kDepth);
   constexpr int kBatches = 10;
-  std::vector<double> means;
+  std::vector<Image> batches;
   for (int b = 0; b < kBatches; ++b) {
     RenderSettings s;
     s.width = s.height = 16;
@@ -49,14 +50,10 @@ TEST_P(EstimatorFurnace, MatchesClosedForm) {
     Renderer r(test::device_context(), scene, s);
     const RenderOutput out = r.render();
     ASSERT_EQ(out.film.dropped_samples, 0u);
-    double sum = 0.0;
-    for (float v : out.film.mean.rgb) sum += v;
-    means.push_back(sum / double(out.film.mean.rgb.size()));
+    batches.push_back(out.film.mean);
   }
-  const double mean = std::accumulate(means.begin(), means.end(), 0.0) / kBatches;
-  double var = 0.0;
-  for (double m : means) var += (m - mean) * (m - mean);
-  const double sigma = std::sqrt(var / (kBatches - 1) / kBatches);
+  const BatchMean bm = batch_mean(batches);
+  const double mean = bm.mean, sigma = bm.sigma;
   ASSERT_GT(sigma, 0.0);
   const double z = (mean - expected) / sigma;
   EXPECT_LT(std::fabs(z), 4.0) << c.name << ": mean " << mean << " expected " << expected
@@ -119,7 +116,7 @@ TEST(AmbientOcclusion, SlabMatchesClosedForm) {
   scene.cameras.push_back(cam);
 
   constexpr int kBatches = 10;
-  std::vector<double> means;
+  std::vector<Image> batches;
   for (int b = 0; b < kBatches; ++b) {
     RenderSettings s;
     s.width = s.height = 16;
@@ -129,15 +126,11 @@ TEST(AmbientOcclusion, SlabMatchesClosedForm) {
     s.ao_radius = kR;
     Renderer r(test::device_context(), scene, s);
     const RenderOutput out = r.render();
-    double sum = 0.0;
-    for (float v : out.film.mean.rgb) sum += v;
-    means.push_back(sum / double(out.film.mean.rgb.size()));
+    batches.push_back(out.film.mean);
   }
   const double expected = (kH / kR) * (kH / kR);
-  const double mean = std::accumulate(means.begin(), means.end(), 0.0) / kBatches;
-  double var = 0.0;
-  for (double v : means) var += (v - mean) * (v - mean);
-  const double sigma = std::sqrt(var / (kBatches - 1) / kBatches);
+  const BatchMean bm = batch_mean(batches);
+  const double mean = bm.mean, sigma = bm.sigma;
   EXPECT_LT(std::fabs(mean - expected), 4.0 * sigma) << "mean " << mean << " sigma " << sigma;
   EXPECT_LT(4.0 * sigma, 0.02) << "too few samples for a meaningful test";
 }

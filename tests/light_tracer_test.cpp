@@ -225,10 +225,6 @@ TEST(CameraImportance, BehindTheCameraIsInvalid) {
   EXPECT_NEAR(c.raster_valid[1].y, 16.0f, 1e-3f);
 }
 
-double image_mean_of(const Image& img) {
-  return std::accumulate(img.rgb.begin(), img.rgb.end(), 0.0) / double(img.rgb.size());
-}
-
 struct FurnaceCase {
   float rho;
   unsigned max_depth;
@@ -246,7 +242,7 @@ TEST_P(SphereFurnaceLt, MatchesClosedForm) {
   const Scene scene = test::furnace_scene(c.rho, 1.0f);
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
   constexpr int kBatches = 12;
-  std::vector<double> means;
+  std::vector<Image> batches;
   for (int b = 0; b < kBatches; ++b) {
     RenderSettings s;
     s.width = s.height = 24;
@@ -259,13 +255,10 @@ TEST_P(SphereFurnaceLt, MatchesClosedForm) {
     ASSERT_EQ(out.film.samples_per_pixel, 128u);
     ASSERT_EQ(out.film.dropped_samples, 0u);
     ASSERT_FALSE(out.film.variance_available);
-    means.push_back(image_mean_of(out.film.mean));
+    batches.push_back(out.film.mean);
   }
-  const double mean = std::accumulate(means.begin(), means.end(), 0.0) / kBatches;
-  double var = 0.0;
-  for (double m : means) var += (m - mean) * (m - mean);
-  var /= (kBatches - 1);
-  const double sigma = std::sqrt(var / kBatches);
+  const BatchMean bm = batch_mean(batches);
+  const double mean = bm.mean, sigma = bm.sigma;
   const double z = (mean - expected) / sigma;
   EXPECT_LT(std::fabs(z), 4.0) << "mean " << mean << " expected " << expected << " sigma " << sigma;
   EXPECT_LT(4.0 * sigma, 0.02 * expected) << "too few samples for a meaningful test";

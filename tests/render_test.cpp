@@ -7,17 +7,12 @@
 #include <numeric>
 
 #include "render/renderer.h"
+#include "stats/image_stats.h"
 #include "support/device.h"
 #include "support/scenes.h"
 
 namespace clpt {
 namespace {
-
-double image_mean(const Image& img) {
-  double s = 0.0;
-  for (float v : img.rgb) s += v;
-  return s / double(img.rgb.size());
-}
 
 struct FurnaceCase {
   float rho;
@@ -37,7 +32,7 @@ TEST_P(SphereFurnace, PtMatchesClosedForm) {
   const Scene scene = test::furnace_scene(c.rho, 1.0f);
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
   constexpr int kBatches = 12;
-  std::vector<double> means;
+  std::vector<Image> batches;
   for (int b = 0; b < kBatches; ++b) {
     RenderSettings s;
     s.width = s.height = 24;
@@ -48,13 +43,10 @@ TEST_P(SphereFurnace, PtMatchesClosedForm) {
     const RenderOutput out = r.render();
     ASSERT_EQ(out.film.samples_per_pixel, 8u);
     ASSERT_EQ(out.film.dropped_samples, 0u);
-    means.push_back(image_mean(out.film.mean));
+    batches.push_back(out.film.mean);
   }
-  const double mean = std::accumulate(means.begin(), means.end(), 0.0) / kBatches;
-  double var = 0.0;
-  for (double m : means) var += (m - mean) * (m - mean);
-  var /= (kBatches - 1);
-  const double sigma = std::sqrt(var / kBatches);
+  const BatchMean bm = batch_mean(batches);
+  const double mean = bm.mean, sigma = bm.sigma;
   if (sigma == 0.0) {
     EXPECT_NEAR(mean, expected, 1e-6) << "deterministic case (no scattering)";
   } else {

@@ -39,13 +39,7 @@ inline float area_light_pdf_w(const SceneView* s, u32 tri, float dist, float cos
 
 /* A point of triangle `tri` as seen from p. ls->pdf_w excludes the selection probability. */
 inline LightSample area_light_illuminate(const SceneView* s, u32 tri, float3 p, float2 u) {
-  LightSample ls;
-  ls.pdf_w = 0.0f;
-  ls.Le = (float3)(0.0f);
-  ls.p = p;
-  ls.wi = (float3)(0.0f, 0.0f, 1.0f);
-  ls.dist = 0.0f;
-  ls.is_delta = 0;
+  LightSample ls = light_sample_none(p);
   float3 p0, p1, p2;
   triangle_vertices(s, tri, &p0, &p1, &p2);
   const float2 b = warp_uniform_triangle(u);

@@ -30,13 +30,7 @@ inline u32 light_select(const SceneView* s, float u) {
 }
 
 inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select, float2 u_point) {
-  LightSample ls;
-  ls.pdf_w = 0.0f;
-  ls.Le = (float3)(0.0f);
-  ls.p = p;
-  ls.wi = (float3)(0.0f, 0.0f, 1.0f);
-  ls.dist = 0.0f;
-  ls.is_delta = 0;
+  LightSample ls = light_sample_none(p);
   if (s->num_lights == 0u) return ls;
   const u32 i = light_select(s, u_select);
   const __global Light* l = &s->lights[i];

@@ -16,6 +16,18 @@ typedef struct LightSample {
   int is_delta;  /* point, spot, directional: no BSDF sample can find it (no MIS weight) */
 } LightSample;
 
+/* The invalid sample at shading point p (pdf_w 0): where every illuminate starts. */
+inline LightSample light_sample_none(float3 p) {
+  LightSample ls;
+  ls.p = p;
+  ls.wi = (float3)(0.0f, 0.0f, 1.0f);
+  ls.dist = 0.0f;
+  ls.Le = (float3)(0.0f);
+  ls.pdf_w = 0.0f;
+  ls.is_delta = 0;
+  return ls;
+}
+
 typedef struct LightEmission {
   float3 p;        /* ray origin: on the light, or on a disk of the scene's bounding radius
                     * for directional and environment lights */

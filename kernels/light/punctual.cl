@@ -36,13 +36,8 @@ inline float3 punctual_intensity(const __global Light* l, float3 w) {
 
 /* The light as seen from p; ls->pdf_w is 1 (selection not included). */
 inline LightSample punctual_illuminate(const __global Light* l, float3 p) {
-  LightSample ls;
+  LightSample ls = light_sample_none(p);
   ls.is_delta = 1;
-  ls.pdf_w = 0.0f;
-  ls.Le = (float3)(0.0f);
-  ls.dist = 0.0f;
-  ls.wi = (float3)(0.0f, 0.0f, 1.0f);
-  ls.p = p;
   if (l->type == LIGHT_DIRECTIONAL) {
     ls.wi = -vload3(0, l->direction);
     ls.dist = INFINITY;
