@@ -74,7 +74,7 @@ struct Parser {
     for (const std::string& n : integrator_names())
       names += (names.empty() ? "" : "|") + n;
     app.add_option("--integrator", o.integrator,
-                   "Integrator: " + names + " (implemented: pt, lt, direct, ao) [pt]")
+                   "Integrator: " + names + " (implemented: pt, lt, bdpt, direct, ao) [pt]")
         ->type_name("NAME");
     app.add_option("--sampler", o.sampler,
                    "Sampler: independent|stratified|lhs|sobol; stratified and lhs need --spp "
@@ -105,6 +105,16 @@ struct Parser {
                    "Ambient occlusion (--integrator ao) distance [10% of the scene's diagonal]")
         ->type_name("DIST")
         ->check(CLI::NonNegativeNumber.description(""));
+    app.add_option("--bdpt-strategy", o.bdpt_strategy,
+                   "bdpt: render only strategy S,T (S light vertices, T camera vertices), "
+                   "MIS-weighted")
+        ->type_name("S,T");
+    app.add_flag("--bdpt-unweighted", o.bdpt_unweighted,
+                 "bdpt: --bdpt-strategy without its MIS weight (the strategy alone)");
+    app.add_option("--bdpt-memory", o.bdpt_memory_mib,
+                   "bdpt: light vertex buffer per pass in MiB; larger images go in tiles [256]")
+        ->type_name("MIB")
+        ->check(CLI::Range(1u, 1u << 20).description(""));
     stats_opt = app.add_option("--stats", stats_value,
                                "Write render statistics as JSON to FILE, or stdout when no FILE")
                     ->expected(0, 1)
@@ -154,6 +164,19 @@ bool parse_resolution(const std::string& s, uint32_t* w, uint32_t* h) {
 }
 
 }  // namespace
+
+bool parse_strategy(const std::string& text, uint32_t* s, uint32_t* t) {
+  const size_t comma = text.find(',');
+  if (comma == std::string::npos || comma == 0 || comma + 1 >= text.size()) return false;
+  const std::string a = text.substr(0, comma), b = text.substr(comma + 1);
+  if (a.find_first_not_of("0123456789") != std::string::npos ||
+      b.find_first_not_of("0123456789") != std::string::npos || a.size() > 4 || b.size() > 4)
+    return false;
+  *s = static_cast<uint32_t>(std::stoul(a));
+  *t = static_cast<uint32_t>(std::stoul(b));
+  // s = 1, t = 1 (a light point seen by the camera) is not one of bdpt's strategies.
+  return *t >= 1 && *s + *t >= 2 && !(*s == 1 && *t == 1);
+}
 
 std::string usage_text() {
   Parser p;
@@ -245,16 +268,32 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--rr " + o.rr + ": expected throughput or fixed:ALPHA with "
                                    "0 <= ALPHA < 1");
   }
-  if (o.integrator == "lt") {
+  if (integrator_splats(o.integrator)) {
     // Splatted films: no per-pixel sample variance, and float atomics in no fixed order, so a
     // resumed render could not equal an uninterrupted one bit for bit.
     if (o.variance)
-      throw Error(ExitCode::Usage, "--variance is not available with --integrator lt: a light "
-                                   "tracer splats, so there is no per-pixel sample variance");
+      throw Error(ExitCode::Usage, "--variance is not available with --integrator " + o.integrator +
+                                       ": light paths splat into any pixel, so there is no "
+                                       "per-pixel sample variance");
     if (!o.checkpoint.empty() || !o.resume.empty())
       throw Error(ExitCode::Usage, "--checkpoint and --resume are not supported with "
-                                   "--integrator lt (its splatted sums are not reproducible "
-                                   "bit for bit)");
+                                   "--integrator " + o.integrator + " (its splatted sums are not "
+                                   "reproducible bit for bit)");
+  }
+  if ((!o.bdpt_strategy.empty() || o.bdpt_unweighted) && o.integrator != "bdpt")
+    throw Error(ExitCode::Usage, "--bdpt-strategy and --bdpt-unweighted need --integrator bdpt");
+  if (o.bdpt_unweighted && o.bdpt_strategy.empty())
+    throw Error(ExitCode::Usage, "--bdpt-unweighted needs --bdpt-strategy S,T");
+  if (!o.bdpt_strategy.empty()) {
+    uint32_t s = 0, t = 0;
+    if (!parse_strategy(o.bdpt_strategy, &s, &t))
+      throw Error(ExitCode::Usage, "--bdpt-strategy " + o.bdpt_strategy +
+                                       ": expected S,T with S >= 0 light vertices and T >= 1 "
+                                       "camera vertices, S + T >= 2, not 1,1");
+    if (s + t - 2 > o.max_depth)
+      throw Error(ExitCode::Usage, "--bdpt-strategy " + o.bdpt_strategy + " has " +
+                                       std::to_string(s + t - 2) + " bounces, more than "
+                                       "--max-depth " + std::to_string(o.max_depth));
   }
   return o;
 }

@@ -36,6 +36,9 @@ struct Options {
   uint32_t rr_depth = 3;
   uint32_t branching = 1;
   float ao_radius = 0.0f;  // 0: 10 % of the scene's bounding-box diagonal
+  std::string bdpt_strategy;      // "S,T": render only that BDPT strategy; empty: all
+  bool bdpt_unweighted = false;   // that strategy without its MIS weight
+  uint32_t bdpt_memory_mib = 256; // light vertex buffer budget per pass
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR
   std::string reference;          // image to compare with (relMSE), empty: none
@@ -51,6 +54,9 @@ struct Options {
 // Parses argv. Returns nullopt when the program should exit 0 after printing (--help,
 // --version); throws Error(ExitCode::Usage) with a message for a bad command line.
 std::optional<Options> parse_options(int argc, const char* const* argv);
+
+// "S,T" of --bdpt-strategy; false unless a strategy bdpt has.
+bool parse_strategy(const std::string& text, uint32_t* s, uint32_t* t);
 
 // The --help text.
 std::string usage_text();

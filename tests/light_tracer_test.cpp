@@ -24,6 +24,7 @@
 #include "render/renderer.h"
 #include "stats/image_stats.h"
 #include "support/block_test.h"
+#include "support/reference_match.h"
 #include "support/device.h"
 #include "support/scenes.h"
 #include "util/error.h"
@@ -296,7 +297,6 @@ FilmResult render_cornell(const std::string& integrator, uint64_t spp, uint32_t 
 
 TEST(CrossIntegrator, LtMatchesPtOnCornellBox) {
   const FilmResult ref = render_cornell("pt", 8192, 4242);
-  const Image ref_var = variance_of_mean(ref.variance, ref.samples_per_pixel);
   constexpr uint32_t kBatches = 16, kSpp = 64;
   std::vector<Image> batches;
   for (uint32_t b = 0; b < kBatches; ++b) {
@@ -304,49 +304,7 @@ TEST(CrossIntegrator, LtMatchesPtOnCornellBox) {
     ASSERT_EQ(f.dropped_samples, 0u);
     batches.push_back(f.mean);
   }
-  // Block means over the batches.
-  const test::BlockTestResult t = test::block_means_test(batches, ref.mean, ref_var, 4);
-  EXPECT_EQ(t.failed, 0u) << t.summary();
-  std::cout << "[ figures  ] blocks: " << t.summary() << "\n";
-
-  // Per pixel: the mean of the batches with their sample variance / B as its variance.
-  const size_t n = size_t(kSize) * kSize * 3;
-  Image mean(kSize, kSize), var(kSize, kSize);
-  for (size_t i = 0; i < n; ++i) {
-    double m = 0.0, q = 0.0;
-    for (const Image& b : batches) m += b.rgb[i];
-    m /= kBatches;
-    for (const Image& b : batches) q += (b.rgb[i] - m) * (b.rgb[i] - m);
-    mean.rgb[i] = float(m);
-    var.rgb[i] = float(q / (kBatches - 1) / kBatches);
-  }
-  const ZTestResult z = z_test(mean, &var, ref.mean, &ref_var);
-  EXPECT_GE(z.pass_fraction(), 0.9975)
-      << z.failed() << " of " << z.tested << " pixel-channels fail |z| < " << z.threshold
-      << " (max |z| " << z.max_abs_z << ")";
-  std::cout << "[ figures  ] pixels: " << z.failed() << " of " << z.tested << " fail |z| < "
-            << z.threshold << ", max |z| " << z.max_abs_z << "\n";
-
-  // The image mean per channel, sigma from the batches' image means.
-  for (int c = 0; c < 3; ++c) {
-    std::vector<double> bm;
-    for (const Image& b : batches) {
-      double s = 0.0;
-      for (size_t i = c; i < n; i += 3) s += b.rgb[i];
-      bm.push_back(s / (n / 3));
-    }
-    const double m = std::accumulate(bm.begin(), bm.end(), 0.0) / kBatches;
-    double q = 0.0;
-    for (double v : bm) q += (v - m) * (v - m);
-    double rm = 0.0, rv = 0.0;
-    for (size_t i = c; i < n; i += 3) rm += ref.mean.rgb[i], rv += ref_var.rgb[i];
-    rm /= (n / 3);
-    rv /= double(n / 3) * double(n / 3);
-    const double image_z = (m - rm) / std::sqrt(q / (kBatches - 1) / kBatches + rv);
-    EXPECT_LT(std::fabs(image_z), 4.0) << "channel " << c << ": lt " << m << " pt " << rm;
-    std::cout << "[ figures  ] channel " << c << ": lt " << m << " pt " << rm << " z " << image_z
-              << "\n";
-  }
+  test::expect_matches_reference(batches, ref, "lt");
 }
 
 TEST(LightTracer, RefusesOrthographicCameras) {

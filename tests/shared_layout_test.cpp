@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "shared/bdpt_types.h"
 #include "shared/render_types.h"
 #include "shared/scene_types.h"
 #include "support/device.h"

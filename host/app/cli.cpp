@@ -131,6 +131,9 @@ int run(const Options& opt) {
   settings.rr_depth = opt.rr_depth;
   settings.branching = opt.branching;
   settings.ao_radius = opt.ao_radius;
+  if (!opt.bdpt_strategy.empty()) parse_strategy(opt.bdpt_strategy, &settings.bdpt_s, &settings.bdpt_t);
+  settings.bdpt_unweighted = opt.bdpt_unweighted;
+  settings.bdpt_memory_bytes = size_t(opt.bdpt_memory_mib) << 20;
   Renderer renderer(ctx, scene, settings);
   if (reference && (reference->width != renderer.width() || reference->height != renderer.height()))
     throw Error(ExitCode::Usage, "--reference " + opt.reference + " is " +
@@ -215,7 +218,7 @@ int run(const Options& opt) {
   log::info((out.interrupted ? "interrupted: " : "") + std::string("rendered ") +
             std::to_string(film.samples_per_pixel) + " spp in " + std::to_string(st.render_seconds) +
             " s (" + std::to_string(paths / secs / 1e6) +
-            (integrator_splats(opt.integrator) ? " M light paths/s)" : " M camera paths/s)") +
+            (opt.integrator == "lt" ? " M light paths/s)" : " M camera paths/s)") +
             (film.samples_per_pixel > 0 ? ", wrote " + opt.output : std::string()));
   if (film.dropped_samples)
     log::warn(std::to_string(film.dropped_samples) + " NaN/Inf samples were dropped");
@@ -241,7 +244,7 @@ int run(const Options& opt) {
     j["spp"] = film.samples_per_pixel;
     j["max_depth"] = opt.max_depth;
     // lt traces spp x width x height light paths: the same count, from the other end.
-    j[integrator_splats(opt.integrator) ? "light_paths_per_second" : "camera_paths_per_second"] =
+    j[opt.integrator == "lt" ? "light_paths_per_second" : "camera_paths_per_second"] =
         paths / secs;
     j["rays"] = film.rays;
     j["rays_per_second"] = double(film.rays) / secs;

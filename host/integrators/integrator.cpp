@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "integrators/bdpt.h"
 #include "integrators/light_tracer.h"
 #include "integrators/megakernel.h"
 #include "util/error.h"
@@ -15,13 +16,14 @@ const std::vector<std::string>& integrator_names() {
 }
 
 bool integrator_implemented(const std::string& name) {
-  return name == "pt" || name == "lt" || name == "direct" || name == "ao";
+  return name == "pt" || name == "lt" || name == "bdpt" || name == "direct" || name == "ao";
 }
 
-bool integrator_splats(const std::string& name) { return name == "lt"; }
+bool integrator_splats(const std::string& name) { return name == "lt" || name == "bdpt"; }
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::Context& ctx,
-                                            const SceneBuffers& scene) {
+                                            const SceneBuffers& scene,
+                                            const IntegratorConfig& config) {
   const auto& names = integrator_names();
   if (std::find(names.begin(), names.end(), name) == names.end())
     throw Error(ExitCode::Usage, "--integrator " + name + ": unknown integrator");
@@ -30,10 +32,12 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::C
     return std::make_unique<MegakernelIntegrator>(ctx, scene, name == "pt" ? "pt" : "direct",
                                                   "integrators/pt.cl", "pt_render");
   if (name == "lt") return std::make_unique<LightTracer>(ctx, scene);
+  if (name == "bdpt")
+    return std::make_unique<BidirectionalPathTracer>(ctx, scene, config.path_memory_bytes);
   if (name == "ao")
     return std::make_unique<MegakernelIntegrator>(ctx, scene, "ao", "integrators/ao.cl", "ao_render");
   throw Error(ExitCode::Usage,
-              "--integrator " + name + ": not implemented yet (available: pt, lt, direct, ao)");
+              "--integrator " + name + ": not implemented yet (available: pt, lt, bdpt, direct, ao)");
 }
 
 }  // namespace clpt

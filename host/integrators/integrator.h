@@ -23,14 +23,20 @@ class Integrator {
   virtual const cl::BuildInfo& build_info() const = 0;
 };
 
+// Construction-time settings some integrators take.
+struct IntegratorConfig {
+  size_t path_memory_bytes = size_t(256) << 20;  // bdpt: light vertex buffer budget
+};
+
 // Names accepted by --integrator, and which of them are implemented.
 const std::vector<std::string>& integrator_names();
 bool integrator_implemented(const std::string& name);
-// Whether it splats (lt): its film needs a splat buffer and has no per-pixel variance.
+// Whether it splats (lt, bdpt): its film needs a splat buffer and has no per-pixel variance.
 bool integrator_splats(const std::string& name);
 
 // Throws Error(Usage) for an unknown or not yet implemented name.
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::Context& ctx,
-                                            const SceneBuffers& scene);
+                                            const SceneBuffers& scene,
+                                            const IntegratorConfig& config = {});
 
 }  // namespace clpt

@@ -63,10 +63,12 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
 
   params_.camera = camera_data(camera, width_, height_);
   // A light path reaches a camera only through a non-delta direction: not an orthographic one.
-  if (settings_.integrator == "lt" && params_.camera.type == dev::CAMERA_ORTHOGRAPHIC)
+  if ((settings_.integrator == "lt" || settings_.integrator == "bdpt") &&
+      params_.camera.type == dev::CAMERA_ORTHOGRAPHIC)
     throw Error(ExitCode::Usage,
-                "--integrator lt needs a perspective camera: light paths cannot reach an "
-                "orthographic camera (its rays all share one direction); use pt");
+                "--integrator " + settings_.integrator + " needs a perspective camera: light "
+                "paths cannot reach an orthographic camera (its rays all share one direction); "
+                "use pt");
   set_thin_lens(params_.camera, settings_.aperture, settings_.focus_distance, scene.bounds());
   params_.width = width_;
   params_.height = height_;
@@ -83,6 +85,9 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   params_.rr_absorb = settings_.rr_absorb;
   params_.branching = std::max<uint32_t>(1, settings_.branching);
   if (settings_.integrator == "direct") params_.max_depth = std::min<uint32_t>(params_.max_depth, 1);
+  params_.bdpt_s = settings_.bdpt_s;
+  params_.bdpt_t = settings_.bdpt_t;
+  params_.bdpt_unweighted = settings_.bdpt_unweighted ? 1u : 0u;
   params_.ao_radius = settings_.ao_radius > 0.0f
                           ? settings_.ao_radius
                           : 0.1f * glm::length(scene.bounds().extent());
@@ -91,7 +96,8 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   // kernel for its work-group size at the first launch, which belongs to start-up, not to
   // the first pass's timing.
   t0 = Clock::now();
-  integrator_ = make_integrator(settings_.integrator, ctx_, *scene_buffers_);
+  integrator_ = make_integrator(settings_.integrator, ctx_, *scene_buffers_,
+                                IntegratorConfig{settings_.bdpt_memory_bytes});
   dev::RenderParams warmup = params_;
   warmup.samples_per_pass = 0;
   integrator_->render_pass(warmup, *film_);

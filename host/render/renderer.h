@@ -34,6 +34,9 @@ struct RenderSettings {
   float rr_absorb = 0.5f;      // absorption probability with RR_FIXED
   uint32_t branching = 1;      // continuations from the first hit
   float ao_radius = 0.0f;      // ambient occlusion distance; 0: 10 % of the scene's diagonal
+  uint32_t bdpt_s = BDPT_ALL_STRATEGIES, bdpt_t = 0;  // --bdpt-strategy
+  bool bdpt_unweighted = false;
+  size_t bdpt_memory_bytes = size_t(256) << 20;  // light vertex buffer budget
   std::string camera;              // index or name; empty: the first camera or a default one
   std::string env_file;            // equirectangular environment map; empty: none
   float env_scale = 1.0f;          // multiplies the map

@@ -5,6 +5,8 @@
 #ifndef CLPT_FILM_FILM_CL
 #define CLPT_FILM_FILM_CL
 
+#include "shared/compat.h"
+
 typedef struct FilmPixel {
   float4 sum;    /* xyz: sum of radiance; w: dropped (non-finite) samples */
   float4 sum_sq; /* xyz: sum of squared radiance */

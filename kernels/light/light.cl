@@ -52,6 +52,7 @@ inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select
       break;
   }
   ls.pdf_w *= l->pdf_select;
+  ls.light = i;
   return ls;
 }
 
@@ -113,6 +114,94 @@ inline LightEmission light_emit(const SceneView* s, float u_select, float2 u_pos
   e.pdf_select = l->pdf_select;
   e.light = i;
   return e;
+}
+
+/* Densities of a light's two sampling techniques for one light point, in the form the
+ * bidirectional MIS weights use them (kernels/integrators/bdpt/bdpt_mis.cl; Georgiev 2012,
+ * SmallVCM's Illuminate/Emit/GetRadiance outputs):
+ *   direct     light_illuminate's density of the point: per unit area for area lights, per
+ *              steradian for the environment, the selection probability alone for delta
+ *              lights (their position or direction is certain);
+ *   emit_w     light_emit's density of the ray leaving that point in that direction: the
+ *              selection probability times the position's and the direction's densities;
+ *              the environment's and a directional light's position is a point of the disk
+ *              of the scene's bounding radius (1 / (pi r^2));
+ *   cos_light  the cosine at the light (area lights; 1 otherwise);
+ *   finite     whether the light is at a finite distance (not environment or directional). */
+typedef struct LightPdfs {
+  float direct;
+  float emit_w;
+  float cos_light;
+  int finite;
+} LightPdfs;
+
+inline float light_disk_pdf_a(const SceneView* s) {
+  const float r = s->info->bounds_radius;
+  return r > 0.0f ? INV_PI_F / (r * r) : 0.0f;
+}
+
+/* For an emitter triangle `tri` seen under cosine cos_light (a ray that hit it, or an NEE
+ * sample of it). */
+inline LightPdfs light_pdfs_area(const SceneView* s, u32 tri, float cos_light) {
+  LightPdfs q;
+  q.direct = 0.0f;
+  q.emit_w = 0.0f;
+  q.cos_light = cos_light;
+  q.finite = 1;
+  const int e = s->triangle_light[tri];
+  const float area = triangle_area(s, tri);
+  if (e < 0 || !(area > 0.0f) || !(cos_light > 0.0f)) return q;
+  const float side = (s->materials[s->triangles[tri].material].flags & MATERIAL_DOUBLE_SIDED) ? 0.5f : 1.0f;
+  q.direct = s->lights[e].pdf_select / area;
+  q.emit_w = q.direct * side * cos_light * INV_PI_F;
+  return q;
+}
+
+/* For the environment seen in direction w (towards the environment). */
+inline LightPdfs light_pdfs_env(const SceneView* s, float3 w) {
+  LightPdfs q;
+  q.direct = light_env_pdf_w(s, w);
+  q.emit_w = q.direct * light_disk_pdf_a(s);
+  q.cos_light = 1.0f;
+  q.finite = 0;
+  return q;
+}
+
+/* For a light_illuminate sample ls (valid: pdf_w > 0). */
+inline LightPdfs light_pdfs_sample(const SceneView* s, const LightSample* ls) {
+  const __global Light* l = &s->lights[ls->light];
+  if (l->type == LIGHT_TRIANGLE) {
+    float3 p0, p1, p2;
+    triangle_vertices(s, l->triangle, &p0, &p1, &p2);
+    const float3 ng = safe_normal(cross(p1 - p0, p2 - p0));
+    return light_pdfs_area(s, l->triangle, fabs(dot(ng, ls->wi)));
+  }
+  if (l->type == LIGHT_ENVIRONMENT) return light_pdfs_env(s, ls->wi);
+  LightPdfs q;
+  q.direct = l->pdf_select;
+  q.cos_light = 1.0f;
+  if (l->type == LIGHT_DIRECTIONAL) {
+    q.emit_w = l->pdf_select * light_disk_pdf_a(s);
+    q.finite = 0;
+  } else {
+    q.emit_w = l->pdf_select * (l->type == LIGHT_SPOT ? warp_uniform_cone_pdf(1.0f, l->cos_outer)
+                                                       : warp_uniform_sphere_pdf());
+    q.finite = 1;
+  }
+  return q;
+}
+
+/* For the ray light_emit returned (e valid). */
+inline LightPdfs light_pdfs_emission(const SceneView* s, const LightEmission* e) {
+  const __global Light* l = &s->lights[e->light];
+  LightPdfs q;
+  q.emit_w = e->pdf_select * e->pdf_a * e->pdf_w;
+  q.cos_light = e->cos_light;
+  q.finite = l->type != LIGHT_ENVIRONMENT && l->type != LIGHT_DIRECTIONAL;
+  if (l->type == LIGHT_TRIANGLE) q.direct = e->pdf_select * e->pdf_a;
+  else if (l->type == LIGHT_ENVIRONMENT) q.direct = e->pdf_select * e->pdf_w;
+  else q.direct = e->pdf_select;
+  return q;
 }
 
 #endif

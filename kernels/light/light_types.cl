@@ -14,6 +14,7 @@ typedef struct LightSample {
   float pdf_w;   /* solid-angle density at the shading point including the light's selection
                   * probability; for delta lights the selection probability alone. 0: invalid */
   int is_delta;  /* point, spot, directional: no BSDF sample can find it (no MIS weight) */
+  u32 light;     /* index of the chosen light in the light table */
 } LightSample;
 
 /* The invalid sample at shading point p (pdf_w 0): where every illuminate starts. */
@@ -25,6 +26,7 @@ inline LightSample light_sample_none(float3 p) {
   ls.Le = (float3)(0.0f);
   ls.pdf_w = 0.0f;
   ls.is_delta = 0;
+  ls.light = 0u;
   return ls;
 }
 

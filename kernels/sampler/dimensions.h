@@ -28,6 +28,9 @@
  * (--branching) draw from their own streams of dimensions: stream = branch * 256 + light
  * sample index; stream 0 is the plain path. */
 #define DIM_STREAM_STRIDE 0x10000u
+/* BDPT's light subpath shares its camera subpath's sampler key (kernels/integrators/bdpt/),
+ * with the light tracer's layout in a stream of its own. */
+#define DIM_BDPT_LIGHT_STREAM 0xff00u
 #define DIM_STREAMS_PER_BRANCH 256u
 
 inline u32 bounce_dim(u32 bounce, u32 offset) {

@@ -61,8 +61,13 @@ typedef struct RenderParams {
   float rr_absorb;      /* absorption probability for RR_FIXED */
   u32 branching;        /* secondary rays at the first hit (>= 1; 1 = path tracing) */
   float ao_radius;      /* ambient occlusion: occluders farther than this do not count */
-  u32 pad;
+  u32 bdpt_s;           /* --bdpt-strategy: light vertices of the one strategy that contributes; */
+  u32 bdpt_t;           /*   camera vertices; BDPT_ALL_STRATEGIES in bdpt_s: every strategy */
+  u32 bdpt_unweighted;  /* 1: that strategy without its MIS weight */
+  u32 light_vertex_capacity; /* bdpt: light vertices stored per light subpath */
 } RenderParams;
+
+#define BDPT_ALL_STRATEGIES 0xffffffffu
 
 CLPT_END_SHARED
 

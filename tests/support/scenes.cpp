@@ -48,4 +48,40 @@ double furnace_radiance(double rho, double Le, unsigned max_depth) {
 
 Scene cornell_box() { return load_gltf(std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf"); }
 
+Scene cornell_box_glossy_glass() {
+  Scene scene = cornell_box();
+  Material metal = scene.materials[0];
+  metal.name = "glossy_metal";
+  metal.base_color = glm::vec4(0.9f, 0.8f, 0.6f, 1.0f);
+  metal.metallic = 1.0f;
+  metal.roughness = 0.3f;
+  metal.specular = 1.0f;
+  Material glass = scene.materials[0];
+  glass.name = "glass";
+  glass.base_color = glm::vec4(1.0f);
+  glass.metallic = 0.0f;
+  glass.roughness = 0.0f;
+  glass.specular = 1.0f;
+  glass.transmission = 1.0f;
+  glass.ior = 1.5f;
+  const auto metal_index = static_cast<uint32_t>(scene.materials.size());
+  scene.materials.push_back(metal);
+  scene.materials.push_back(glass);
+  // The blocks' triangles, by their centroids (scenes/cornell_box.gltf: the short block
+  // spans x 0.266..0.474, z -0.272..-0.065; the tall one x 0.084..0.291, z -0.456..-0.247).
+  auto inside = [](glm::vec3 c, glm::vec3 lo, glm::vec3 hi) {
+    return glm::all(glm::greaterThan(c, lo - 1e-3f)) && glm::all(glm::lessThan(c, hi + 1e-3f));
+  };
+  for (size_t i = 0; i < scene.triangles.size(); ++i) {
+    const glm::uvec3 t = scene.triangles[i];
+    const glm::vec3 c = (scene.positions[t.x] + scene.positions[t.y] + scene.positions[t.z]) / 3.0f;
+    if (c.y <= 1e-4f) continue;  // the floor
+    if (inside(c, {0.266f, 0.0f, -0.272f}, {0.474f, 0.165f, -0.065f}))
+      scene.triangle_materials[i] = metal_index + 1;
+    else if (inside(c, {0.084f, 0.0f, -0.456f}, {0.291f, 0.33f, -0.247f}))
+      scene.triangle_materials[i] = metal_index;
+  }
+  return scene;
+}
+
 }  // namespace clpt::test

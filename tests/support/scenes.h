@@ -18,4 +18,9 @@ double furnace_radiance(double rho, double Le, unsigned max_depth);
 // The project's Cornell box (scenes/cornell_box.gltf).
 Scene cornell_box();
 
+// The Cornell box with a glossy metal tall block (GGX alpha 0.09, roughness 0.3) and a smooth
+// glass short block (transmission 1, IOR 1.5): caustics on the floor, the light seen through
+// and in delta surfaces.
+Scene cornell_box_glossy_glass();
+
 }  // namespace clpt::test

@@ -1,0 +1,65 @@
+#include "integrators/bdpt.h"
+
+#include <algorithm>
+
+#include "shared/bdpt_types.h"
+#include "util/error.h"
+
+namespace clpt {
+
+static_assert(sizeof(dev::PathVertex) == 128, "PathVertex should stay 128 bytes");
+
+BidirectionalPathTracer::BidirectionalPathTracer(const cl::Context& ctx, const SceneBuffers& scene,
+                                                 size_t path_memory_bytes)
+    : ctx_(ctx),
+      budget_(path_memory_bytes),
+      program_(ctx, "integrators/bdpt.cl"),
+      light_kernel_(program_, "bdpt_light"),
+      camera_kernel_(program_, "bdpt_camera"),
+      params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
+  light_arg_ = scene.bind(light_kernel_, 0);
+  camera_arg_ = scene.bind(camera_kernel_, 0);
+}
+
+uint32_t BidirectionalPathTracer::vertex_capacity(uint32_t max_depth) {
+  return std::max<uint32_t>(max_depth, 2u) - 1u;
+}
+
+size_t BidirectionalPathTracer::tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels) {
+  const size_t per_path = size_t(capacity) * sizeof(dev::PathVertex) + sizeof(uint32_t);
+  return std::clamp<size_t>(budget_bytes / per_path, 1, std::max<size_t>(pixels, 1));
+}
+
+void BidirectionalPathTracer::ensure_buffers(uint32_t capacity, size_t tile) {
+  if (capacity == capacity_ && tile == tile_) return;
+  vertices_ = cl::Buffer(ctx_, size_t(capacity) * tile * sizeof(dev::PathVertex), CL_MEM_READ_WRITE,
+                         nullptr, "BDPT light vertices");
+  vertex_counts_ = cl::Buffer(ctx_, tile * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
+                              "BDPT light vertex counts");
+  capacity_ = capacity;
+  tile_ = tile;
+}
+
+void BidirectionalPathTracer::render_pass(const dev::RenderParams& params, Film& film) {
+  if (!film.splats()) throw Error(ExitCode::Usage, "bdpt needs a film with splats");
+  dev::RenderParams p = params;
+  p.light_vertex_capacity = vertex_capacity(p.max_depth);
+  const size_t pixels = film.pixels();
+  ensure_buffers(p.light_vertex_capacity, tile_paths(budget_, p.light_vertex_capacity, pixels));
+  params_.write(&p, sizeof(p));
+  for (uint32_t i = 0; i < p.samples_per_pass; ++i) {
+    const uint32_t sample = p.sample_offset + i;
+    for (size_t offset = 0; offset < pixels; offset += tile_) {
+      const auto count = static_cast<uint32_t>(std::min(tile_, pixels - offset));
+      const auto first = static_cast<uint32_t>(offset);
+      light_kernel_.args(light_arg_, params_, sample, first, count, vertices_, vertex_counts_,
+                         film.splat(), film.ray_counts());
+      light_kernel_.launch(ctx_, count);
+      camera_kernel_.args(camera_arg_, params_, sample, first, count, vertices_, vertex_counts_,
+                          film.sum(), film.sum_sq(), film.ray_counts());
+      camera_kernel_.launch(ctx_, count);
+    }
+  }
+}
+
+}  // namespace clpt

@@ -1,0 +1,44 @@
+/* Entry points of bidirectional path tracing (--integrator bdpt). Per sample index, over a
+ * range of pixels [path_offset, path_offset + path_count) (the host tiles the image so the
+ * light vertex buffer stays within its memory budget):
+ *   bdpt_light   one light subpath per pixel index: t = 1 strategies splatted, connectable
+ *                vertices stored (kernels/integrators/bdpt/light_path.cl);
+ *   bdpt_camera  one camera subpath per pixel, joined with the light subpath of the same
+ *                index (kernels/integrators/bdpt/camera_path.cl), added to the film.
+ * Both use the sampler key (pixel, sample index), in disjoint dimension streams. */
+#include "integrators/bdpt/camera_path.cl"
+#include "film/film.cl"
+
+__kernel void bdpt_light(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 sample_index,
+                         u32 path_offset, u32 path_count, __global PathVertex* vertices,
+                         __global u32* vertex_counts, __global float4* splat,
+                         __global u32* ray_counts) {
+  const u32 i = get_global_id(0);
+  if (i >= path_count) return;
+  const u32 path = path_offset + i;
+  const SceneView scene = SCENE_VIEW();
+  const Sampler sampler = sampler_init(params, path, sample_index);
+  u32 rays = 0;
+  vertex_counts[i] = bdpt_light_path(params, &scene, &sampler,
+                                     vertices + (size_t)i * params->light_vertex_capacity, splat, &rays);
+  ray_counts[path] += rays;
+}
+
+__kernel void bdpt_camera(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 sample_index,
+                          u32 path_offset, u32 path_count, __global const PathVertex* vertices,
+                          __global const u32* vertex_counts, __global float4* film_sum,
+                          __global float4* film_sum_sq, __global u32* ray_counts) {
+  const u32 i = get_global_id(0);
+  if (i >= path_count) return;
+  const u32 pixel = path_offset + i;
+  const SceneView scene = SCENE_VIEW();
+  const Sampler sampler = sampler_init(params, pixel, sample_index);
+  u32 rays = 0;
+  FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
+  film_add(&film, bdpt_camera_path(params, &scene, &sampler, pixel % params->width,
+                                   pixel / params->width,
+                                   vertices + (size_t)i * params->light_vertex_capacity,
+                                   vertex_counts[i], &rays));
+  film_store(film_sum, film_sum_sq, pixel, &film);
+  ray_counts[pixel] += rays;
+}

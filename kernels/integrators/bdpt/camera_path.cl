@@ -1,0 +1,142 @@
+/* BDPT's camera subpath: traced like pt's path (kernels/integrators/path_trace.cl) from a
+ * pixel, and at each camera vertex z_k (k = 1 for the first hit, so t = k + 1 camera vertices
+ * counting the camera itself) it gathers the strategies that end there:
+ *   s = 0   the subpath hits an emitter (or escapes to the environment),
+ *   s = 1   next-event estimation: a fresh light sample,
+ *   s >= 2  a connection to light vertex y_(s-1) of the light subpath with the same key,
+ * each for paths of at most max_depth bounces (s + t - 2 <= max_depth), weighted by
+ * kernels/integrators/bdpt/mis.cl. */
+#ifndef CLPT_INTEGRATORS_BDPT_CAMERA_PATH_CL
+#define CLPT_INTEGRATORS_BDPT_CAMERA_PATH_CL
+
+#include "camera/pixel_ray.cl"
+#include "integrators/bdpt/light_path.cl"
+
+/* s = 1 at camera vertex sh (oriented to wo), k = its index. */
+inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, const Sampler* sampler,
+                       const SurfaceHit* sh, float3 wo, const SubpathState* st, u32 k, u32* rays) {
+  if (s->num_lights == 0u) return (float3)(0.0f);
+  if (bdpt_strategy_weight(p, 1u, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
+  const LightSample ls = light_illuminate(s, sh->p, sample_1d(sampler, bounce_dim(k - 1u, DIM_LIGHT_SELECT)),
+                                          sample_2d(sampler, bounce_dim(k - 1u, DIM_LIGHT_POINT)));
+  if (!(ls.pdf_w > 0.0f) || is_black(ls.Le)) return (float3)(0.0f);
+  const float3 f = bsdf_eval_cos(sh, wo, ls.wi, TRANSPORT_RADIANCE);
+  if (is_black(f)) return (float3)(0.0f);
+  const LightPdfs q = light_pdfs_sample(s, &ls);
+  const float direct_w = q.finite ? q.direct * ls.dist * ls.dist / q.cos_light : q.direct;
+  const float w = bdpt_weight_nee(p, st, ls.pdf_w, ls.is_delta, direct_w, q.emit_w, q.cos_light,
+                                  bsdf_pdf_w(sh, wo, ls.wi), bsdf_pdf_w(sh, ls.wi, wo),
+                                  fabs(dot(sh->ng, ls.wi)));
+  ++*rays;
+  const float3 org = offset_ray_origin(sh->p, dot(ls.wi, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
+  if (intersect_any(s, org, ls.wi, ls.dist * (1.0f - 1e-4f))) return (float3)(0.0f);
+  return f * ls.Le * (bdpt_strategy_weight(p, 1u, k + 1u, w) / ls.pdf_w);
+}
+
+/* s >= 2: camera vertex sh (oriented to wo, index k) joined to stored light vertex v. */
+inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s, const SurfaceHit* sh,
+                           float3 wo, const SubpathState* st, u32 k, __global const PathVertex* v,
+                           u32* rays) {
+  const u32 s_count = v->depth + 1u;
+  if (s_count + k - 1u > p->max_depth) return (float3)(0.0f);
+  if (bdpt_strategy_weight(p, s_count, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
+  const SurfaceHit y = path_vertex_surface(v);
+  const float3 d = y.p - sh->p;
+  const float dist2 = dot(d, d);
+  if (!(dist2 > 0.0f)) return (float3)(0.0f);
+  const float dist = sqrt(dist2);
+  const float3 dir = d / dist; /* camera vertex -> light vertex */
+  const float3 y_wo = vload3(0, v->wo);
+  const float3 f_cam = bsdf_eval_cos(sh, wo, dir, TRANSPORT_RADIANCE);
+  if (is_black(f_cam)) return (float3)(0.0f);
+  const float3 f_light =
+      bsdf_eval_cos(&y, y_wo, -dir, TRANSPORT_IMPORTANCE) * lt_shading_correction(&y, y_wo, -dir);
+  if (is_black(f_light)) return (float3)(0.0f);
+  SubpathState ls;
+  ls.beta = vload3(0, v->beta);
+  ls.dvcm = v->dvcm;
+  ls.dvc = v->dvc;
+  ls.dvm = v->dvm;
+  const float cos_cam = fabs(dot(sh->ng, dir)), cos_light = fabs(dot(y.ng, dir));
+  const float w = bdpt_weight_connect(p, st, &ls, bsdf_pdf_w(sh, wo, dir) * cos_light / dist2,
+                                      bsdf_pdf_w(sh, dir, wo),
+                                      bsdf_pdf_w(&y, y_wo, -dir) * cos_cam / dist2,
+                                      bsdf_pdf_w(&y, -dir, y_wo));
+  ++*rays;
+  const float3 org = offset_ray_origin(sh->p, dot(dir, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
+  if (intersect_any(s, org, dir, dist * (1.0f - 1e-4f))) return (float3)(0.0f);
+  return f_cam * f_light * ls.beta * volume_transmittance(s, sh, dir, dist) *
+         (bdpt_strategy_weight(p, s_count, k + 1u, w) / dist2);
+}
+
+/* The camera subpath of one pixel sample joined with light subpath `lv` (`count` vertices);
+ * returns the pixel's estimate from every strategy with t >= 2. */
+inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView* s,
+                               const Sampler* sampler, u32 x, u32 y,
+                               __global const PathVertex* lv, u32 count, u32* rays) {
+  float3 org, dir;
+  pixel_ray(p, sampler, x, y, &org, &dir);
+  SubpathState st;
+  st.beta = (float3)(1.0f);
+  st.dvcm = bdpt_mis(p, 1.0f / camera_ray_pdf_w(&p->camera, dir));
+  st.dvc = 0.0f;
+  st.dvm = 0.0f;
+  float3 L = (float3)(0.0f);
+  float3 walk = (float3)(1.0f); /* BSDF weights alone, for Russian roulette as in pt */
+  SurfaceHit prev;
+  for (u32 k = 1u;; ++k) {
+    Hit hit;
+    ++*rays;
+    if (!intersect_closest(s, org, dir, INFINITY, &hit)) {
+      /* s = 0 through the environment; seen directly it has no other strategy. */
+      if (env_present(s)) {
+        const LightPdfs q = light_pdfs_env(s, dir);
+        const float w = k == 1u ? 1.0f : bdpt_weight_hit_light(p, &st, q.direct, q.emit_w);
+        L += st.beta * env_radiance(s, dir) * bdpt_strategy_weight(p, 0u, k + 1u, w);
+      }
+      break;
+    }
+    if (k > 1u) st.beta *= volume_transmittance(s, &prev, dir, hit.t);
+    SurfaceHit sh = surface_shade(s, &hit, org, dir);
+    const float3 wo = -dir;
+    const float cos_in = fabs(dot(sh.ng, wo));
+    bdpt_mis_arrive(p, &st, hit.t, cos_in, 1);
+    /* s = 0: an emitter hit; seen directly (k = 1) it has weight 1 (s = 1, t = 1 is left out). */
+    const float3 Le = light_radiance(s, &sh, wo);
+    if (!is_black(Le)) {
+      float w = 1.0f;
+      if (k > 1u) {
+        const LightPdfs q = light_pdfs_area(s, sh.triangle, cos_in);
+        w = bdpt_weight_hit_light(p, &st, q.direct, q.emit_w);
+      }
+      L += st.beta * Le * bdpt_strategy_weight(p, 0u, k + 1u, w);
+    }
+    if (k > p->max_depth) break;
+    bsdf_orient(&sh, wo);
+    if (bsdf_has_smooth_lobe(&sh)) {
+      L += st.beta * bdpt_nee(p, s, sampler, &sh, wo, &st, k, rays);
+      for (u32 i = 0u; i < count; ++i) L += st.beta * bdpt_connect(p, s, &sh, wo, &st, k, lv + i, rays);
+    }
+    const BsdfSample bs =
+        bsdf_sample(&sh, wo, sample_2d(sampler, bounce_dim(k - 1u, DIM_BSDF_DIR)),
+                    sample_1d(sampler, bounce_dim(k - 1u, DIM_BSDF_LOBE)), TRANSPORT_RADIANCE);
+    if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
+    bdpt_mis_scatter(p, &st, bs.pdf_w, bs.is_delta ? bs.pdf_w : bsdf_pdf_w(&sh, bs.wi, wo),
+                     fabs(dot(sh.ng, bs.wi)), bs.is_delta);
+    st.beta *= bs.weight;
+    walk *= bs.weight;
+    if (k >= p->rr_depth) {
+      const float survive =
+          p->rr == RR_FIXED ? 1.0f - p->rr_absorb : fmin(1.0f, max_component(walk));
+      if (!(sample_1d(sampler, bounce_dim(k - 1u, DIM_RR)) < survive)) break;
+      st.beta /= survive;
+      walk /= survive;
+    }
+    prev = sh;
+    org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);
+    dir = bs.wi;
+  }
+  return L;
+}
+
+#endif

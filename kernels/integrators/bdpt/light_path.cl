@@ -1,0 +1,113 @@
+/* BDPT's light subpath (Veach 1997 ch. 10; Georgiev 2012): traced from a light like the
+ * light tracer's paths (kernels/integrators/light_trace.cl), with the MIS state of
+ * kernels/integrators/bdpt/mis.cl. Each surface vertex y_k with a non-delta BSDF
+ *   - connects to the camera (strategy s = k + 1, t = 1) and splats its weighted share, and
+ *   - is stored for the camera kernel's connections when k < max_depth (the strategies
+ *     s = k + 1, t >= 2 need at most max_depth bounces: s + t - 2 <= max_depth).
+ * The light's own vertex y_0 is not stored: strategies with s = 1 sample a fresh light point
+ * (next-event estimation), as in SmallVCM.
+ *
+ * The sampler: the same key (pixel index, sample index) as the camera subpath it will be
+ * joined with, in its own stream of dimensions (DIM_BDPT_LIGHT_STREAM), laid out like a light
+ * tracer's path. */
+#ifndef CLPT_INTEGRATORS_BDPT_LIGHT_PATH_CL
+#define CLPT_INTEGRATORS_BDPT_LIGHT_PATH_CL
+
+#include "integrators/bdpt/mis.cl"
+#include "integrators/light_trace.cl"
+#include "material/volume.cl"
+
+inline float bdpt_light_sample_1d(const Sampler* sampler, u32 dim) {
+  return sample_1d(sampler, stream_dim(dim, DIM_BDPT_LIGHT_STREAM));
+}
+inline float2 bdpt_light_sample_2d(const Sampler* sampler, u32 dim) {
+  return sample_2d(sampler, stream_dim(dim, DIM_BDPT_LIGHT_STREAM));
+}
+
+/* t = 1: light vertex sh (oriented to wo, towards the light) connected to the camera. */
+inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneView* s,
+                                const SurfaceHit* sh, float3 wo, const SubpathState* st,
+                                u32 depth, float2 u_lens, __global float4* splat, u32* rays) {
+  const float strategy = bdpt_strategy_weight(p, depth + 1u, 1u, 1.0f);
+  if (strategy == 0.0f) return;
+  const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
+  if (!c.valid) return;
+  const float3 f = bsdf_eval_cos(sh, wo, c.wi, TRANSPORT_IMPORTANCE) * lt_shading_correction(sh, wo, c.wi);
+  if (is_black(f)) return;
+  const float camera_pdf_a = c.pdf_w * fabs(dot(sh->ng, c.wi)) / (c.dist * c.dist);
+  const float rev = bsdf_pdf_w(sh, c.wi, wo);
+  const float w = bdpt_strategy_weight(p, depth + 1u, 1u, bdpt_weight_camera(p, st, camera_pdf_a, rev));
+  ++*rays;
+  const float3 org = offset_ray_origin(sh->p, dot(c.wi, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
+  if (intersect_any(s, org, c.wi, c.dist * (1.0f - 1e-4f))) return;
+  film_splat(splat, lt_pixel(p, &c), st->beta * f * (c.weight * w));
+}
+
+/* Traces one light subpath, stores its connectable vertices in `out` (capacity
+ * p->light_vertex_capacity) and returns how many it stored. */
+inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
+                           const Sampler* sampler, __global PathVertex* out,
+                           __global float4* splat, u32* rays) {
+  if (s->num_lights == 0u) return 0u;
+  const LightEmission e = light_emit(s, bdpt_light_sample_1d(sampler, bounce_dim(0u, DIM_LIGHT_SELECT)),
+                                     bdpt_light_sample_2d(sampler, DIM_LT_EMIT_POS),
+                                     bdpt_light_sample_2d(sampler, DIM_LT_EMIT_DIR));
+  if (!(e.pdf_a > 0.0f && e.pdf_w > 0.0f && e.pdf_select > 0.0f) || is_black(e.Le)) return 0u;
+  const LightPdfs q = light_pdfs_emission(s, &e);
+  SubpathState st;
+  st.beta = e.Le * (e.cos_light / q.emit_w);
+  st.dvcm = bdpt_mis(p, q.direct / q.emit_w);
+  st.dvc = (e.is_delta_pos || e.is_delta_dir) ? 0.0f : bdpt_mis(p, q.cos_light / q.emit_w);
+  st.dvm = 0.0f;
+
+  float3 org = e.p, dir = e.dir;
+  const __global Light* light = &s->lights[e.light];
+  if (light->type == LIGHT_TRIANGLE) {
+    float3 p0, p1, p2;
+    triangle_vertices(s, light->triangle, &p0, &p1, &p2);
+    const float3 ng = safe_normal(cross(p1 - p0, p2 - p0));
+    org = offset_ray_origin(e.p, dot(dir, ng) >= 0.0f ? ng : -ng);
+  }
+  u32 stored = 0u;
+  float3 walk = (float3)(1.0f); /* the BSDF weights alone, which Russian roulette looks at */
+  SurfaceHit prev;
+  for (u32 depth = 1u; depth <= p->max_depth; ++depth) {
+    Hit hit;
+    ++*rays;
+    if (!intersect_closest(s, org, dir, INFINITY, &hit)) break;
+    if (depth > 1u) st.beta *= volume_transmittance(s, &prev, dir, hit.t);
+    SurfaceHit sh = surface_shade(s, &hit, org, dir);
+    const float3 wo = -dir;
+    bdpt_mis_arrive(p, &st, hit.t, fabs(dot(sh.ng, wo)), depth > 1u || q.finite);
+    bsdf_orient(&sh, wo);
+    if (bsdf_has_smooth_lobe(&sh)) {
+      if (depth < p->max_depth && stored < p->light_vertex_capacity)
+        path_vertex_store(out + stored++, &sh, wo, &st, depth);
+      bdpt_connect_camera(p, s, &sh, wo, &st, depth,
+                          bdpt_light_sample_2d(sampler, bounce_dim(depth, DIM_LT_LENS)), splat, rays);
+    }
+    if (depth >= p->max_depth) break;
+    const BsdfSample bs =
+        bsdf_sample(&sh, wo, bdpt_light_sample_2d(sampler, bounce_dim(depth, DIM_BSDF_DIR)),
+                    bdpt_light_sample_1d(sampler, bounce_dim(depth, DIM_BSDF_LOBE)), TRANSPORT_IMPORTANCE);
+    if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
+    bdpt_mis_scatter(p, &st, bs.pdf_w, bs.is_delta ? bs.pdf_w : bsdf_pdf_w(&sh, bs.wi, wo),
+                     fabs(dot(sh.ng, bs.wi)), bs.is_delta);
+    const float3 scatter = bs.weight * lt_shading_correction(&sh, wo, bs.wi);
+    st.beta *= scatter;
+    walk *= scatter;
+    if (depth + 1u >= p->rr_depth) {
+      const float survive =
+          p->rr == RR_FIXED ? 1.0f - p->rr_absorb : fmin(1.0f, max_component(walk));
+      if (!(bdpt_light_sample_1d(sampler, bounce_dim(depth, DIM_RR)) < survive)) break;
+      st.beta /= survive;
+      walk /= survive;
+    }
+    prev = sh;
+    org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);
+    dir = bs.wi;
+  }
+  return stored;
+}
+
+#endif

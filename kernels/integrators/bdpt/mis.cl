@@ -1,0 +1,110 @@
+/* Bidirectional MIS weights in O(1) per strategy, after Georgiev, "Implementing Vertex
+ * Connection and Merging" (2012), with merging left out (dVM is carried, its factor is 0).
+ *
+ * A path x0 ... xk can be sampled by k + 2 strategies (s light vertices, t camera vertices,
+ * s + t = k + 1). The balance or power heuristic weight of one of them is 1 / sum_i (p_i/p_s)^b,
+ * and the ratios p_i / p_s telescope: each subpath carries, at its last vertex, two partial
+ * sums (dVCM, dVC) from which a strategy's weight needs only the densities at the connection.
+ * The quantities (per subpath, updated as it is traced):
+ *   start (light):   dVCM = direct / emit_w, dVC = cos_light / emit_w (0 for delta lights)
+ *   start (camera):  dVCM = N_light / pdf_camera_pixel = 1 / pdf_camera_film, dVC = 0
+ *   each hit, distance d, cosine cos_in at the hit:  dVCM *= d^2 (not after an infinite light's
+ *                    first segment), then dVCM /= cos_in, dVC /= cos_in
+ *   each non-delta scattering with pdfs fwd (sampled) and rev (the reverse direction),
+ *                    cos_out at the vertex:
+ *                    dVC = cos_out / fwd * (dVC * rev + dVCM), dVCM = 1 / fwd
+ *   each delta scattering: dVCM = 0, dVC *= cos_out
+ * all raised to the heuristic's power. Densities convert between solid angle and area with
+ * geometric-normal cosines; Russian roulette stays out of the weights (a partition of unity
+ * over strategies is all the estimator needs, as in pbrt-v3's BDPT).
+ *
+ * N_light, the light paths per camera path, is width * height: each sample index traces one
+ * light path per pixel, so the light tracing strategy (t = 1) takes that many samples per
+ * pixel against one for the camera strategies. The strategy s = 1, t = 1 (a light point seen
+ * by the camera) is left out, as in SmallVCM: a light seen directly (s = 0, t = 2) has weight 1. */
+#ifndef CLPT_INTEGRATORS_BDPT_MIS_CL
+#define CLPT_INTEGRATORS_BDPT_MIS_CL
+
+#include "integrators/bdpt/path_vertex.cl"
+#include "shared/render_types.h"
+
+inline float bdpt_mis(__constant const RenderParams* p, float x) {
+  return p->mis == MIS_BALANCE ? x : x * x;
+}
+
+/* Arrival at a hit at distance dist under cosine cos_in (geometric); `scale_by_distance` is 0
+ * only for the first segment of a light path from an infinite light. */
+inline void bdpt_mis_arrive(__constant const RenderParams* p, SubpathState* st, float dist,
+                            float cos_in, int scale_by_distance) {
+  if (scale_by_distance) st->dvcm *= bdpt_mis(p, dist * dist);
+  const float c = bdpt_mis(p, cos_in);
+  st->dvcm /= c;
+  st->dvc /= c;
+  st->dvm /= c;
+}
+
+/* Scattering into a direction of density fwd (rev: the reverse direction's density), leaving
+ * under cosine cos_out (geometric); delta: the direction came from a Dirac lobe. */
+inline void bdpt_mis_scatter(__constant const RenderParams* p, SubpathState* st, float fwd,
+                             float rev, float cos_out, int delta) {
+  if (delta) {
+    st->dvcm = 0.0f;
+    st->dvc *= bdpt_mis(p, cos_out);
+    st->dvm *= bdpt_mis(p, cos_out);
+    return;
+  }
+  st->dvc = bdpt_mis(p, cos_out / fwd) * (st->dvc * bdpt_mis(p, rev) + st->dvcm);
+  st->dvm = 0.0f;
+  st->dvcm = bdpt_mis(p, 1.0f / fwd);
+}
+
+/* s = 0: the camera subpath (state cam, after arriving) hit a light. q: the light's densities
+ * for that point (direct per area or, for the environment, per steradian). */
+inline float bdpt_weight_hit_light(__constant const RenderParams* p, const SubpathState* cam,
+                                   float direct, float emit_w) {
+  const float w_camera = bdpt_mis(p, direct) * cam->dvcm + bdpt_mis(p, emit_w) * cam->dvc;
+  return 1.0f / (1.0f + w_camera);
+}
+
+/* s = 1: next-event estimation from a camera vertex. pdf_w: light_illuminate's solid-angle
+ * density (0 for delta lights, which BSDF sampling cannot find); direct_w: the same density in
+ * SmallVCM's convention (a point light's delta position: selection * d^2); fwd, rev: the
+ * camera vertex's BSDF densities towards the light and back; cos_here: geometric cosine at
+ * the camera vertex. */
+inline float bdpt_weight_nee(__constant const RenderParams* p, const SubpathState* cam, float pdf_w,
+                             int delta, float direct_w, float emit_w, float cos_light, float fwd,
+                             float rev, float cos_here) {
+  const float w_light = delta ? 0.0f : bdpt_mis(p, fwd / pdf_w);
+  const float w_camera =
+      bdpt_mis(p, emit_w * cos_here / (direct_w * cos_light)) * (cam->dvcm + cam->dvc * bdpt_mis(p, rev));
+  return 1.0f / (w_light + 1.0f + w_camera);
+}
+
+/* t = 1: a light vertex connected to the camera. camera_pdf_a: the density with which a camera
+ * ray would find the vertex, per unit area and per light path (pdf_camera_film cos / d^2);
+ * rev: the vertex's density of scattering back along the light subpath given the camera side. */
+inline float bdpt_weight_camera(__constant const RenderParams* p, const SubpathState* light,
+                                float camera_pdf_a, float rev) {
+  const float w_light = bdpt_mis(p, camera_pdf_a) * (light->dvcm + light->dvc * bdpt_mis(p, rev));
+  return 1.0f / (w_light + 1.0f);
+}
+
+/* s >= 2, t >= 2: camera vertex and light vertex joined by an edge. *_fwd_a: each end's BSDF
+ * density of sampling the other end, per unit area; *_rev: each end's density of scattering
+ * back along its own subpath given the edge. */
+inline float bdpt_weight_connect(__constant const RenderParams* p, const SubpathState* cam,
+                                 const SubpathState* light, float cam_fwd_a, float cam_rev,
+                                 float light_fwd_a, float light_rev) {
+  const float w_light = bdpt_mis(p, cam_fwd_a) * (light->dvcm + light->dvc * bdpt_mis(p, light_rev));
+  const float w_camera = bdpt_mis(p, light_fwd_a) * (cam->dvcm + cam->dvc * bdpt_mis(p, cam_rev));
+  return 1.0f / (w_light + 1.0f + w_camera);
+}
+
+/* Whether strategy (s, t) contributes (--bdpt-strategy), and with which weight. */
+inline float bdpt_strategy_weight(__constant const RenderParams* p, u32 s, u32 t, float w) {
+  if (p->bdpt_s == BDPT_ALL_STRATEGIES) return w;
+  if (s != p->bdpt_s || t != p->bdpt_t) return 0.0f;
+  return p->bdpt_unweighted ? 1.0f : w;
+}
+
+#endif

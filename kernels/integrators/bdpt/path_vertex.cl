@@ -1,0 +1,64 @@
+/* Light vertices between BDPT's two kernels: a SurfaceHit's BSDF-relevant part and the
+ * subpath state at it, packed into a PathVertex (kernels/shared/bdpt_types.h). */
+#ifndef CLPT_INTEGRATORS_BDPT_PATH_VERTEX_CL
+#define CLPT_INTEGRATORS_BDPT_PATH_VERTEX_CL
+
+#include "core/surface.cl"
+#include "shared/bdpt_types.h"
+
+/* The state of a subpath being traced (Georgiev 2012, SmallVCM's SubPathState). */
+typedef struct SubpathState {
+  float3 beta;    /* throughput */
+  float dvcm;     /* dVCM: the reverse pdf ratios of the strategies that end here */
+  float dvc;      /* dVC: the partial sum for vertex connection */
+  float dvm;      /* dVM: the partial sum for vertex merging (0 until merging exists) */
+} SubpathState;
+
+inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* sh, float3 wo,
+                              const SubpathState* st, u32 depth) {
+  vstore3(sh->p, 0, v->p);
+  vstore3(sh->ng, 0, v->ng);
+  vstore3(sh->ns, 0, v->ns);
+  vstore3(wo, 0, v->wo);
+  vstore3(st->beta, 0, v->beta);
+  vstore3(sh->bsdf.base_color, 0, v->base_color);
+  vstore3(sh->bsdf.specular_color, 0, v->specular_color);
+  v->metallic = sh->bsdf.metallic;
+  v->roughness = sh->bsdf.roughness;
+  v->specular = sh->bsdf.specular;
+  v->transmission = sh->bsdf.transmission;
+  v->ior = sh->bsdf.ior;
+  v->dvcm = st->dvcm;
+  v->dvc = st->dvc;
+  v->dvm = st->dvm;
+  v->front = sh->front;
+  v->depth = depth;
+  v->material = sh->material;
+}
+
+/* The SurfaceHit a stored vertex stands for: enough for bsdf_eval_cos, bsdf_pdf_w and
+ * volume_transmittance (no uv, colour or tangent: the BSDF was resolved when stored). */
+inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
+  SurfaceHit sh;
+  sh.p = vload3(0, v->p);
+  sh.ng = vload3(0, v->ng);
+  sh.ns = vload3(0, v->ns);
+  sh.uv = (float2)(0.0f);
+  sh.uv1 = (float2)(0.0f);
+  sh.color = (float4)(1.0f);
+  sh.tangent = (float4)(0.0f);
+  sh.triangle = 0u;
+  sh.material = v->material;
+  sh.front = v->front;
+  sh.bsdf.base_color = vload3(0, v->base_color);
+  sh.bsdf.specular_color = vload3(0, v->specular_color);
+  sh.bsdf.metallic = v->metallic;
+  sh.bsdf.roughness = v->roughness;
+  sh.bsdf.specular = v->specular;
+  sh.bsdf.transmission = v->transmission;
+  sh.bsdf.ior = v->ior;
+  sh.emission = (float3)(0.0f);
+  return sh;
+}
+
+#endif

@@ -1,0 +1,61 @@
+#include "support/reference_match.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <numeric>
+
+#include "stats/image_stats.h"
+#include "support/block_test.h"
+
+namespace clpt::test {
+
+void expect_matches_reference(const std::vector<Image>& batches, const FilmResult& reference,
+                              const std::string& label, uint32_t block, double min_pixel_pass) {
+  ASSERT_GE(batches.size(), 2u);
+  const Image ref_var = variance_of_mean(reference.variance, reference.samples_per_pixel);
+  const BlockTestResult t = block_means_test(batches, reference.mean, ref_var, block);
+  EXPECT_EQ(t.failed, 0u) << label << ": " << t.summary();
+  std::cout << "[ figures  ] " << label << " blocks: " << t.summary() << "\n";
+
+  const uint32_t w = reference.mean.width, h = reference.mean.height;
+  const size_t n = size_t(w) * h * 3, B = batches.size();
+  Image mean(w, h), var(w, h);
+  for (size_t i = 0; i < n; ++i) {
+    double m = 0.0, q = 0.0;
+    for (const Image& b : batches) m += b.rgb[i];
+    m /= double(B);
+    for (const Image& b : batches) q += (b.rgb[i] - m) * (b.rgb[i] - m);
+    mean.rgb[i] = float(m);
+    var.rgb[i] = float(q / double(B - 1) / double(B));
+  }
+  const ZTestResult z = z_test(mean, &var, reference.mean, &ref_var);
+  EXPECT_GE(z.pass_fraction(), min_pixel_pass)
+      << label << ": " << z.failed() << " of " << z.tested << " pixel-channels fail |z| < "
+      << z.threshold << " (max |z| " << z.max_abs_z << ")";
+  std::cout << "[ figures  ] " << label << " pixels: " << z.failed() << " of " << z.tested
+            << " fail |z| < " << z.threshold << ", max |z| " << z.max_abs_z << "\n";
+
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> bm;
+    for (const Image& b : batches) {
+      double s = 0.0;
+      for (size_t i = c; i < n; i += 3) s += b.rgb[i];
+      bm.push_back(s / double(n / 3));
+    }
+    const double m = std::accumulate(bm.begin(), bm.end(), 0.0) / double(B);
+    double q = 0.0;
+    for (double v : bm) q += (v - m) * (v - m);
+    double rm = 0.0, rv = 0.0;
+    for (size_t i = c; i < n; i += 3) rm += reference.mean.rgb[i], rv += ref_var.rgb[i];
+    rm /= double(n / 3);
+    rv /= double(n / 3) * double(n / 3);
+    const double image_z = (m - rm) / std::sqrt(q / double(B - 1) / double(B) + rv);
+    EXPECT_LT(std::fabs(image_z), 4.0) << label << " channel " << c << ": " << m << " reference " << rm;
+    std::cout << "[ figures  ] " << label << " channel " << c << ": " << m << " reference " << rm
+              << " z " << image_z << "\n";
+  }
+}
+
+}  // namespace clpt::test
