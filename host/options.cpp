@@ -111,6 +111,9 @@ struct Parser {
         ->type_name("S,T");
     app.add_flag("--bdpt-unweighted", o.bdpt_unweighted,
                  "bdpt: --bdpt-strategy without its MIS weight (the strategy alone)");
+    app.add_flag("--bdpt-mosaic", o.bdpt_mosaic,
+                 "bdpt: every strategy for paths of 0 to 4 bounces in one image: row = "
+                 "bounces, column = S; --spp per cell, --time split over the cells");
     app.add_option("--bdpt-memory", o.bdpt_memory_mib,
                    "bdpt: light vertex buffer per pass in MiB; larger images go in tiles [256]")
         ->type_name("MIB")
@@ -280,10 +283,16 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
                                    "--integrator " + o.integrator + " (its splatted sums are not "
                                    "reproducible bit for bit)");
   }
-  if ((!o.bdpt_strategy.empty() || o.bdpt_unweighted) && o.integrator != "bdpt")
-    throw Error(ExitCode::Usage, "--bdpt-strategy and --bdpt-unweighted need --integrator bdpt");
-  if (o.bdpt_unweighted && o.bdpt_strategy.empty())
-    throw Error(ExitCode::Usage, "--bdpt-unweighted needs --bdpt-strategy S,T");
+  if ((!o.bdpt_strategy.empty() || o.bdpt_unweighted || o.bdpt_mosaic) && o.integrator != "bdpt")
+    throw Error(ExitCode::Usage,
+                "--bdpt-strategy, --bdpt-unweighted and --bdpt-mosaic need --integrator bdpt");
+  if (o.bdpt_unweighted && o.bdpt_strategy.empty() && !o.bdpt_mosaic)
+    throw Error(ExitCode::Usage, "--bdpt-unweighted needs --bdpt-strategy S,T or --bdpt-mosaic");
+  if (o.bdpt_mosaic && !o.bdpt_strategy.empty())
+    throw Error(ExitCode::Usage, "--bdpt-mosaic renders every strategy: leave out --bdpt-strategy");
+  if (o.bdpt_mosaic && (o.reference.size() || o.stats))
+    throw Error(ExitCode::Usage, "--bdpt-mosaic writes a mosaic image: --reference and --stats "
+                                 "do not apply");
   if (!o.bdpt_strategy.empty()) {
     uint32_t s = 0, t = 0;
     if (!parse_strategy(o.bdpt_strategy, &s, &t))

@@ -38,6 +38,7 @@ struct Options {
   float ao_radius = 0.0f;  // 0: 10 % of the scene's bounding-box diagonal
   std::string bdpt_strategy;      // "S,T": render only that BDPT strategy; empty: all
   bool bdpt_unweighted = false;   // that strategy without its MIS weight
+  bool bdpt_mosaic = false;       // every strategy of 0..4 bounces in one image
   uint32_t bdpt_memory_mib = 256; // light vertex buffer budget per pass
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR

@@ -69,6 +69,53 @@ TEST_F(Cli, BadValuesAreUsageErrors) {
   }
 }
 
+TEST_F(Cli, BadBdptStrategiesAreUsageErrors) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{kCornell, "--integrator", "bdpt", "--bdpt-strategy", "1,1"},
+        std::vector<std::string>{kCornell, "--integrator", "bdpt", "--bdpt-strategy", "2,0"},
+        std::vector<std::string>{kCornell, "--integrator", "bdpt", "--bdpt-strategy", "x,2"},
+        std::vector<std::string>{kCornell, "--integrator", "bdpt", "--bdpt-strategy", "6,6"},
+        std::vector<std::string>{kCornell, "--integrator", "pt", "--bdpt-strategy", "2,2"},
+        std::vector<std::string>{kCornell, "--integrator", "bdpt", "--bdpt-unweighted"},
+        std::vector<std::string>{kCornell, "--integrator", "bdpt", "--bdpt-mosaic",
+                                 "--bdpt-strategy", "2,2"},
+        std::vector<std::string>{kCornell, "--integrator", "bdpt", "--variance"}}) {
+    const test::RunResult r = run_clpt(args);
+    EXPECT_EQ(r.exit_code, 1) << args.back() << ": " << r.err;
+    EXPECT_NE(r.err.find("bdpt"), std::string::npos) << r.err;
+  }
+}
+
+TEST_F(Cli, BdptWritesStatsAndAStrategyMosaic) {
+  test::RunResult r = run_clpt({kCornell, "--device", "pocl", "--integrator", "bdpt",
+                                "--resolution", "16x16", "--spp", "2", "-o", path("b.exr"),
+                                "--stats", path("b.json"), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(test::read_file(path("b.json")));
+  EXPECT_GT(j["connections"].get<double>(), 16.0 * 16 * 2);
+  EXPECT_GT(j["camera_paths_per_second"].get<double>(), 0.0);
+  EXPECT_TRUE(j["mean_variance"].is_null());
+
+  r = run_clpt({kCornell, "--device", "pocl", "--integrator", "bdpt", "--bdpt-mosaic",
+                "--resolution", "24x24", "--spp", "2", "-o", path("m.exr"), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Image m = read_image(path("m.exr"));
+  ASSERT_EQ(m.width, 24u * 6);
+  ASSERT_EQ(m.height, 24u * 5);
+  // Row 0 (no bounce): only s = 0, the light seen directly; s = 1, t = 1 is not a strategy.
+  auto cell_sum = [&](uint32_t row, uint32_t column) {
+    double sum = 0.0;
+    for (uint32_t y = 0; y < 24; ++y)
+      for (uint32_t x = 0; x < 24; ++x) sum += m.pixel(column * 24 + x, row * 24 + y)[1];
+    return sum;
+  };
+  EXPECT_GT(cell_sum(0, 0), 0.0);
+  EXPECT_EQ(cell_sum(0, 1), 0.0);
+  EXPECT_GT(cell_sum(1, 1), 0.0);  // next-event estimation of one-bounce paths
+  EXPECT_EQ(cell_sum(1, 3), 0.0);  // no such strategy
+  EXPECT_GT(cell_sum(4, 5), 0.0);  // light tracing of four-bounce paths
+}
+
 TEST_F(Cli, MissingSceneNamesTheFile) {
   const test::RunResult r = run_clpt({path("missing.gltf"), "-o", path("o.png")});
   EXPECT_EQ(r.exit_code, 2);

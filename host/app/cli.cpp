@@ -12,6 +12,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include "app/bdpt_mosaic.h"
 #include "cl/context.h"
 #include "io/image_io.h"
 #include "io/output_path.h"
@@ -65,6 +66,38 @@ void write_stats(const std::string& where, const nlohmann::json& j) {
     std::remove(tmp.c_str());
     throw Error(ExitCode::Output, "cannot write statistics to " + where);
   }
+}
+
+// --bdpt-mosaic: the strategies of bdpt as one image (app/bdpt_mosaic.h).
+int run_mosaic(const Options& opt, const cl::Context& ctx, const Scene& scene,
+               const RenderSettings& settings, const std::string& device_name) {
+  log::info("rendering the bdpt strategy mosaic of " + opt.scene + " on " + device_name);
+  const bool tty = ::isatty(STDERR_FILENO);
+  ProgressBar bar(log::level() >= log::Level::Normal && tty);
+  const auto start = std::chrono::steady_clock::now();
+  const MosaicResult m = render_bdpt_mosaic(
+      ctx, scene, settings, opt.bdpt_unweighted, &g_stop, [&](uint32_t done, uint32_t total) {
+        bar.update(done, total,
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                   0.0, "strategies");
+      });
+  bar.finish();
+  if (m.cells_rendered == 0) {
+    log::warn("no strategy was rendered; " + opt.output + " was not written");
+    return m.interrupted ? static_cast<int>(ExitCode::Interrupted) : 0;
+  }
+  ImageMetadata meta;
+  meta.strings = {{"Software", std::string("clpt ") + CLPT_VERSION},
+                  {"clpt:integrator", "bdpt"},
+                  {"clpt:bdpt_mosaic", opt.bdpt_unweighted ? "unweighted" : "weighted"},
+                  {"clpt:device", device_name},
+                  {"clpt:scene", opt.scene}};
+  meta.ints = {{"clpt:spp", int(m.samples_per_pixel)}, {"clpt:seed", int(opt.seed)}};
+  write_image(opt.output, m.image, meta);
+  log::info((m.interrupted ? "interrupted: " : "") + std::to_string(m.cells_rendered) + " of " +
+            std::to_string(m.cells_total) + " strategies at " + std::to_string(m.samples_per_pixel) +
+            " spp, wrote " + opt.output + " (rows: 0 to 4 bounces; columns: S = 0, 1, ...)");
+  return m.interrupted ? static_cast<int>(ExitCode::Interrupted) : 0;
 }
 
 int run(const Options& opt) {
@@ -134,6 +167,7 @@ int run(const Options& opt) {
   if (!opt.bdpt_strategy.empty()) parse_strategy(opt.bdpt_strategy, &settings.bdpt_s, &settings.bdpt_t);
   settings.bdpt_unweighted = opt.bdpt_unweighted;
   settings.bdpt_memory_bytes = size_t(opt.bdpt_memory_mib) << 20;
+  if (opt.bdpt_mosaic) return run_mosaic(opt, ctx, scene, settings, device.name);
   Renderer renderer(ctx, scene, settings);
   if (reference && (reference->width != renderer.width() || reference->height != renderer.height()))
     throw Error(ExitCode::Usage, "--reference " + opt.reference + " is " +
@@ -246,6 +280,10 @@ int run(const Options& opt) {
     // lt traces spp x width x height light paths: the same count, from the other end.
     j[opt.integrator == "lt" ? "light_paths_per_second" : "camera_paths_per_second"] =
         paths / secs;
+    if (opt.integrator == "bdpt") {
+      j["connections"] = st.connections;
+      j["connections_per_second"] = double(st.connections) / secs;
+    }
     j["rays"] = film.rays;
     j["rays_per_second"] = double(film.rays) / secs;
     j["dropped_samples"] = film.dropped_samples;

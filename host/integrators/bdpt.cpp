@@ -45,6 +45,12 @@ void BidirectionalPathTracer::render_pass(const dev::RenderParams& params, Film&
   dev::RenderParams p = params;
   p.light_vertex_capacity = vertex_capacity(p.max_depth);
   const size_t pixels = film.pixels();
+  if (pixels_ != pixels) {
+    connection_counts_ = cl::Buffer(ctx_, pixels * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
+                                    "BDPT connection counts");
+    connection_counts_.fill_zero();
+    pixels_ = pixels;
+  }
   ensure_buffers(p.light_vertex_capacity, tile_paths(budget_, p.light_vertex_capacity, pixels));
   params_.write(&p, sizeof(p));
   for (uint32_t i = 0; i < p.samples_per_pass; ++i) {
@@ -53,13 +59,20 @@ void BidirectionalPathTracer::render_pass(const dev::RenderParams& params, Film&
       const auto count = static_cast<uint32_t>(std::min(tile_, pixels - offset));
       const auto first = static_cast<uint32_t>(offset);
       light_kernel_.args(light_arg_, params_, sample, first, count, vertices_, vertex_counts_,
-                         film.splat(), film.ray_counts());
+                         film.splat(), film.ray_counts(), connection_counts_);
       light_kernel_.launch(ctx_, count);
       camera_kernel_.args(camera_arg_, params_, sample, first, count, vertices_, vertex_counts_,
-                          film.sum(), film.sum_sq(), film.ray_counts());
+                          film.sum(), film.sum_sq(), film.ray_counts(), connection_counts_);
       camera_kernel_.launch(ctx_, count);
     }
   }
+}
+
+uint64_t BidirectionalPathTracer::connections() const {
+  if (!pixels_) return 0;
+  uint64_t n = 0;
+  for (uint32_t c : connection_counts_.read_vector<uint32_t>(pixels_)) n += c;
+  return n;
 }
 
 }  // namespace clpt

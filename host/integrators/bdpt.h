@@ -20,6 +20,7 @@ class BidirectionalPathTracer final : public Integrator {
   // The film must have been made with splats (Film(..., true)).
   void render_pass(const dev::RenderParams& params, Film& film) override;
   const cl::BuildInfo& build_info() const override { return program_.build_info(); }
+  uint64_t connections() const override;
 
   // Light vertices stored per light path for a maximum depth, and the pixels per tile a
   // budget allows (at least one work-group's worth is not promised: at least 1).
@@ -35,6 +36,8 @@ class BidirectionalPathTracer final : public Integrator {
   cl::Kernel light_kernel_, camera_kernel_;
   cl::Buffer params_;
   cl::Buffer vertices_, vertex_counts_;
+  cl::Buffer connection_counts_;  // per pixel index, allocated with the first pass
+  size_t pixels_ = 0;
   uint32_t capacity_ = 0;
   size_t tile_ = 0;
   cl_uint light_arg_ = 0, camera_arg_ = 0;  // first argument after the scene's

@@ -21,6 +21,8 @@ class Integrator {
   virtual void render_pass(const dev::RenderParams& params, Film& film) = 0;
   // How its program was obtained (cache or build) and how long that took.
   virtual const cl::BuildInfo& build_info() const = 0;
+  // Shadow rays of connection strategies so far (bdpt); 0 for integrators without them.
+  virtual uint64_t connections() const { return 0; }
 };
 
 // Construction-time settings some integrators take.

@@ -181,6 +181,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   }
   stats_.render_seconds = seconds_since(start);
   out.film = film_->resolve(done);
+  stats_.connections = integrator_->connections();
   out.stats = stats_;
   return out;
 }

@@ -62,6 +62,7 @@ struct RenderStats {
   size_t texture_device_bytes = 0;
   size_t scene_device_bytes = 0;
   size_t film_device_bytes = 0;
+  uint64_t connections = 0;      // bdpt: shadow rays of connection strategies
 };
 
 struct RenderOutput {

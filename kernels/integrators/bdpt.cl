@@ -5,40 +5,46 @@
  *                vertices stored (kernels/integrators/bdpt/light_path.cl);
  *   bdpt_camera  one camera subpath per pixel, joined with the light subpath of the same
  *                index (kernels/integrators/bdpt/camera_path.cl), added to the film.
- * Both use the sampler key (pixel, sample index), in disjoint dimension streams. */
+ * Both use the sampler key (pixel, sample index), in disjoint dimension streams. Per pixel
+ * index they add the rays they trace to ray_counts and the shadow rays of strategies
+ * (connections: s = 1, t = 1 and inner ones) to connection_counts. */
 #include "integrators/bdpt/camera_path.cl"
 #include "film/film.cl"
 
 __kernel void bdpt_light(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 sample_index,
                          u32 path_offset, u32 path_count, __global PathVertex* vertices,
                          __global u32* vertex_counts, __global float4* splat,
-                         __global u32* ray_counts) {
+                         __global u32* ray_counts, __global u32* connection_counts) {
   const u32 i = get_global_id(0);
   if (i >= path_count) return;
   const u32 path = path_offset + i;
   const SceneView scene = SCENE_VIEW();
   const Sampler sampler = sampler_init(params, path, sample_index);
-  u32 rays = 0;
+  u32 rays = 0, connections = 0;
   vertex_counts[i] = bdpt_light_path(params, &scene, &sampler,
-                                     vertices + (size_t)i * params->light_vertex_capacity, splat, &rays);
+                                     vertices + (size_t)i * params->light_vertex_capacity, splat,
+                                     &rays, &connections);
   ray_counts[path] += rays;
+  connection_counts[path] += connections;
 }
 
 __kernel void bdpt_camera(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 sample_index,
                           u32 path_offset, u32 path_count, __global const PathVertex* vertices,
                           __global const u32* vertex_counts, __global float4* film_sum,
-                          __global float4* film_sum_sq, __global u32* ray_counts) {
+                          __global float4* film_sum_sq, __global u32* ray_counts,
+                          __global u32* connection_counts) {
   const u32 i = get_global_id(0);
   if (i >= path_count) return;
   const u32 pixel = path_offset + i;
   const SceneView scene = SCENE_VIEW();
   const Sampler sampler = sampler_init(params, pixel, sample_index);
-  u32 rays = 0;
+  u32 rays = 0, connections = 0;
   FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
   film_add(&film, bdpt_camera_path(params, &scene, &sampler, pixel % params->width,
                                    pixel / params->width,
                                    vertices + (size_t)i * params->light_vertex_capacity,
-                                   vertex_counts[i], &rays));
+                                   vertex_counts[i], &rays, &connections));
   film_store(film_sum, film_sum_sq, pixel, &film);
   ray_counts[pixel] += rays;
+  connection_counts[pixel] += connections;
 }

@@ -14,7 +14,8 @@
 
 /* s = 1 at camera vertex sh (oriented to wo), k = its index. */
 inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, const Sampler* sampler,
-                       const SurfaceHit* sh, float3 wo, const SubpathState* st, u32 k, u32* rays) {
+                       const SurfaceHit* sh, float3 wo, const SubpathState* st, u32 k, u32* rays,
+                       u32* connections) {
   if (s->num_lights == 0u) return (float3)(0.0f);
   if (bdpt_strategy_weight(p, 1u, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
   const LightSample ls = light_illuminate(s, sh->p, sample_1d(sampler, bounce_dim(k - 1u, DIM_LIGHT_SELECT)),
@@ -28,6 +29,7 @@ inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, con
                                   bsdf_pdf_w(sh, wo, ls.wi), bsdf_pdf_w(sh, ls.wi, wo),
                                   fabs(dot(sh->ng, ls.wi)));
   ++*rays;
+  ++*connections;
   const float3 org = offset_ray_origin(sh->p, dot(ls.wi, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
   if (intersect_any(s, org, ls.wi, ls.dist * (1.0f - 1e-4f))) return (float3)(0.0f);
   return f * ls.Le * (bdpt_strategy_weight(p, 1u, k + 1u, w) / ls.pdf_w);
@@ -36,7 +38,7 @@ inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, con
 /* s >= 2: camera vertex sh (oriented to wo, index k) joined to stored light vertex v. */
 inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s, const SurfaceHit* sh,
                            float3 wo, const SubpathState* st, u32 k, __global const PathVertex* v,
-                           u32* rays) {
+                           u32* rays, u32* connections) {
   const u32 s_count = v->depth + 1u;
   if (s_count + k - 1u > p->max_depth) return (float3)(0.0f);
   if (bdpt_strategy_weight(p, s_count, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
@@ -63,6 +65,7 @@ inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s,
                                       bsdf_pdf_w(&y, y_wo, -dir) * cos_cam / dist2,
                                       bsdf_pdf_w(&y, -dir, y_wo));
   ++*rays;
+  ++*connections;
   const float3 org = offset_ray_origin(sh->p, dot(dir, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
   if (intersect_any(s, org, dir, dist * (1.0f - 1e-4f))) return (float3)(0.0f);
   return f_cam * f_light * ls.beta * volume_transmittance(s, sh, dir, dist) *
@@ -73,9 +76,11 @@ inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s,
  * returns the pixel's estimate from every strategy with t >= 2. */
 inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView* s,
                                const Sampler* sampler, u32 x, u32 y,
-                               __global const PathVertex* lv, u32 count, u32* rays) {
+                               __global const PathVertex* lv, u32 count, u32* rays,
+                               u32* connections) {
   float3 org, dir;
   pixel_ray(p, sampler, x, y, &org, &dir);
+  float3 from = org;
   SubpathState st;
   st.beta = (float3)(1.0f);
   st.dvcm = bdpt_mis(p, 1.0f / camera_ray_pdf_w(&p->camera, dir));
@@ -100,7 +105,7 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
     SurfaceHit sh = surface_shade(s, &hit, org, dir);
     const float3 wo = -dir;
     const float cos_in = fabs(dot(sh.ng, wo));
-    bdpt_mis_arrive(p, &st, hit.t, cos_in, 1);
+    bdpt_mis_arrive(p, &st, distance(sh.p, from), cos_in, 1); /* vertex to vertex */
     /* s = 0: an emitter hit; seen directly (k = 1) it has weight 1 (s = 1, t = 1 is left out). */
     const float3 Le = light_radiance(s, &sh, wo);
     if (!is_black(Le)) {
@@ -114,8 +119,8 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
     if (k > p->max_depth) break;
     bsdf_orient(&sh, wo);
     if (bsdf_has_smooth_lobe(&sh)) {
-      L += st.beta * bdpt_nee(p, s, sampler, &sh, wo, &st, k, rays);
-      for (u32 i = 0u; i < count; ++i) L += st.beta * bdpt_connect(p, s, &sh, wo, &st, k, lv + i, rays);
+      L += st.beta * bdpt_nee(p, s, sampler, &sh, wo, &st, k, rays, connections);
+      for (u32 i = 0u; i < count; ++i) L += st.beta * bdpt_connect(p, s, &sh, wo, &st, k, lv + i, rays, connections);
     }
     const BsdfSample bs =
         bsdf_sample(&sh, wo, sample_2d(sampler, bounce_dim(k - 1u, DIM_BSDF_DIR)),
@@ -133,6 +138,7 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
       walk /= survive;
     }
     prev = sh;
+    from = sh.p;
     org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);
     dir = bs.wi;
   }

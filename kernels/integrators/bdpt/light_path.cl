@@ -27,7 +27,8 @@ inline float2 bdpt_light_sample_2d(const Sampler* sampler, u32 dim) {
 /* t = 1: light vertex sh (oriented to wo, towards the light) connected to the camera. */
 inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneView* s,
                                 const SurfaceHit* sh, float3 wo, const SubpathState* st,
-                                u32 depth, float2 u_lens, __global float4* splat, u32* rays) {
+                                u32 depth, float2 u_lens, __global float4* splat, u32* rays,
+                                u32* connections) {
   const float strategy = bdpt_strategy_weight(p, depth + 1u, 1u, 1.0f);
   if (strategy == 0.0f) return;
   const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
@@ -38,16 +39,18 @@ inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneVie
   const float rev = bsdf_pdf_w(sh, c.wi, wo);
   const float w = bdpt_strategy_weight(p, depth + 1u, 1u, bdpt_weight_camera(p, st, camera_pdf_a, rev));
   ++*rays;
+  ++*connections;
   const float3 org = offset_ray_origin(sh->p, dot(c.wi, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
   if (intersect_any(s, org, c.wi, c.dist * (1.0f - 1e-4f))) return;
   film_splat(splat, lt_pixel(p, &c), st->beta * f * (c.weight * w));
 }
 
 /* Traces one light subpath, stores its connectable vertices in `out` (capacity
- * p->light_vertex_capacity) and returns how many it stored. */
+ * p->light_vertex_capacity) and returns how many it stored. *rays counts every ray traced,
+ * *connections the shadow rays of strategies (here: t = 1). */
 inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
                            const Sampler* sampler, __global PathVertex* out,
-                           __global float4* splat, u32* rays) {
+                           __global float4* splat, u32* rays, u32* connections) {
   if (s->num_lights == 0u) return 0u;
   const LightEmission e = light_emit(s, bdpt_light_sample_1d(sampler, bounce_dim(0u, DIM_LIGHT_SELECT)),
                                      bdpt_light_sample_2d(sampler, DIM_LT_EMIT_POS),
@@ -60,7 +63,7 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
   st.dvc = (e.is_delta_pos || e.is_delta_dir) ? 0.0f : bdpt_mis(p, q.cos_light / q.emit_w);
   st.dvm = 0.0f;
 
-  float3 org = e.p, dir = e.dir;
+  float3 org = e.p, dir = e.dir, from = e.p;
   const __global Light* light = &s->lights[e.light];
   if (light->type == LIGHT_TRIANGLE) {
     float3 p0, p1, p2;
@@ -78,13 +81,16 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
     if (depth > 1u) st.beta *= volume_transmittance(s, &prev, dir, hit.t);
     SurfaceHit sh = surface_shade(s, &hit, org, dir);
     const float3 wo = -dir;
-    bdpt_mis_arrive(p, &st, hit.t, fabs(dot(sh.ng, wo)), depth > 1u || q.finite);
+    /* Distances between the vertices, not the ray's t from its offset origin: the
+     * connection weights measure edges between vertices too (tests/bdpt_mis_test.cpp). */
+    bdpt_mis_arrive(p, &st, distance(sh.p, from), fabs(dot(sh.ng, wo)), depth > 1u || q.finite);
     bsdf_orient(&sh, wo);
     if (bsdf_has_smooth_lobe(&sh)) {
       if (depth < p->max_depth && stored < p->light_vertex_capacity)
         path_vertex_store(out + stored++, &sh, wo, &st, depth);
       bdpt_connect_camera(p, s, &sh, wo, &st, depth,
-                          bdpt_light_sample_2d(sampler, bounce_dim(depth, DIM_LT_LENS)), splat, rays);
+                          bdpt_light_sample_2d(sampler, bounce_dim(depth, DIM_LT_LENS)), splat, rays,
+                          connections);
     }
     if (depth >= p->max_depth) break;
     const BsdfSample bs =
@@ -104,6 +110,7 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
       walk /= survive;
     }
     prev = sh;
+    from = sh.p;
     org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);
     dir = bs.wi;
   }
