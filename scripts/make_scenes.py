@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Generate clpt's reference glTF 2.0 scenes, deterministically.
 
-    python3 scripts/make_scenes.py            # writes scenes/cornell_box.gltf, scenes/furnace.gltf
+    python3 scripts/make_scenes.py            # writes scenes/cornell_box.gltf, scenes/furnace.gltf,
+                                              # scenes/caustic.gltf, scenes/indirect.gltf
     python3 scripts/make_scenes.py --out DIR  # writes them into DIR instead
 
 Python 3.11 standard library only. Each scene is a single .gltf file whose one buffer is
@@ -12,7 +13,9 @@ clpt conventions (host/scene/scene.h): right-handed, +Y up, cameras look down -Z
 Counter-clockwise winding is the front face. Emitted radiance (W/m^2/sr, linear Rec.709) is
 emissiveFactor x KHR_materials_emissive_strength.emissiveStrength; baseColorFactor is the
 diffuse albedo (metallicFactor 0, roughnessFactor 1, KHR_materials_specular specularFactor 0:
-no specular coat, so the surfaces are exactly Lambertian and the closed forms hold).
+no specular coat, so the surfaces are exactly Lambertian and the closed forms hold). The one
+exception is the caustic benchmark's glass sphere: KHR_materials_transmission 1,
+KHR_materials_ior 1.5, roughnessFactor 0 (smooth), default specular.
 
 See scenes/README.md for what each scene is and what it is for.
 """
@@ -39,6 +42,8 @@ COMPONENT_SIZE = {FLOAT: 4, UNSIGNED_SHORT: 2, UNSIGNED_INT: 4, 5120: 1, 5121: 1
 TYPE_COUNT = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
 EMISSIVE_STRENGTH = "KHR_materials_emissive_strength"
 SPECULAR = "KHR_materials_specular"
+TRANSMISSION = "KHR_materials_transmission"
+IOR = "KHR_materials_ior"
 DATA_URI_PREFIX = "data:application/octet-stream;base64,"
 
 
@@ -152,6 +157,30 @@ class Document:
         self.gltf["materials"].append(m)
         return self.material_index[name]
 
+    def use_extension(self, name):
+        if name not in self.gltf["extensionsUsed"]:
+            self.gltf["extensionsUsed"].append(name)
+
+    def add_glass_material(self, name, ior, double_sided=False):
+        """Smooth clear dielectric: KHR_materials_transmission 1, KHR_materials_ior, white base,
+        metallic 0, roughness 0 (a Dirac reflection and refraction). No KHR_materials_specular:
+        glass keeps the default specular 1, i.e. the full Fresnel reflection."""
+        m = {
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [1.0, 1.0, 1.0, 1.0],
+                "metallicFactor": 0.0,
+                "roughnessFactor": 0.0,
+            },
+            "doubleSided": bool(double_sided),
+            "extensions": {TRANSMISSION: {"transmissionFactor": 1.0}, IOR: {"ior": float(ior)}},
+        }
+        self.use_extension(TRANSMISSION)
+        self.use_extension(IOR)
+        self.material_index[name] = len(self.gltf["materials"])
+        self.gltf["materials"].append(m)
+        return self.material_index[name]
+
     # -- binary data ----------------------------------------------------------------------------
     def _add_view(self, data: bytes, target):
         while len(self.blob) % 4:  # every bufferView starts 4-byte aligned
@@ -204,14 +233,18 @@ class Document:
             node["translation"] = list(translation)
         self._add_node(node)
 
-    def add_perspective_camera(self, name, translation, yfov, aspect, znear, zfar=None):
+    def add_perspective_camera(self, name, translation, yfov, aspect, znear, zfar=None, rotation=None):
         persp = {"aspectRatio": aspect, "yfov": yfov, "znear": znear}
         if zfar is not None:
             persp["zfar"] = zfar
         self.gltf["cameras"].append({"name": name, "type": "perspective", "perspective": persp})
-        # No rotation: a glTF camera looks down its local -Z with +Y up, as clpt wants.
-        self._add_node({"name": name, "camera": len(self.gltf["cameras"]) - 1,
-                        "translation": list(translation)})
+        # Without rotation a glTF camera looks down its local -Z with +Y up, as clpt wants;
+        # rotation is a unit quaternion [x, y, z, w] (see look_at_rotation()).
+        node = {"name": name, "camera": len(self.gltf["cameras"]) - 1,
+                "translation": list(translation)}
+        if rotation is not None:
+            node["rotation"] = list(rotation)
+        self._add_node(node)
 
     def _add_node(self, node):
         self.gltf["nodes"].append(node)
@@ -294,15 +327,21 @@ def validate(path: str) -> dict:
             vals = read_accessor(gltf, blob, i)
             assert all(math.isfinite(c) for p in vals for c in p)
 
-    # materials
+    # materials: Lambertian, or (caustic scene) smooth glass
     for m in gltf["materials"]:
         pbr = m["pbrMetallicRoughness"]
         assert len(pbr["baseColorFactor"]) == 4
         assert all(0.0 <= c <= 1.0 for c in pbr["baseColorFactor"])
-        assert pbr["metallicFactor"] == 0.0 and pbr["roughnessFactor"] == 1.0
         ef = m.get("emissiveFactor", [0.0, 0.0, 0.0])
         assert len(ef) == 3 and all(0.0 <= c <= 1.0 for c in ef), "emissiveFactor outside [0,1]"
         ext = m.get("extensions", {})
+        if TRANSMISSION in ext:
+            assert TRANSMISSION in used and IOR in used and IOR in ext
+            assert ext[TRANSMISSION]["transmissionFactor"] == 1.0 and ext[IOR]["ior"] >= 1.0
+            assert pbr["metallicFactor"] == 0.0 and pbr["roughnessFactor"] == 0.0
+            assert SPECULAR not in ext and "emissiveFactor" not in m, "glass: clear, not emissive"
+            continue
+        assert pbr["metallicFactor"] == 0.0 and pbr["roughnessFactor"] == 1.0
         assert ext[SPECULAR]["specularFactor"] == 0.0 and SPECULAR in used, "not Lambertian"
         if EMISSIVE_STRENGTH in ext:
             assert EMISSIVE_STRENGTH in used
@@ -359,6 +398,8 @@ def validate(path: str) -> dict:
             assert cam["type"] == "perspective"
             p = cam["perspective"]
             assert 0.0 < p["yfov"] < math.pi and p["znear"] > 0.0 and p["aspectRatio"] > 0.0
+            if "rotation" in node:
+                assert abs(math.sqrt(sum(c * c for c in node["rotation"])) - 1.0) < 1e-9
             cams += 1
     assert cams >= 1, "no camera node"
     roots = gltf["scenes"][gltf["scene"]]["nodes"]
@@ -601,6 +642,252 @@ def make_furnace(out_dir):
     return res
 
 
+# ---------------------------------------------------------------------------------------------
+# Helpers for the benchmark scenes: camera orientation, quads, UV sphere
+
+def look_at_rotation(eye, target):
+    """Unit quaternion [x, y, z, w] turning a glTF camera (looking down -Z, +Y up) to look from
+    eye at target with no roll: yaw about +Y, then pitch about the camera's +X."""
+    d = normalize(sub(target, eye))
+    yaw = math.atan2(-d[0], -d[2])
+    pitch = math.asin(max(-1.0, min(1.0, d[1])))
+    sy, cy = math.sin(0.5 * yaw), math.cos(0.5 * yaw)
+    sx, cx = math.sin(0.5 * pitch), math.cos(0.5 * pitch)
+    q = [cy * sx, sy * cx, -sy * sx, cy * cx]  # q_yaw * q_pitch
+    assert length(sub(quat_rotate(q, (0.0, 0.0, -1.0)), d)) < 1e-9
+    assert abs(quat_rotate(q, (1.0, 0.0, 0.0))[1]) < 1e-9  # no roll: the image's x stays level
+    return [round(c, 9) for c in q]
+
+
+def quat_rotate(q, v):
+    """v rotated by the unit quaternion q = [x, y, z, w]."""
+    u, w = (q[0], q[1], q[2]), q[3]
+    t = scale(cross(u, v), 2.0)
+    return add(add(v, scale(t, w)), cross(u, t))
+
+
+def add_quad(mesh, corners, want):
+    """Planar quad as two flat triangles whose front side faces `want` (winding reversed when
+    the corners as given face the other way)."""
+    q = list(corners)
+    if dot(cross(sub(q[1], q[0]), sub(q[2], q[0])), want) < 0.0:
+        q = q[::-1]
+    mesh.add_flat_triangle(q[0], q[1], q[2])
+    mesh.add_flat_triangle(q[0], q[2], q[3])
+    for t in mesh.triangles[-2:]:
+        assert dot(tri_normal(*(mesh.positions[i] for i in t)), want) > 0.0, f"{mesh.name}: wrong way"
+
+
+def add_box(mesh, lo, hi, outward=True, skip=()):
+    """Axis-aligned box [lo, hi] as quads facing out (or in); faces named in skip ('+x', '-x',
+    '+y', '-y', '+z', '-z') are left open."""
+    centre = scale(add(lo, hi), 0.5)
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            face = ("-" if sign < 0.0 else "+") + "xyz"[axis]
+            if face in skip:
+                continue
+            v = hi[axis] if sign > 0.0 else lo[axis]
+            a, b = (axis + 1) % 3, (axis + 2) % 3
+            corners = []
+            for ua, ub in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                p = [0.0, 0.0, 0.0]
+                p[axis] = v
+                p[a] = hi[a] if ua else lo[a]
+                p[b] = hi[b] if ub else lo[b]
+                corners.append(tuple(p))
+            n = [0.0, 0.0, 0.0]
+            n[axis] = sign if outward else -sign
+            add_quad(mesh, corners, tuple(n))
+    return centre
+
+
+def uv_sphere(mesh, centre, radius, segments, rings):
+    """UV sphere with shared vertices and smooth normals (the exact sphere normal at each
+    vertex): `segments` around +Y, `rings` from pole to pole, 2 * segments * (rings - 1)
+    counter-clockwise, outward triangles."""
+    top = mesh.add_vertex(add(centre, (0.0, radius, 0.0)), (0.0, 1.0, 0.0))
+    rows = []
+    for r in range(1, rings):
+        theta = math.pi * r / rings
+        row = []
+        for k in range(segments):
+            phi = 2.0 * math.pi * k / segments
+            n = (math.sin(theta) * math.cos(phi), math.cos(theta), -math.sin(theta) * math.sin(phi))
+            row.append(mesh.add_vertex(add(centre, scale(n, radius)), n))
+        rows.append(row)
+    bottom = mesh.add_vertex(add(centre, (0.0, -radius, 0.0)), (0.0, -1.0, 0.0))
+    first = len(mesh.triangles)
+    for k in range(segments):
+        k1 = (k + 1) % segments
+        mesh.triangles.append((top, rows[0][k], rows[0][k1]))
+        for r in range(rings - 2):
+            a, b, c, d = rows[r][k], rows[r + 1][k], rows[r + 1][k1], rows[r][k1]
+            mesh.triangles.append((a, b, c))
+            mesh.triangles.append((a, c, d))
+        mesh.triangles.append((bottom, rows[-1][k1], rows[-1][k]))
+    for t in mesh.triangles[first:]:  # outward and counter-clockwise
+        p0, p1, p2 = (mesh.positions[i] for i in t)
+        g = cross(sub(p1, p0), sub(p2, p0))
+        assert dot(g, sub(scale(add(add(p0, p1), p2), 1.0 / 3.0), centre)) > 0.0
+    return len(mesh.triangles) - first
+
+
+def emitter_summary(res, mesh_name):
+    """(area, radiance, power, front normal) of the emissive mesh `mesh_name`, from the file."""
+    gltf, blob = res["gltf"], res["blob"]
+    prim = next(m for m in gltf["meshes"] if m["name"] == mesh_name)["primitives"][0]
+    pos = read_accessor(gltf, blob, prim["attributes"]["POSITION"])
+    idx = read_accessor(gltf, blob, prim["indices"])
+    tris = [(pos[idx[t]], pos[idx[t + 1]], pos[idx[t + 2]]) for t in range(0, len(idx), 3)]
+    area = sum(0.5 * length(cross(sub(b, a), sub(c, a))) for a, b, c in tris)
+    mat = gltf["materials"][prim["material"]]
+    radiance = [c * mat["extensions"][EMISSIVE_STRENGTH]["emissiveStrength"] for c in mat["emissiveFactor"]]
+    power = [math.pi * area * L for L in radiance]
+    normals = {tuple(round(c, 6) for c in tri_normal(a, b, c)) for a, b, c in tris}
+    assert len(normals) == 1 and mat["doubleSided"] is False
+    return area, radiance, power, normals.pop()
+
+
+# ---------------------------------------------------------------------------------------------
+# Caustic benchmark: a glass sphere on a diffuse floor under a small light
+
+CAUSTIC_FLOOR_HALF = 5.0               # floor: 10 m x 10 m at y = 0, centred on the origin
+CAUSTIC_FLOOR_ALBEDO = 0.6
+CAUSTIC_SPHERE_CENTRE = (0.0, 0.5, 0.0)
+CAUSTIC_SPHERE_RADIUS = 0.5            # resting on the floor
+CAUSTIC_SPHERE_SEGMENTS, CAUSTIC_SPHERE_RINGS = 64, 32   # 2 * 64 * 31 = 3968 triangles
+CAUSTIC_GLASS_IOR = 1.5
+CAUSTIC_LIGHT_CENTRE = (-2.7, 2.4, 0.0)
+CAUSTIC_LIGHT_SIZE = 0.05              # square, facing down
+CAUSTIC_LIGHT_RADIANCE = 25600.0
+CAUSTIC_CAMERA = (0.9, 1.7, 2.6)
+CAUSTIC_TARGET = (0.4, 0.3, 0.0)
+CAUSTIC_YFOV_DEG = 40.0
+
+
+def make_caustic(out_dir):
+    doc = Document("clpt scripts/make_scenes.py (caustic benchmark)")
+    a = CAUSTIC_FLOOR_ALBEDO
+    doc.add_material("floor", (a, a, a))
+    doc.add_glass_material("glass", CAUSTIC_GLASS_IOR)
+    doc.add_material("light", (0.78, 0.78, 0.78), (CAUSTIC_LIGHT_RADIANCE,) * 3, double_sided=False)
+
+    h = CAUSTIC_FLOOR_HALF
+    floor = Mesh("floor", "floor")
+    add_quad(floor, [(-h, 0.0, -h), (h, 0.0, -h), (h, 0.0, h), (-h, 0.0, h)], (0.0, 1.0, 0.0))
+    doc.add_mesh(floor)
+
+    sphere = Mesh("glass_sphere", "glass")
+    uv_sphere(sphere, CAUSTIC_SPHERE_CENTRE, CAUSTIC_SPHERE_RADIUS,
+              CAUSTIC_SPHERE_SEGMENTS, CAUSTIC_SPHERE_RINGS)
+    doc.add_mesh(sphere)
+
+    light = Mesh("light", "light")
+    cx, cy, cz = CAUSTIC_LIGHT_CENTRE
+    s = 0.5 * CAUSTIC_LIGHT_SIZE
+    add_quad(light, [(cx - s, cy, cz - s), (cx + s, cy, cz - s), (cx + s, cy, cz + s), (cx - s, cy, cz + s)],
+             (0.0, -1.0, 0.0))  # emits downward only
+    doc.add_mesh(light)
+
+    yfov = math.radians(CAUSTIC_YFOV_DEG)
+    doc.add_perspective_camera("caustic_camera", list(CAUSTIC_CAMERA), yfov, 1.0, 0.01,
+                               rotation=look_at_rotation(CAUSTIC_CAMERA, CAUSTIC_TARGET))
+
+    path = os.path.join(out_dir, "caustic.gltf")
+    write_gltf(doc.finish(), path)
+    res = validate(path)
+
+    area, radiance, power, normal = emitter_summary(res, "light")
+    assert abs(area - CAUSTIC_LIGHT_SIZE ** 2) < 1e-7 and normal == (0.0, -1.0, 0.0)
+    # the sphere rests on the floor, the light is above it, the camera above the floor
+    assert abs(CAUSTIC_SPHERE_CENTRE[1] - CAUSTIC_SPHERE_RADIUS) < 1e-12
+    assert CAUSTIC_LIGHT_CENTRE[1] > 2.0 * CAUSTIC_SPHERE_RADIUS and CAUSTIC_CAMERA[1] > 0.0
+    # paraxial ball lens: focal length n R / (2 (n - 1)) from the centre; image of the light
+    n, r = CAUSTIC_GLASS_IOR, CAUSTIC_SPHERE_RADIUS
+    f = n * r / (2.0 * (n - 1.0))
+    to_centre = sub(CAUSTIC_SPHERE_CENTRE, CAUSTIC_LIGHT_CENTRE)
+    u = length(to_centre)
+    v = 1.0 / (1.0 / f - 1.0 / u)
+    d = normalize(to_centre)
+    t_floor = CAUSTIC_SPHERE_CENTRE[1] / -d[1]
+    hit = add(CAUSTIC_SPHERE_CENTRE, scale(d, t_floor))
+    print(f"{path}: {res['triangles']} triangles (floor {len(floor.triangles)}, glass_sphere "
+          f"{len(sphere.triangles)} ({CAUSTIC_SPHERE_SEGMENTS}x{CAUSTIC_SPHERE_RINGS} UV sphere, smooth "
+          f"normals), light {len(light.triangles)})")
+    print(f"  camera {CAUSTIC_CAMERA} looking at {CAUSTIC_TARGET}, yfov {CAUSTIC_YFOV_DEG:g} deg, aspect 1")
+    print(f"  light {CAUSTIC_LIGHT_SIZE} m square at {CAUSTIC_LIGHT_CENTRE} facing down, radiance "
+          f"{radiance[0]:g} W/m^2/sr, power pi*A*L = {power[0]:.2f} W")
+    print(f"  glass sphere r {r} ior {n}: paraxial focus {v:.3f} m behind its centre, floor "
+          f"{t_floor:.3f} m; caustic centre near ({hit[0]:.2f}, 0, {hit[2]:.2f})")
+    return res
+
+
+# ---------------------------------------------------------------------------------------------
+# Indirect benchmark: a closed room lit by a lamp shining at the ceiling
+
+ROOM_LO, ROOM_HI = (-2.0, 0.0, -2.5), (2.0, 2.6, 2.5)   # 4 m x 2.6 m x 5 m, inside
+ROOM_ALBEDO = 0.7
+ROOM_BLOCK = ((0.3, 0.0, -1.6), (1.3, 0.8, -0.6))        # a 1 m x 0.8 m x 1 m block on the floor
+SHADE_LO, SHADE_HI = (-0.95, 1.75, -1.45), (-0.55, 2.0, -1.05)  # open-topped lamp shade
+SHADE_ALBEDO = 0.5
+LAMP_SIZE = 0.3                                          # square, facing up, inside the shade
+LAMP_HEIGHT = 1.77
+LAMP_RADIANCE = 150.0
+ROOM_CAMERA = (0.0, 1.4, 2.3)
+ROOM_TARGET = (-0.2, 1.2, -2.5)
+ROOM_YFOV_DEG = 60.0
+
+
+def make_indirect(out_dir):
+    doc = Document("clpt scripts/make_scenes.py (indirect benchmark)")
+    a = ROOM_ALBEDO
+    doc.add_material("wall", (a, a, a))
+    b = SHADE_ALBEDO
+    doc.add_material("shade", (b, b, b))
+    doc.add_material("lamp", (0.78, 0.78, 0.78), (LAMP_RADIANCE,) * 3, double_sided=False)
+
+    room = Mesh("room", "wall")   # floor, ceiling and four walls, facing the inside
+    add_box(room, ROOM_LO, ROOM_HI, outward=False)
+    doc.add_mesh(room)
+    block = Mesh("block", "wall")
+    add_box(block, *ROOM_BLOCK, outward=True, skip=("-y",))
+    doc.add_mesh(block)
+    shade = Mesh("lamp_shade", "shade")  # four sides and a bottom, open at the top
+    add_box(shade, SHADE_LO, SHADE_HI, outward=True, skip=("+y",))
+    doc.add_mesh(shade)
+
+    lamp = Mesh("lamp", "lamp")
+    cx, cz = 0.5 * (SHADE_LO[0] + SHADE_HI[0]), 0.5 * (SHADE_LO[2] + SHADE_HI[2])
+    s, y = 0.5 * LAMP_SIZE, LAMP_HEIGHT
+    add_quad(lamp, [(cx - s, y, cz - s), (cx + s, y, cz - s), (cx + s, y, cz + s), (cx - s, y, cz + s)],
+             (0.0, 1.0, 0.0))  # emits upward only
+    doc.add_mesh(lamp)
+
+    yfov = math.radians(ROOM_YFOV_DEG)
+    doc.add_perspective_camera("room_camera", list(ROOM_CAMERA), yfov, 1.0, 0.01,
+                               rotation=look_at_rotation(ROOM_CAMERA, ROOM_TARGET))
+
+    path = os.path.join(out_dir, "indirect.gltf")
+    write_gltf(doc.finish(), path)
+    res = validate(path)
+
+    area, radiance, power, normal = emitter_summary(res, "lamp")
+    assert abs(area - LAMP_SIZE ** 2) < 1e-7 and normal == (0.0, 1.0, 0.0)
+    # the lamp lies inside the shade, below its rim and above its bottom; everything inside the room
+    assert SHADE_LO[1] < LAMP_HEIGHT < SHADE_HI[1]
+    assert SHADE_LO[0] < cx - s and cx + s < SHADE_HI[0] and SHADE_LO[2] < cz - s and cz + s < SHADE_HI[2]
+    for p in (SHADE_LO, SHADE_HI, *ROOM_BLOCK, ROOM_CAMERA):
+        assert all(ROOM_LO[k] <= p[k] <= ROOM_HI[k] for k in range(3))
+    assert all(ROOM_LO[k] < ROOM_CAMERA[k] < ROOM_HI[k] for k in range(3))
+    print(f"{path}: {res['triangles']} triangles (room {len(room.triangles)}, block {len(block.triangles)}, "
+          f"lamp_shade {len(shade.triangles)}, lamp {len(lamp.triangles)})")
+    print(f"  camera {ROOM_CAMERA} looking at {ROOM_TARGET}, yfov {ROOM_YFOV_DEG:g} deg, aspect 1")
+    print(f"  lamp {LAMP_SIZE} m square at ({cx:g}, {y:g}, {cz:g}) facing up (the ceiling) inside an "
+          f"open-topped shade, radiance {radiance[0]:g} W/m^2/sr, power pi*A*L = {power[0]:.2f} W")
+    return res
+
+
 def main(argv=None):
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -611,6 +898,8 @@ def main(argv=None):
     os.makedirs(out_dir, exist_ok=True)
     make_cornell(out_dir)
     make_furnace(out_dir)
+    make_caustic(out_dir)
+    make_indirect(out_dir)
     return 0
 
 
