@@ -119,6 +119,51 @@ TEST(CrossIntegrator, BdptMatchesPtWithGlossyAndGlass) {
   test::expect_matches_reference(bdpt_batches(scene, 16, 32, 800), ref, "bdpt glossy+glass", 4, 0.99);
 }
 
+// Infinite and delta lights take their own branches of the MIS weights (no distance factor
+// on the first segment, emission from a disk of the scene's bounding radius, delta
+// positions and directions). The Cornell box is open towards the camera: with its ceiling
+// light, a constant background and a directional light shining in through the open side,
+// and a point and a spot light inside, every light type contributes.
+TEST(CrossIntegrator, BdptMatchesPtWithEnvironmentAndPunctualLights) {
+  Scene scene = test::cornell_box();
+  PunctualLight sun;
+  sun.type = PunctualLight::Type::Directional;
+  sun.intensity = 2.0f;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -0.5f, -1.0f));
+  scene.lights.push_back(sun);
+  PunctualLight point;
+  point.type = PunctualLight::Type::Point;
+  point.intensity = 0.02f;
+  point.color = glm::vec3(0.5f, 0.7f, 1.0f);
+  point.position = glm::vec3(0.15f, 0.45f, -0.15f);
+  scene.lights.push_back(point);
+  PunctualLight spot;
+  spot.type = PunctualLight::Type::Spot;
+  spot.intensity = 0.05f;
+  spot.position = glm::vec3(0.45f, 0.5f, -0.45f);
+  spot.direction = glm::normalize(glm::vec3(-0.5f, -1.0f, 0.4f));
+  spot.inner_cone = 0.2f;
+  spot.outer_cone = 0.5f;
+  scene.lights.push_back(spot);
+  auto settings = [](const std::string& integrator, uint64_t spp, uint32_t seed) {
+    RenderSettings s;
+    s.width = s.height = kSize;
+    s.spp = spp;
+    s.seed = seed;
+    s.integrator = integrator;
+    s.background = glm::vec3(0.3f, 0.4f, 0.5f);
+    return s;
+  };
+  const FilmResult ref = Renderer(test::device_context(), scene, settings("pt", 8192, 4545)).render().film;
+  std::vector<Image> batches;
+  for (uint32_t b = 0; b < 16; ++b) {
+    const FilmResult f = Renderer(test::device_context(), scene, settings("bdpt", 32, 900 + b)).render().film;
+    EXPECT_EQ(f.dropped_samples, 0u);
+    batches.push_back(f.mean);
+  }
+  test::expect_matches_reference(batches, ref, "bdpt environment+punctual");
+}
+
 // Image mean per channel of a set of batches, with the standard error of that mean.
 struct ChannelMeans {
   double mean[3], sigma[3];
