@@ -114,6 +114,11 @@ struct Parser {
     app.add_flag("--bdpt-mosaic", o.bdpt_mosaic,
                  "bdpt: every strategy for paths of 0 to 4 bounces in one image: row = "
                  "bounces, column = S; --spp per cell, --time split over the cells");
+    app.add_option("--bdpt-lvc", o.bdpt_lvc,
+                   "bdpt: light vertex caching, M connections per camera vertex to random "
+                   "cached light vertices instead of its own light subpath's; 0 is off [0]")
+        ->type_name("M")
+        ->check(CLI::Range(0u, 64u).description(""));
     app.add_option("--bdpt-memory", o.bdpt_memory_mib,
                    "bdpt: light vertex buffer per pass in MiB; larger images go in tiles [256]")
         ->type_name("MIB")
@@ -283,9 +288,10 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
                                    "--integrator " + o.integrator + " (its splatted sums are not "
                                    "reproducible bit for bit)");
   }
-  if ((!o.bdpt_strategy.empty() || o.bdpt_unweighted || o.bdpt_mosaic) && o.integrator != "bdpt")
-    throw Error(ExitCode::Usage,
-                "--bdpt-strategy, --bdpt-unweighted and --bdpt-mosaic need --integrator bdpt");
+  if ((!o.bdpt_strategy.empty() || o.bdpt_unweighted || o.bdpt_mosaic || o.bdpt_lvc) &&
+      o.integrator != "bdpt")
+    throw Error(ExitCode::Usage, "--bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic and "
+                                 "--bdpt-lvc need --integrator bdpt");
   if (o.bdpt_unweighted && o.bdpt_strategy.empty() && !o.bdpt_mosaic)
     throw Error(ExitCode::Usage, "--bdpt-unweighted needs --bdpt-strategy S,T or --bdpt-mosaic");
   if (o.bdpt_mosaic && !o.bdpt_strategy.empty())

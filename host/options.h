@@ -40,6 +40,7 @@ struct Options {
   bool bdpt_unweighted = false;   // that strategy without its MIS weight
   bool bdpt_mosaic = false;       // every strategy of 0..4 bounces in one image
   uint32_t bdpt_memory_mib = 256; // light vertex buffer budget per pass
+  uint32_t bdpt_lvc = 0;          // light vertex caching: connections per camera vertex
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR
   std::string reference;          // image to compare with (relMSE), empty: none

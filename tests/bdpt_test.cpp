@@ -78,8 +78,10 @@ constexpr uint32_t kSize = 32;
 
 FilmResult render(const Scene& scene, const std::string& integrator, uint64_t spp, uint32_t seed,
                   uint32_t max_depth = 8, uint32_t bdpt_s = BDPT_ALL_STRATEGIES,
-                  uint32_t bdpt_t = 0, bool unweighted = false, uint32_t size = kSize) {
+                  uint32_t bdpt_t = 0, bool unweighted = false, uint32_t size = kSize,
+                  uint32_t lvc = 0) {
   RenderSettings s;
+  s.bdpt_lvc = lvc;
   s.width = s.height = size;
   s.spp = spp;
   s.seed = seed;
@@ -92,10 +94,12 @@ FilmResult render(const Scene& scene, const std::string& integrator, uint64_t sp
   return r.render().film;
 }
 
-std::vector<Image> bdpt_batches(const Scene& scene, uint32_t batches, uint64_t spp, uint32_t seed0) {
+std::vector<Image> bdpt_batches(const Scene& scene, uint32_t batches, uint64_t spp, uint32_t seed0,
+                                uint32_t lvc = 0) {
   std::vector<Image> out;
   for (uint32_t b = 0; b < batches; ++b) {
-    const FilmResult f = render(scene, "bdpt", spp, seed0 + b);
+    const FilmResult f =
+        render(scene, "bdpt", spp, seed0 + b, 8, BDPT_ALL_STRATEGIES, 0, false, kSize, lvc);
     EXPECT_EQ(f.dropped_samples, 0u);
     out.push_back(f.mean);
   }
@@ -106,6 +110,27 @@ TEST(CrossIntegrator, BdptMatchesPtOnCornellBox) {
   const Scene scene = test::cornell_box();
   const FilmResult ref = render(scene, "pt", 8192, 4242);
   test::expect_matches_reference(bdpt_batches(scene, 16, 32, 700), ref, "bdpt cornell");
+}
+
+// Light vertex caching: each camera vertex connects to 2 vertices drawn from all the light
+// subpaths' vertices of the tile, scaled by cache size / (2 paths); with a tiny memory budget
+// the tiles (and so the caches) are small, which must not matter either.
+TEST(CrossIntegrator, BdptWithLightVertexCachingMatchesPt) {
+  const Scene scene = test::cornell_box();
+  const FilmResult ref = render(scene, "pt", 8192, 4242);
+  test::expect_matches_reference(bdpt_batches(scene, 16, 32, 1700, 2), ref, "bdpt lvc 2");
+  std::vector<Image> small;
+  for (uint32_t b = 0; b < 12; ++b) {
+    RenderSettings s;
+    s.width = s.height = kSize;
+    s.spp = 32;
+    s.seed = 1800 + b;
+    s.integrator = "bdpt";
+    s.bdpt_lvc = 3;
+    s.bdpt_memory_bytes = 7 * 128 * 100;  // about 100 light paths per tile and cache
+    small.push_back(Renderer(test::device_context(), scene, s).render().film.mean);
+  }
+  test::expect_matches_reference(small, ref, "bdpt lvc 3, caches of ~100 paths");
 }
 
 TEST(CrossIntegrator, BdptMatchesPtWithGlossyAndGlass) {

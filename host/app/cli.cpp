@@ -166,6 +166,7 @@ int run(const Options& opt) {
   settings.ao_radius = opt.ao_radius;
   if (!opt.bdpt_strategy.empty()) parse_strategy(opt.bdpt_strategy, &settings.bdpt_s, &settings.bdpt_t);
   settings.bdpt_unweighted = opt.bdpt_unweighted;
+  settings.bdpt_lvc = opt.bdpt_lvc;
   settings.bdpt_memory_bytes = size_t(opt.bdpt_memory_mib) << 20;
   if (opt.bdpt_mosaic) return run_mosaic(opt, ctx, scene, settings, device.name);
   Renderer renderer(ctx, scene, settings);

@@ -16,7 +16,8 @@ BidirectionalPathTracer::BidirectionalPathTracer(const cl::Context& ctx, const S
       program_(ctx, "integrators/bdpt.cl"),
       light_kernel_(program_, "bdpt_light"),
       camera_kernel_(program_, "bdpt_camera"),
-      params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
+      params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
+      pool_count_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "BDPT light vertex cache count") {
   light_arg_ = scene.bind(light_kernel_, 0);
   camera_arg_ = scene.bind(camera_kernel_, 0);
 }
@@ -53,16 +54,31 @@ void BidirectionalPathTracer::render_pass(const dev::RenderParams& params, Film&
   }
   ensure_buffers(p.light_vertex_capacity, tile_paths(budget_, p.light_vertex_capacity, pixels));
   params_.write(&p, sizeof(p));
+  if (p.samples_per_pass == 0) {
+    // The renderer's warm-up pass: launch both kernels over no paths, so drivers that
+    // compile at the first launch (PoCL) do it now and not in the first timed pass.
+    const uint32_t none = 0;
+    light_kernel_.args(light_arg_, params_, none, none, none, vertices_, vertex_counts_,
+                       pool_count_, film.splat(), film.ray_counts(), connection_counts_);
+    light_kernel_.launch(ctx_, 1);
+    camera_kernel_.args(camera_arg_, params_, none, none, none, vertices_, vertex_counts_,
+                        pool_count_, film.sum(), film.sum_sq(), film.ray_counts(),
+                        connection_counts_);
+    camera_kernel_.launch(ctx_, 1);
+    return;
+  }
   for (uint32_t i = 0; i < p.samples_per_pass; ++i) {
     const uint32_t sample = p.sample_offset + i;
     for (size_t offset = 0; offset < pixels; offset += tile_) {
       const auto count = static_cast<uint32_t>(std::min(tile_, pixels - offset));
       const auto first = static_cast<uint32_t>(offset);
+      if (p.bdpt_lvc) pool_count_.fill_zero();
       light_kernel_.args(light_arg_, params_, sample, first, count, vertices_, vertex_counts_,
-                         film.splat(), film.ray_counts(), connection_counts_);
+                         pool_count_, film.splat(), film.ray_counts(), connection_counts_);
       light_kernel_.launch(ctx_, count);
       camera_kernel_.args(camera_arg_, params_, sample, first, count, vertices_, vertex_counts_,
-                          film.sum(), film.sum_sq(), film.ray_counts(), connection_counts_);
+                          pool_count_, film.sum(), film.sum_sq(), film.ray_counts(),
+                          connection_counts_);
       camera_kernel_.launch(ctx_, count);
     }
   }

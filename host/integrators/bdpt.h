@@ -36,7 +36,8 @@ class BidirectionalPathTracer final : public Integrator {
   cl::Kernel light_kernel_, camera_kernel_;
   cl::Buffer params_;
   cl::Buffer vertices_, vertex_counts_;
-  cl::Buffer connection_counts_;  // per pixel index, allocated with the first pass
+  cl::Buffer connection_counts_;
+  cl::Buffer pool_count_;  // light vertex caching: vertices appended to the tile's cache  // per pixel index, allocated with the first pass
   size_t pixels_ = 0;
   uint32_t capacity_ = 0;
   size_t tile_ = 0;

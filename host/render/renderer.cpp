@@ -88,6 +88,7 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   params_.bdpt_s = settings_.bdpt_s;
   params_.bdpt_t = settings_.bdpt_t;
   params_.bdpt_unweighted = settings_.bdpt_unweighted ? 1u : 0u;
+  params_.bdpt_lvc = settings_.bdpt_lvc;
   params_.ao_radius = settings_.ao_radius > 0.0f
                           ? settings_.ao_radius
                           : 0.1f * glm::length(scene.bounds().extent());

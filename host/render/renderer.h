@@ -36,6 +36,7 @@ struct RenderSettings {
   float ao_radius = 0.0f;      // ambient occlusion distance; 0: 10 % of the scene's diagonal
   uint32_t bdpt_s = BDPT_ALL_STRATEGIES, bdpt_t = 0;  // --bdpt-strategy
   bool bdpt_unweighted = false;
+  uint32_t bdpt_lvc = 0;  // light vertex caching: connections per camera vertex; 0: off
   size_t bdpt_memory_bytes = size_t(256) << 20;  // light vertex buffer budget
   std::string camera;              // index or name; empty: the first camera or a default one
   std::string env_file;            // equirectangular environment map; empty: none

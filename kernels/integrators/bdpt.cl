@@ -13,7 +13,8 @@
 
 __kernel void bdpt_light(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 sample_index,
                          u32 path_offset, u32 path_count, __global PathVertex* vertices,
-                         __global u32* vertex_counts, __global float4* splat,
+                         __global u32* vertex_counts, volatile __global u32* pool_count,
+                         __global float4* splat,
                          __global u32* ray_counts, __global u32* connection_counts) {
   const u32 i = get_global_id(0);
   if (i >= path_count) return;
@@ -22,15 +23,16 @@ __kernel void bdpt_light(SCENE_KERNEL_ARGS, __constant const RenderParams* param
   const Sampler sampler = sampler_init(params, path, sample_index);
   u32 rays = 0, connections = 0;
   vertex_counts[i] = bdpt_light_path(params, &scene, &sampler,
-                                     vertices + (size_t)i * params->light_vertex_capacity, splat,
-                                     &rays, &connections);
+                                     vertices + (size_t)i * params->light_vertex_capacity, vertices,
+                                     pool_count, splat, &rays, &connections);
   ray_counts[path] += rays;
   connection_counts[path] += connections;
 }
 
 __kernel void bdpt_camera(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 sample_index,
                           u32 path_offset, u32 path_count, __global const PathVertex* vertices,
-                          __global const u32* vertex_counts, __global float4* film_sum,
+                          __global const u32* vertex_counts, __global const u32* pool_count,
+                          __global float4* film_sum,
                           __global float4* film_sum_sq, __global u32* ray_counts,
                           __global u32* connection_counts) {
   const u32 i = get_global_id(0);
@@ -40,10 +42,13 @@ __kernel void bdpt_camera(SCENE_KERNEL_ARGS, __constant const RenderParams* para
   const Sampler sampler = sampler_init(params, pixel, sample_index);
   u32 rays = 0, connections = 0;
   FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
+  /* With light vertex caching the whole tile's cache, else this pixel's own light subpath. */
+  const bool lvc = params->bdpt_lvc != 0u;
   film_add(&film, bdpt_camera_path(params, &scene, &sampler, pixel % params->width,
                                    pixel / params->width,
-                                   vertices + (size_t)i * params->light_vertex_capacity,
-                                   vertex_counts[i], &rays, &connections));
+                                   lvc ? vertices : vertices + (size_t)i * params->light_vertex_capacity,
+                                   lvc ? pool_count[0] : vertex_counts[i], path_count, &rays,
+                                   &connections));
   film_store(film_sum, film_sum_sq, pixel, &film);
   ray_counts[pixel] += rays;
   connection_counts[pixel] += connections;

@@ -14,7 +14,7 @@
 #define DIM_LIGHT_SELECT 4u /* 1D */
 #define DIM_BSDF_LOBE 5u    /* 1D: which lobe of the BSDF mixture samples the direction */
 #define DIM_RR 6u           /* 1D */
-#define DIM_SPARE 7u        /* 1D, unused */
+#define DIM_LVC_PICK 7u     /* 1D: bdpt with light vertex caching, which cached vertex */
 
 /* Light paths (--integrator lt, kernels/integrators/light_trace.cl) use the same layout:
  * the emitted ray takes the camera ray's places, and light vertex k (0: on the light) takes

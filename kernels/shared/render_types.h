@@ -65,6 +65,9 @@ typedef struct RenderParams {
   u32 bdpt_t;           /*   camera vertices; BDPT_ALL_STRATEGIES in bdpt_s: every strategy */
   u32 bdpt_unweighted;  /* 1: that strategy without its MIS weight */
   u32 light_vertex_capacity; /* bdpt: light vertices stored per light subpath */
+  u32 bdpt_lvc;         /* bdpt: connections per camera vertex to random cached light vertices
+                         * (light vertex caching); 0: to every vertex of its own light subpath */
+  u32 pad[3];
 } RenderParams;
 
 #define BDPT_ALL_STRATEGIES 0xffffffffu

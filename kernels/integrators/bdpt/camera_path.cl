@@ -73,10 +73,17 @@ inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s,
 }
 
 /* The camera subpath of one pixel sample joined with light subpath `lv` (`count` vertices);
- * returns the pixel's estimate from every strategy with t >= 2. */
+ * returns the pixel's estimate from every strategy with t >= 2.
+ *
+ * Light vertex caching (p->bdpt_lvc = M > 0; Davidovic et al. 2014): `lv` is instead the
+ * cache of all `count` vertices the tile's `paths` light subpaths stored, and each camera
+ * vertex connects to M of them chosen uniformly, each contribution scaled by
+ * count / (M paths). Its expectation is that of connecting to all vertices of one light
+ * subpath (the mean over subpaths of their sum), so the estimate stays unbiased with the
+ * same MIS weights; they are optimal for M near the mean number of vertices per subpath. */
 inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView* s,
                                const Sampler* sampler, u32 x, u32 y,
-                               __global const PathVertex* lv, u32 count, u32* rays,
+                               __global const PathVertex* lv, u32 count, u32 paths, u32* rays,
                                u32* connections) {
   float3 org, dir;
   pixel_ray(p, sampler, x, y, &org, &dir);
@@ -120,7 +127,18 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
     bsdf_orient(&sh, wo);
     if (bsdf_has_smooth_lobe(&sh)) {
       L += st.beta * bdpt_nee(p, s, sampler, &sh, wo, &st, k, rays, connections);
-      for (u32 i = 0u; i < count; ++i) L += st.beta * bdpt_connect(p, s, &sh, wo, &st, k, lv + i, rays, connections);
+      if (p->bdpt_lvc == 0u) {
+        for (u32 i = 0u; i < count; ++i)
+          L += st.beta * bdpt_connect(p, s, &sh, wo, &st, k, lv + i, rays, connections);
+      } else if (count > 0u) {
+        float3 cached = (float3)(0.0f);
+        for (u32 m = 0u; m < p->bdpt_lvc; ++m) {
+          const float u = sample_1d(sampler, stream_dim(bounce_dim(k - 1u, DIM_LVC_PICK), m));
+          const u32 i = min((u32)(u * (float)count), count - 1u);
+          cached += bdpt_connect(p, s, &sh, wo, &st, k, lv + i, rays, connections);
+        }
+        L += st.beta * cached * ((float)count / ((float)p->bdpt_lvc * (float)paths));
+      }
     }
     const BsdfSample bs =
         bsdf_sample(&sh, wo, sample_2d(sampler, bounce_dim(k - 1u, DIM_BSDF_DIR)),

@@ -45,11 +45,13 @@ inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneVie
   film_splat(splat, lt_pixel(p, &c), st->beta * f * (c.weight * w));
 }
 
-/* Traces one light subpath, stores its connectable vertices in `out` (capacity
- * p->light_vertex_capacity) and returns how many it stored. *rays counts every ray traced,
- * *connections the shadow rays of strategies (here: t = 1). */
+/* Traces one light subpath and stores its connectable vertices: in `out` (capacity
+ * p->light_vertex_capacity), or with light vertex caching (p->bdpt_lvc > 0) appended to the
+ * tile's shared cache `pool` through the counter *pool_count. Returns how many it stored.
+ * *rays counts every ray traced, *connections the shadow rays of strategies (here: t = 1). */
 inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
                            const Sampler* sampler, __global PathVertex* out,
+                           __global PathVertex* pool, volatile __global u32* pool_count,
                            __global float4* splat, u32* rays, u32* connections) {
   if (s->num_lights == 0u) return 0u;
   const LightEmission e = light_emit(s, bdpt_light_sample_1d(sampler, bounce_dim(0u, DIM_LIGHT_SELECT)),
@@ -86,8 +88,11 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
     bdpt_mis_arrive(p, &st, distance(sh.p, from), fabs(dot(sh.ng, wo)), depth > 1u || q.finite);
     bsdf_orient(&sh, wo);
     if (bsdf_has_smooth_lobe(&sh)) {
-      if (depth < p->max_depth && stored < p->light_vertex_capacity)
-        path_vertex_store(out + stored++, &sh, wo, &st, depth);
+      if (depth < p->max_depth && stored < p->light_vertex_capacity) {
+        ++stored;
+        if (p->bdpt_lvc) path_vertex_store(pool + atomic_inc(pool_count), &sh, wo, &st, depth);
+        else path_vertex_store(out + stored - 1u, &sh, wo, &st, depth);
+      }
       bdpt_connect_camera(p, s, &sh, wo, &st, depth,
                           bdpt_light_sample_2d(sampler, bounce_dim(depth, DIM_LT_LENS)), splat, rays,
                           connections);
