@@ -13,7 +13,9 @@
 //   LightTracer.Refuses orthographic cameras and checkpoints (usage errors).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <vector>
@@ -305,6 +307,81 @@ TEST(CrossIntegrator, LtMatchesPtOnCornellBox) {
     batches.push_back(f.mean);
   }
   test::expect_matches_reference(batches, ref, "lt");
+}
+
+// Which pixels see the glass block of test::cornell_box_glossy_glass() first: any of the
+// pixel's centre and four corner rays hits a glass triangle before anything else (brute
+// force over the triangles, in double).
+std::vector<bool> pixels_seeing_material(const Scene& scene, const std::string& material,
+                                         uint32_t size) {
+  const dev::CameraData cam = camera_data(choose_camera(scene, ""), size, size);
+  const glm::dvec3 o(cam.origin[0], cam.origin[1], cam.origin[2]);
+  const glm::dvec3 r(cam.right[0], cam.right[1], cam.right[2]), u(cam.up[0], cam.up[1], cam.up[2]),
+      f(cam.forward[0], cam.forward[1], cam.forward[2]);
+  auto first_material = [&](glm::dvec3 d) {
+    double best = std::numeric_limits<double>::infinity();
+    uint32_t m = ~0u;
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+      const glm::dvec3 a(scene.positions[scene.triangles[i].x]), b(scene.positions[scene.triangles[i].y]),
+          c(scene.positions[scene.triangles[i].z]);
+      const glm::dvec3 e1 = b - a, e2 = c - a, pv = glm::cross(d, e2);
+      const double det = glm::dot(e1, pv);
+      if (std::fabs(det) < 1e-18) continue;
+      const glm::dvec3 tv = o - a;
+      const double bu = glm::dot(tv, pv) / det;
+      const glm::dvec3 qv = glm::cross(tv, e1);
+      const double bv = glm::dot(d, qv) / det, t = glm::dot(e2, qv) / det;
+      if (bu < 0 || bv < 0 || bu + bv > 1 || t <= 1e-9 || t >= best) continue;
+      best = t;
+      m = scene.triangle_materials[i];
+    }
+    return m;
+  };
+  std::vector<bool> mask(size_t(size) * size, false);
+  const double offsets[5][2] = {{0.5, 0.5}, {0, 0}, {1, 0}, {0, 1}, {1, 1}};
+  for (uint32_t y = 0; y < size; ++y)
+    for (uint32_t x = 0; x < size; ++x)
+      for (const auto& q : offsets) {
+        const double sx = 2.0 * (x + q[0]) / size - 1.0, sy = 1.0 - 2.0 * (y + q[1]) / size;
+        const uint32_t m = first_material(glm::normalize(f + sx * r + sy * u));
+        if (m != ~0u && scene.materials[m].name == material) mask[size_t(y) * size + x] = true;
+      }
+  return mask;
+}
+
+// lt cannot see through the glass block (the vertex next to the camera is a delta one):
+// those pixels are left out (given the reference's values in every batch); everywhere else,
+// glossy reflections and the glass block's caustics included, lt must agree with pt.
+TEST(CrossIntegrator, LtMatchesPtWithGlossyAndGlassOutsideTheGlass) {
+  const Scene scene = test::cornell_box_glossy_glass();
+  RenderSettings s;
+  s.width = s.height = kSize;
+  s.spp = 16384;
+  s.seed = 4343;
+  const FilmResult ref = Renderer(test::device_context(), scene, s).render().film;
+  const std::vector<bool> glass = pixels_seeing_material(scene, "glass", kSize);
+  const size_t left_out = size_t(std::count(glass.begin(), glass.end(), true));
+  ASSERT_GT(left_out, 20u) << "the glass block should cover some pixels";
+  ASSERT_LT(left_out, size_t(kSize) * kSize / 4);
+  std::vector<Image> batches;
+  for (uint32_t b = 0; b < 16; ++b) {
+    s.spp = 64;
+    s.seed = 600 + b;
+    s.integrator = "lt";
+    Image m = Renderer(test::device_context(), scene, s).render().film.mean;
+    for (size_t i = 0; i < glass.size(); ++i)
+      if (glass[i])
+        for (int c = 0; c < 3; ++c) m.rgb[i * 3 + c] = ref.mean.rgb[i * 3 + c];
+    batches.push_back(m);
+  }
+  std::cout << "[ figures  ] " << left_out << " of " << kSize * kSize
+            << " pixels see the glass block first and are left out\n";
+  // The metal block's side faces, seen at grazing angles, are heavy-tailed for lt: a light
+  // vertex there reaches the camera through a large glossy f times a tiny cosine, rarely.
+  // Along that edge (pixel column 9) single-seed lt renders at depth 2 read 0.0054, 0.0150,
+  // 0.0169 where pt reads 0.0102, 0.0094, 0.0089: both signs, batch variances too small.
+  // Block means and the image mean stay strict; the per-pixel pass fraction allows 1 %.
+  test::expect_matches_reference(batches, ref, "lt glossy+glass", 4, 0.99);
 }
 
 TEST(LightTracer, RefusesOrthographicCameras) {
