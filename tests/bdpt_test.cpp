@@ -189,29 +189,8 @@ TEST(CrossIntegrator, BdptMatchesPtWithEnvironmentAndPunctualLights) {
   test::expect_matches_reference(batches, ref, "bdpt environment+punctual");
 }
 
-// Image mean per channel of a set of batches, with the standard error of that mean.
-struct ChannelMeans {
-  double mean[3], sigma[3];
-};
-
-ChannelMeans channel_means(const std::vector<Image>& batches) {
-  ChannelMeans r{};
-  const size_t n = batches[0].rgb.size(), B = batches.size();
-  for (int c = 0; c < 3; ++c) {
-    std::vector<double> bm;
-    for (const Image& b : batches) {
-      double s = 0.0;
-      for (size_t i = c; i < n; i += 3) s += b.rgb[i];
-      bm.push_back(s / double(n / 3));
-    }
-    const double m = std::accumulate(bm.begin(), bm.end(), 0.0) / double(B);
-    double q = 0.0;
-    for (double v : bm) q += (v - m) * (v - m);
-    r.mean[c] = m;
-    r.sigma[c] = std::sqrt(q / double(B - 1) / double(B));
-  }
-  return r;
-}
+using test::channel_means;
+using test::ChannelMeans;
 
 // Paths of exactly 2 bounces (4 vertices) have the strategies (s, t) = (0, 4), (1, 3), (2, 2)
 // and (3, 1). Each alone, unweighted, is an unbiased estimator of the light those paths

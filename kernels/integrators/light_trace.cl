@@ -22,6 +22,7 @@
 #include "bsdf/bsdf.cl"
 #include "camera/camera_importance.cl"
 #include "core/ray.cl"
+#include "integrators/russian_roulette.cl"
 #include "film/splat.cl"
 #include "light/light.cl"
 #include "material/material.cl"
@@ -109,8 +110,7 @@ inline void lt_trace(__constant const RenderParams* p, const SceneView* s, const
     if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
     beta *= bs.weight * lt_shading_correction(&sh, wo, bs.wi);
     if (depth + 1u >= p->rr_depth) {
-      const float survive =
-          p->rr == RR_FIXED ? 1.0f - p->rr_absorb : fmin(1.0f, max_component(beta));
+      const float survive = rr_survival(p, beta);
       if (!(sample_1d(sampler, bounce_dim(depth, DIM_RR)) < survive)) break;
       beta /= survive;
     }

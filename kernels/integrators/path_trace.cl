@@ -13,6 +13,7 @@
 
 #include "bsdf/bsdf.cl"
 #include "core/ray.cl"
+#include "integrators/russian_roulette.cl"
 #include "light/light.cl"
 #include "material/material.cl"
 #include "material/volume.cl"
@@ -130,8 +131,7 @@ inline float3 pt_continue(__constant const RenderParams* p, const SceneView* s,
     if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
     beta *= bs.weight;
     if (depth + 1u >= p->rr_depth) {
-      const float survive =
-          p->rr == RR_FIXED ? 1.0f - p->rr_absorb : fmin(1.0f, max_component(beta));
+      const float survive = rr_survival(p, beta);
       if (!(sample_1d(sampler, stream_dim(bounce_dim(depth, DIM_RR), stream)) < survive)) break;
       beta /= survive;
     }

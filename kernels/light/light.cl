@@ -13,6 +13,7 @@
 #ifndef CLPT_LIGHT_LIGHT_CL
 #define CLPT_LIGHT_LIGHT_CL
 
+#include "core/ray.cl"
 #include "light/area_light.cl"
 #include "light/environment.cl"
 #include "light/punctual.cl"
@@ -114,6 +115,17 @@ inline LightEmission light_emit(const SceneView* s, float u_select, float2 u_pos
   e.pdf_select = l->pdf_select;
   e.light = i;
   return e;
+}
+
+/* Where the ray of emission e starts: on an area light, e.p offset off its triangle on the
+ * side the ray leaves by (so it cannot hit its own triangle); elsewhere e.p. */
+inline float3 light_emission_origin(const SceneView* s, const LightEmission* e) {
+  const __global Light* l = &s->lights[e->light];
+  if (l->type != LIGHT_TRIANGLE) return e->p;
+  float3 p0, p1, p2;
+  triangle_vertices(s, l->triangle, &p0, &p1, &p2);
+  const float3 ng = safe_normal(cross(p1 - p0, p2 - p0));
+  return offset_ray_origin(e->p, dot(e->dir, ng) >= 0.0f ? ng : -ng);
 }
 
 /* Densities of a light's two sampling techniques for one light point, in the form the

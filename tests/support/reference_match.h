@@ -15,6 +15,13 @@
 
 namespace clpt::test {
 
+// The image mean of each channel over a set of batches, with the standard error of that
+// mean from the spread of the batches' image means.
+struct ChannelMeans {
+  double mean[3], sigma[3];
+};
+ChannelMeans channel_means(const std::vector<Image>& batches);
+
 void expect_matches_reference(const std::vector<Image>& batches, const FilmResult& reference,
                               const std::string& label, uint32_t block = 4,
                               double min_pixel_pass = 0.9975);

@@ -149,8 +149,7 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
     st.beta *= bs.weight;
     walk *= bs.weight;
     if (k >= p->rr_depth) {
-      const float survive =
-          p->rr == RR_FIXED ? 1.0f - p->rr_absorb : fmin(1.0f, max_component(walk));
+      const float survive = rr_survival(p, walk);
       if (!(sample_1d(sampler, bounce_dim(k - 1u, DIM_RR)) < survive)) break;
       st.beta /= survive;
       walk /= survive;

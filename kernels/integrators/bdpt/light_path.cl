@@ -65,14 +65,7 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
   st.dvc = (e.is_delta_pos || e.is_delta_dir) ? 0.0f : bdpt_mis(p, q.cos_light / q.emit_w);
   st.dvm = 0.0f;
 
-  float3 org = e.p, dir = e.dir, from = e.p;
-  const __global Light* light = &s->lights[e.light];
-  if (light->type == LIGHT_TRIANGLE) {
-    float3 p0, p1, p2;
-    triangle_vertices(s, light->triangle, &p0, &p1, &p2);
-    const float3 ng = safe_normal(cross(p1 - p0, p2 - p0));
-    org = offset_ray_origin(e.p, dot(dir, ng) >= 0.0f ? ng : -ng);
-  }
+  float3 org = light_emission_origin(s, &e), dir = e.dir, from = e.p;
   u32 stored = 0u;
   float3 walk = (float3)(1.0f); /* the BSDF weights alone, which Russian roulette looks at */
   SurfaceHit prev;
@@ -108,8 +101,7 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
     st.beta *= scatter;
     walk *= scatter;
     if (depth + 1u >= p->rr_depth) {
-      const float survive =
-          p->rr == RR_FIXED ? 1.0f - p->rr_absorb : fmin(1.0f, max_component(walk));
+      const float survive = rr_survival(p, walk);
       if (!(bdpt_light_sample_1d(sampler, bounce_dim(depth, DIM_RR)) < survive)) break;
       st.beta /= survive;
       walk /= survive;

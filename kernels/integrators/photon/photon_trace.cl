@@ -42,14 +42,7 @@ inline void photon_trace(__constant const RenderParams* p, const SceneView* s,
                  sample_2d(sampler, DIM_LT_EMIT_POS), sample_2d(sampler, DIM_LT_EMIT_DIR));
   if (!(e.pdf_a > 0.0f && e.pdf_w > 0.0f && e.pdf_select > 0.0f) || is_black(e.Le)) return;
   float3 power = e.Le * (e.cos_light * inv_paths / (e.pdf_select * e.pdf_a * e.pdf_w));
-  float3 org = e.p, dir = e.dir;
-  const __global Light* light = &s->lights[e.light];
-  if (light->type == LIGHT_TRIANGLE) {
-    float3 p0, p1, p2;
-    triangle_vertices(s, light->triangle, &p0, &p1, &p2);
-    const float3 ng = safe_normal(cross(p1 - p0, p2 - p0));
-    org = offset_ray_origin(e.p, dot(dir, ng) >= 0.0f ? ng : -ng);
-  }
+  float3 org = light_emission_origin(s, &e), dir = e.dir;
   int specular_only = 1; /* every scattering so far was a delta one */
   SurfaceHit prev;
   for (u32 depth = 1u; depth <= p->max_depth; ++depth) {
