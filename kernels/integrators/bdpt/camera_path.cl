@@ -144,16 +144,9 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
         bsdf_sample(&sh, wo, sample_2d(sampler, bounce_dim(k - 1u, DIM_BSDF_DIR)),
                     sample_1d(sampler, bounce_dim(k - 1u, DIM_BSDF_LOBE)), TRANSPORT_RADIANCE);
     if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
-    bdpt_mis_scatter(p, &st, bs.pdf_w, bs.is_delta ? bs.pdf_w : bsdf_pdf_w(&sh, bs.wi, wo),
-                     fabs(dot(sh.ng, bs.wi)), bs.is_delta);
-    st.beta *= bs.weight;
-    walk *= bs.weight;
-    if (k >= p->rr_depth) {
-      const float survive = rr_survival(p, walk);
-      if (!(sample_1d(sampler, bounce_dim(k - 1u, DIM_RR)) < survive)) break;
-      st.beta /= survive;
-      walk /= survive;
-    }
+    if (!bdpt_scatter(p, &st, &walk, &sh, wo, &bs, bs.weight, k >= p->rr_depth,
+                      sample_1d(sampler, bounce_dim(k - 1u, DIM_RR))))
+      break;
     prev = sh;
     from = sh.p;
     org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);

@@ -95,17 +95,10 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
         bsdf_sample(&sh, wo, bdpt_light_sample_2d(sampler, bounce_dim(depth, DIM_BSDF_DIR)),
                     bdpt_light_sample_1d(sampler, bounce_dim(depth, DIM_BSDF_LOBE)), TRANSPORT_IMPORTANCE);
     if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
-    bdpt_mis_scatter(p, &st, bs.pdf_w, bs.is_delta ? bs.pdf_w : bsdf_pdf_w(&sh, bs.wi, wo),
-                     fabs(dot(sh.ng, bs.wi)), bs.is_delta);
-    const float3 scatter = bs.weight * lt_shading_correction(&sh, wo, bs.wi);
-    st.beta *= scatter;
-    walk *= scatter;
-    if (depth + 1u >= p->rr_depth) {
-      const float survive = rr_survival(p, walk);
-      if (!(bdpt_light_sample_1d(sampler, bounce_dim(depth, DIM_RR)) < survive)) break;
-      st.beta /= survive;
-      walk /= survive;
-    }
+    if (!bdpt_scatter(p, &st, &walk, &sh, wo, &bs, bs.weight * lt_shading_correction(&sh, wo, bs.wi),
+                      depth + 1u >= p->rr_depth,
+                      bdpt_light_sample_1d(sampler, bounce_dim(depth, DIM_RR))))
+      break;
     prev = sh;
     from = sh.p;
     org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);
