@@ -152,21 +152,24 @@ inline float light_disk_pdf_a(const SceneView* s) {
   return r > 0.0f ? INV_PI_F / (r * r) : 0.0f;
 }
 
-/* For an emitter triangle `tri` seen under cosine cos_light (a ray that hit it, or an NEE
- * sample of it). */
-inline LightPdfs light_pdfs_area(const SceneView* s, u32 tri, float cos_light) {
+/* For emitter triangle `tri` of area `area` seen under cosine cos_light. */
+inline LightPdfs light_pdfs_triangle(const SceneView* s, u32 tri, float area, float cos_light) {
   LightPdfs q;
   q.direct = 0.0f;
   q.emit_w = 0.0f;
   q.cos_light = cos_light;
   q.finite = 1;
   const int e = s->triangle_light[tri];
-  const float area = triangle_area(s, tri);
   if (e < 0 || !(area > 0.0f) || !(cos_light > 0.0f)) return q;
   const float side = (s->materials[s->triangles[tri].material].flags & MATERIAL_DOUBLE_SIDED) ? 0.5f : 1.0f;
   q.direct = s->lights[e].pdf_select / area;
   q.emit_w = q.direct * side * cos_light * INV_PI_F;
   return q;
+}
+
+/* For an emitter triangle `tri` seen under cosine cos_light (a ray that hit it). */
+inline LightPdfs light_pdfs_area(const SceneView* s, u32 tri, float cos_light) {
+  return light_pdfs_triangle(s, tri, triangle_area(s, tri), cos_light);
 }
 
 /* For the environment seen in direction w (towards the environment). */
@@ -183,10 +186,12 @@ inline LightPdfs light_pdfs_env(const SceneView* s, float3 w) {
 inline LightPdfs light_pdfs_sample(const SceneView* s, const LightSample* ls) {
   const __global Light* l = &s->lights[ls->light];
   if (l->type == LIGHT_TRIANGLE) {
+    /* One look at the vertices for both the area and the normal. */
     float3 p0, p1, p2;
     triangle_vertices(s, l->triangle, &p0, &p1, &p2);
-    const float3 ng = safe_normal(cross(p1 - p0, p2 - p0));
-    return light_pdfs_area(s, l->triangle, fabs(dot(ng, ls->wi)));
+    const float3 c = cross(p1 - p0, p2 - p0);
+    const float len = length(c);
+    return light_pdfs_triangle(s, l->triangle, 0.5f * len, len > 0.0f ? fabs(dot(c, ls->wi)) / len : 0.0f);
   }
   if (l->type == LIGHT_ENVIRONMENT) return light_pdfs_env(s, ls->wi);
   LightPdfs q;
