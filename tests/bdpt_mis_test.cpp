@@ -53,9 +53,7 @@ constexpr uint32_t kWidth = 40, kHeight = 30;  // N_light = 1200: light tracing 
 constexpr size_t kMinPerLength = 100;          // paths of each length 2..5
 
 const cl::Program& mis_program() {
-  static const cl::Program program(test::device_context(), "kernels/bdpt_mis_test.cl", "",
-                                   test::test_kernel_sources());
-  return program;
+  return test::test_program("kernels/bdpt_mis_test.cl");
 }
 
 // The Cornell box with its red and green walls metal (roughness 0.3) and its white surfaces

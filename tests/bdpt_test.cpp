@@ -38,22 +38,12 @@ TEST_P(SphereFurnaceBdpt, MatchesClosedForm) {
   const FurnaceCase c = GetParam();
   const Scene scene = test::furnace_scene(c.rho, 1.0f);
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
-  constexpr int kBatches = 30;
-  std::vector<Image> batches;
-  for (int b = 0; b < kBatches; ++b) {
-    RenderSettings s;
-    s.width = s.height = 16;
-    s.spp = 32;
-    s.max_depth = c.max_depth;
-    s.seed = 3000 + b;
-    s.integrator = "bdpt";
-    Renderer r(test::device_context(), scene, s);
-    const RenderOutput out = r.render();
-    ASSERT_EQ(out.film.samples_per_pixel, 32u);
-    ASSERT_EQ(out.film.dropped_samples, 0u);
-    batches.push_back(out.film.mean);
-  }
-  const BatchMean bm = batch_mean(batches);
+  RenderSettings s;
+  s.width = s.height = 16;
+  s.spp = 32;
+  s.max_depth = c.max_depth;
+  s.integrator = "bdpt";
+  const BatchMean bm = batch_mean(test::render_batches(scene, s, 30, 3000));
   if (c.max_depth == 0) {
     // Only the camera seeing the emitters (s = 0, t = 2, weight 1): exact, no variance.
     EXPECT_NEAR(bm.mean, expected, 1e-6 * expected);
@@ -76,40 +66,35 @@ INSTANTIATE_TEST_SUITE_P(Cases, SphereFurnaceBdpt,
 
 constexpr uint32_t kSize = 32;
 
-FilmResult render(const Scene& scene, const std::string& integrator, uint64_t spp, uint32_t seed,
-                  uint32_t max_depth = 8, uint32_t bdpt_s = BDPT_ALL_STRATEGIES,
-                  uint32_t bdpt_t = 0, bool unweighted = false, uint32_t size = kSize,
-                  uint32_t lvc = 0) {
+// A size x size render with `integrator` at spp and max depth 8.
+RenderSettings settings(const std::string& integrator, uint64_t spp, uint32_t size = kSize) {
   RenderSettings s;
-  s.bdpt_lvc = lvc;
   s.width = s.height = size;
   s.spp = spp;
-  s.seed = seed;
-  s.max_depth = max_depth;
   s.integrator = integrator;
-  s.bdpt_s = bdpt_s;
-  s.bdpt_t = bdpt_t;
-  s.bdpt_unweighted = unweighted;
-  Renderer r(test::device_context(), scene, s);
-  return r.render().film;
+  return s;
 }
 
-std::vector<Image> bdpt_batches(const Scene& scene, uint32_t batches, uint64_t spp, uint32_t seed0,
-                                uint32_t lvc = 0) {
-  std::vector<Image> out;
-  for (uint32_t b = 0; b < batches; ++b) {
-    const FilmResult f =
-        render(scene, "bdpt", spp, seed0 + b, 8, BDPT_ALL_STRATEGIES, 0, false, kSize, lvc);
-    EXPECT_EQ(f.dropped_samples, 0u);
-    out.push_back(f.mean);
-  }
-  return out;
+// bdpt with strategy (s, t) alone, at the max depth its paths have (s + t - 2 bounces).
+RenderSettings strategy(uint32_t s, uint32_t t, bool unweighted, uint64_t spp, uint32_t size) {
+  RenderSettings r = settings("bdpt", spp, size);
+  r.max_depth = s + t - 2;
+  r.bdpt_s = s;
+  r.bdpt_t = t;
+  r.bdpt_unweighted = unweighted;
+  return r;
+}
+
+FilmResult render(const Scene& scene, RenderSettings s, uint32_t seed) {
+  s.seed = seed;
+  return Renderer(test::device_context(), scene, s).render().film;
 }
 
 TEST(CrossIntegrator, BdptMatchesPtOnCornellBox) {
   const Scene scene = test::cornell_box();
-  const FilmResult ref = render(scene, "pt", 8192, 4242);
-  test::expect_matches_reference(bdpt_batches(scene, 16, 32, 700), ref, "bdpt cornell");
+  const FilmResult ref = render(scene, settings("pt", 8192), 4242);
+  test::expect_matches_reference(test::render_batches(scene, settings("bdpt", 32), 16, 700), ref,
+                                 "bdpt cornell");
 }
 
 // Light vertex caching: each camera vertex connects to 2 vertices drawn from all the light
@@ -117,31 +102,26 @@ TEST(CrossIntegrator, BdptMatchesPtOnCornellBox) {
 // the tiles (and so the caches) are small, which must not matter either.
 TEST(CrossIntegrator, BdptWithLightVertexCachingMatchesPt) {
   const Scene scene = test::cornell_box();
-  const FilmResult ref = render(scene, "pt", 8192, 4242);
-  test::expect_matches_reference(bdpt_batches(scene, 16, 32, 1700, 2), ref, "bdpt lvc 2");
-  std::vector<Image> small;
-  for (uint32_t b = 0; b < 12; ++b) {
-    RenderSettings s;
-    s.width = s.height = kSize;
-    s.spp = 32;
-    s.seed = 1800 + b;
-    s.integrator = "bdpt";
-    s.bdpt_lvc = 3;
-    s.bdpt_memory_bytes = 7 * 128 * 100;  // about 100 light paths per tile and cache
-    small.push_back(Renderer(test::device_context(), scene, s).render().film.mean);
-  }
-  test::expect_matches_reference(small, ref, "bdpt lvc 3, caches of ~100 paths");
+  const FilmResult ref = render(scene, settings("pt", 8192), 4242);
+  RenderSettings s = settings("bdpt", 32);
+  s.bdpt_lvc = 2;
+  test::expect_matches_reference(test::render_batches(scene, s, 16, 1700), ref, "bdpt lvc 2");
+  s.bdpt_lvc = 3;
+  s.bdpt_memory_bytes = 7 * 128 * 100;  // about 100 light paths per tile and cache
+  test::expect_matches_reference(test::render_batches(scene, s, 12, 1800), ref,
+                                 "bdpt lvc 3, caches of ~100 paths");
 }
 
 TEST(CrossIntegrator, BdptMatchesPtWithGlossyAndGlass) {
   const Scene scene = test::cornell_box_glossy_glass();
-  const FilmResult ref = render(scene, "pt", 16384, 4343);
+  const FilmResult ref = render(scene, settings("pt", 16384), 4343);
   // The floor under the glass block, seen through it, is lit only by S D S paths: bdpt has
   // one strategy for them (s = 0, the camera path hits the light), as pt has, and at 512 spp
   // per pixel their batch variance underestimates a heavy tail (measured: a handful of those
   // pixels at |z| 5 to 7.4, both signs at higher spp, region means within 3 % of pt). Block
   // means and the image mean stay strict; the per-pixel pass fraction allows 1 %.
-  test::expect_matches_reference(bdpt_batches(scene, 16, 32, 800), ref, "bdpt glossy+glass", 4, 0.99);
+  test::expect_matches_reference(test::render_batches(scene, settings("bdpt", 32), 16, 800), ref,
+                                 "bdpt glossy+glass", 4, 0.99);
 }
 
 // Infinite and delta lights take their own branches of the MIS weights (no distance factor
@@ -170,23 +150,14 @@ TEST(CrossIntegrator, BdptMatchesPtWithEnvironmentAndPunctualLights) {
   spot.inner_cone = 0.2f;
   spot.outer_cone = 0.5f;
   scene.lights.push_back(spot);
-  auto settings = [](const std::string& integrator, uint64_t spp, uint32_t seed) {
-    RenderSettings s;
-    s.width = s.height = kSize;
-    s.spp = spp;
-    s.seed = seed;
-    s.integrator = integrator;
+  auto with_background = [](RenderSettings s) {
     s.background = glm::vec3(0.3f, 0.4f, 0.5f);
     return s;
   };
-  const FilmResult ref = Renderer(test::device_context(), scene, settings("pt", 8192, 4545)).render().film;
-  std::vector<Image> batches;
-  for (uint32_t b = 0; b < 16; ++b) {
-    const FilmResult f = Renderer(test::device_context(), scene, settings("bdpt", 32, 900 + b)).render().film;
-    EXPECT_EQ(f.dropped_samples, 0u);
-    batches.push_back(f.mean);
-  }
-  test::expect_matches_reference(batches, ref, "bdpt environment+punctual");
+  const FilmResult ref = render(scene, with_background(settings("pt", 8192)), 4545);
+  test::expect_matches_reference(
+      test::render_batches(scene, with_background(settings("bdpt", 32)), 16, 900), ref,
+      "bdpt environment+punctual");
 }
 
 using test::channel_means;
@@ -199,14 +170,13 @@ using test::ChannelMeans;
 TEST(BdptStrategies, UnweightedStrategiesAgreeWithPt) {
   const Scene scene = test::cornell_box();
   constexpr uint32_t kBatches = 12, kSize16 = 16;
-  std::vector<Image> pt2;
-  for (uint32_t b = 0; b < kBatches; ++b) {
-    const FilmResult d2 = render(scene, "pt", 256, 900 + b, 2, BDPT_ALL_STRATEGIES, 0, false, kSize16);
-    const FilmResult d1 = render(scene, "pt", 256, 900 + b, 1, BDPT_ALL_STRATEGIES, 0, false, kSize16);
-    Image diff = d2.mean;
-    for (size_t i = 0; i < diff.rgb.size(); ++i) diff.rgb[i] -= d1.mean.rgb[i];
-    pt2.push_back(diff);
-  }
+  RenderSettings pt = settings("pt", 256, kSize16);
+  pt.max_depth = 2;
+  std::vector<Image> pt2 = test::render_batches(scene, pt, kBatches, 900);
+  pt.max_depth = 1;
+  const std::vector<Image> pt1 = test::render_batches(scene, pt, kBatches, 900);
+  for (uint32_t b = 0; b < kBatches; ++b)
+    for (size_t i = 0; i < pt2[b].rgb.size(); ++i) pt2[b].rgb[i] -= pt1[b].rgb[i];
   const ChannelMeans ref = channel_means(pt2);
   struct Strategy {
     uint32_t s, t;
@@ -219,8 +189,8 @@ TEST(BdptStrategies, UnweightedStrategiesAgreeWithPt) {
     std::vector<Image> unweighted;
     for (uint32_t b = 0; b < kBatches; ++b) {
       const uint32_t seed = 1000 + 37 * st.s + b;
-      unweighted.push_back(render(scene, "bdpt", st.spp, seed, 2, st.s, st.t, true, kSize16).mean);
-      const Image w = render(scene, "bdpt", 128, seed, 2, st.s, st.t, false, kSize16).mean;
+      unweighted.push_back(render(scene, strategy(st.s, st.t, true, st.spp, kSize16), seed).mean);
+      const Image w = render(scene, strategy(st.s, st.t, false, 128, kSize16), seed).mean;
       for (size_t i = 0; i < w.rgb.size(); ++i) weighted_sum[b].rgb[i] += w.rgb[i];
     }
     const ChannelMeans m = channel_means(unweighted);
@@ -272,7 +242,7 @@ TEST(Bdpt, RefusesOrthographicCameras) {
   Scene scene = test::furnace_scene(0.5f, 1.0f);
   scene.cameras[0].type = Camera::Type::Orthographic;
   try {
-    render(scene, "bdpt", 1, 0, 8, BDPT_ALL_STRATEGIES, 0, false, 8);
+    render(scene, settings("bdpt", 1, 8), 0);
     FAIL() << "an orthographic camera was accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ExitCode::Usage);

@@ -106,9 +106,7 @@ glm::vec4 direction(double cos_theta, double phi = 0.7) {
 }
 
 const cl::Program& bsdf_program() {
-  static const cl::Program program(test::device_context(), "kernels/bsdf_test.cl", "",
-                                   test::test_kernel_sources());
-  return program;
+  return test::test_program("kernels/bsdf_test.cl");
 }
 
 struct Samples {

@@ -352,9 +352,7 @@ DeviceScene upload(const Bvh& bvh, const Mesh& mesh) {
 }
 
 const cl::Program& bvh_program() {
-  static const cl::Program program(test::device_context(), "kernels/bvh_test.cl", "",
-                                   test::test_kernel_sources());
-  return program;
+  return test::test_program("kernels/bvh_test.cl");
 }
 
 struct Rays {

@@ -20,9 +20,7 @@ namespace clpt {
 namespace {
 
 const cl::Program& camera_program() {
-  static const cl::Program program(test::device_context(), "kernels/camera_test.cl", "",
-                                   test::test_kernel_sources());
-  return program;
+  return test::test_program("kernels/camera_test.cl");
 }
 
 struct RaySet {

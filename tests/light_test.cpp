@@ -97,9 +97,7 @@ struct DeviceScene {
 };
 
 const cl::Program& light_program() {
-  static const cl::Program program(test::device_context(), "kernels/light_test.cl", "",
-                                   test::test_kernel_sources());
-  return program;
+  return test::test_program("kernels/light_test.cl");
 }
 
 struct NeeSamples {

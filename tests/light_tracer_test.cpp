@@ -35,9 +35,7 @@ namespace clpt {
 namespace {
 
 const cl::Program& lt_program() {
-  static const cl::Program program(test::device_context(), "kernels/light_tracer_test.cl", "",
-                                   test::test_kernel_sources());
-  return program;
+  return test::test_program("kernels/light_tracer_test.cl");
 }
 
 std::vector<std::array<float, 4>> run_splats(const std::vector<uint32_t>& cells,
@@ -247,23 +245,12 @@ TEST_P(SphereFurnaceLt, MatchesClosedForm) {
   // 40 batches: with 12, the batch standard deviation itself was too uncertain, and seeds
   // 2000..2011 read z = 3.9 at depth 0 where 60 batches of two seed sets read z = 1.0 and
   // -1.5 (docs/concepts/light-tracing.md, "The furnace question").
-  constexpr int kBatches = 40;
-  std::vector<Image> batches;
-  for (int b = 0; b < kBatches; ++b) {
-    RenderSettings s;
-    s.width = s.height = 24;
-    s.spp = 128;  // the image mean of lt has about 8x pt's variance per path here
-    s.max_depth = c.max_depth;
-    s.seed = 2000 + b;
-    s.integrator = "lt";
-    Renderer r(test::device_context(), scene, s);
-    const RenderOutput out = r.render();
-    ASSERT_EQ(out.film.samples_per_pixel, 128u);
-    ASSERT_EQ(out.film.dropped_samples, 0u);
-    ASSERT_FALSE(out.film.variance_available);
-    batches.push_back(out.film.mean);
-  }
-  const BatchMean bm = batch_mean(batches);
+  RenderSettings s;
+  s.width = s.height = 24;
+  s.spp = 128;  // the image mean of lt has about 8x pt's variance per path here
+  s.max_depth = c.max_depth;
+  s.integrator = "lt";
+  const BatchMean bm = batch_mean(test::render_batches(scene, s, 40, 2000));
   const double mean = bm.mean, sigma = bm.sigma;
   const double z = (mean - expected) / sigma;
   EXPECT_LT(std::fabs(z), 4.0) << "mean " << mean << " expected " << expected << " sigma " << sigma;
@@ -299,14 +286,11 @@ FilmResult render_cornell(const std::string& integrator, uint64_t spp, uint32_t 
 
 TEST(CrossIntegrator, LtMatchesPtOnCornellBox) {
   const FilmResult ref = render_cornell("pt", 8192, 4242);
-  constexpr uint32_t kBatches = 16, kSpp = 64;
-  std::vector<Image> batches;
-  for (uint32_t b = 0; b < kBatches; ++b) {
-    const FilmResult f = render_cornell("lt", kSpp, 500 + b);
-    ASSERT_EQ(f.dropped_samples, 0u);
-    batches.push_back(f.mean);
-  }
-  test::expect_matches_reference(batches, ref, "lt");
+  RenderSettings s;
+  s.width = s.height = kSize;
+  s.spp = 64;
+  s.integrator = "lt";
+  test::expect_matches_reference(test::render_batches(cornell(), s, 16, 500), ref, "lt");
 }
 
 // Which pixels see the glass block of test::cornell_box_glossy_glass() first: any of the
@@ -363,17 +347,13 @@ TEST(CrossIntegrator, LtMatchesPtWithGlossyAndGlassOutsideTheGlass) {
   const size_t left_out = size_t(std::count(glass.begin(), glass.end(), true));
   ASSERT_GT(left_out, 20u) << "the glass block should cover some pixels";
   ASSERT_LT(left_out, size_t(kSize) * kSize / 4);
-  std::vector<Image> batches;
-  for (uint32_t b = 0; b < 16; ++b) {
-    s.spp = 64;
-    s.seed = 600 + b;
-    s.integrator = "lt";
-    Image m = Renderer(test::device_context(), scene, s).render().film.mean;
+  s.spp = 64;
+  s.integrator = "lt";
+  std::vector<Image> batches = test::render_batches(scene, s, 16, 600);
+  for (Image& m : batches)
     for (size_t i = 0; i < glass.size(); ++i)
       if (glass[i])
         for (int c = 0; c < 3; ++c) m.rgb[i * 3 + c] = ref.mean.rgb[i * 3 + c];
-    batches.push_back(m);
-  }
   std::cout << "[ figures  ] " << left_out << " of " << kSize * kSize
             << " pixels see the glass block first and are left out\n";
   // The metal block's side faces, seen at grazing angles, are heavy-tailed for lt: a light

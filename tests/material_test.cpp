@@ -20,9 +20,7 @@ namespace clpt {
 namespace {
 
 const cl::Program& material_program() {
-  static const cl::Program program(test::device_context(), "kernels/texture_test.cl", "",
-                                   test::test_kernel_sources());
-  return program;
+  return test::test_program("kernels/texture_test.cl");
 }
 
 uint32_t rgba(uint32_t r, uint32_t g, uint32_t b, uint32_t a = 255) { return r | g << 8 | b << 16 | a << 24; }

@@ -9,6 +9,7 @@
 #include "render/renderer.h"
 #include "stats/image_stats.h"
 #include "support/device.h"
+#include "support/reference_match.h"
 #include "support/scenes.h"
 
 namespace clpt {
@@ -31,21 +32,11 @@ TEST_P(SphereFurnace, PtMatchesClosedForm) {
   const FurnaceCase c = GetParam();
   const Scene scene = test::furnace_scene(c.rho, 1.0f);
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
-  constexpr int kBatches = 12;
-  std::vector<Image> batches;
-  for (int b = 0; b < kBatches; ++b) {
-    RenderSettings s;
-    s.width = s.height = 24;
-    s.spp = 8;
-    s.max_depth = c.max_depth;
-    s.seed = 1000 + b;
-    Renderer r(test::device_context(), scene, s);
-    const RenderOutput out = r.render();
-    ASSERT_EQ(out.film.samples_per_pixel, 8u);
-    ASSERT_EQ(out.film.dropped_samples, 0u);
-    batches.push_back(out.film.mean);
-  }
-  const BatchMean bm = batch_mean(batches);
+  RenderSettings s;
+  s.width = s.height = 24;
+  s.spp = 8;
+  s.max_depth = c.max_depth;
+  const BatchMean bm = batch_mean(test::render_batches(scene, s, 12, 1000));
   const double mean = bm.mean, sigma = bm.sigma;
   if (sigma == 0.0) {
     EXPECT_NEAR(mean, expected, 1e-6) << "deterministic case (no scattering)";

@@ -80,9 +80,7 @@ struct Values {
 };
 
 const cl::Program& sampler_program() {
-  static const cl::Program program(test::device_context(), "kernels/sampler_test.cl", "",
-                                   test::test_kernel_sources());
-  return program;
+  return test::test_program("kernels/sampler_test.cl");
 }
 
 Values run(const Query& q) {

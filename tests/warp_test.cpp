@@ -97,9 +97,7 @@ Chi2Grid support_grid(const WarpCase& c, int a_bins = 32, int b_bins = 64, int s
 }
 
 const cl::Program& warp_program() {
-  static const cl::Program program(test::device_context(), "kernels/warp_test.cl", "",
-                                   test::test_kernel_sources());
-  return program;
+  return test::test_program("kernels/warp_test.cl");
 }
 
 std::vector<glm::vec4> sample_random(const WarpCase& c, uint32_t seed, uint32_t n) {

@@ -1,7 +1,9 @@
 #include "support/device.h"
 
 #include <cstdlib>
+#include <map>
 #include <memory>
+#include <mutex>
 
 namespace clpt::test {
 
@@ -17,6 +19,15 @@ cl::KernelSources test_kernel_sources() {
   cl::KernelSources s = cl::KernelSources::core();
   s.roots.insert(s.roots.begin(), &embedded::tests());
   return s;
+}
+
+const cl::Program& test_program(const std::string& file) {
+  static std::mutex mutex;
+  static std::map<std::string, std::unique_ptr<cl::Program>> programs;
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto& program = programs[file];
+  if (!program) program = std::make_unique<cl::Program>(device_context(), file, "", test_kernel_sources());
+  return *program;
 }
 
 }  // namespace clpt::test

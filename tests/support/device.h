@@ -4,6 +4,8 @@
 #include "cl/context.h"
 #include "cl/program.h"
 
+#include <string>
+
 namespace clpt::embedded {
 const std::vector<EmbeddedFile>& tests();  // tests/kernels, embedded into clpt_tests
 }
@@ -17,5 +19,9 @@ cl::Context& device_context();
 // Kernel sources for test programs: tests/kernels/ first, then the renderer's kernels/.
 // Test kernels #include library code as "bvh/intersect.cl" etc. and live under "kernels/...".
 cl::KernelSources test_kernel_sources();
+
+// The test program built from `file` (e.g. "kernels/bsdf_test.cl") with test_kernel_sources(),
+// built once per process and kept.
+const cl::Program& test_program(const std::string& file);
 
 }  // namespace clpt::test

@@ -8,8 +8,23 @@
 
 #include "stats/image_stats.h"
 #include "support/block_test.h"
+#include "support/device.h"
 
 namespace clpt::test {
+
+std::vector<Image> render_batches(const Scene& scene, RenderSettings settings, uint32_t count,
+                                  uint32_t seed0) {
+  std::vector<Image> batches;
+  for (uint32_t b = 0; b < count; ++b) {
+    settings.seed = seed0 + b;
+    const FilmResult f = Renderer(device_context(), scene, settings).render().film;
+    EXPECT_EQ(f.samples_per_pixel, settings.spp) << "seed " << settings.seed;
+    EXPECT_EQ(f.dropped_samples, 0u) << "seed " << settings.seed;
+    EXPECT_EQ(f.variance_available, !integrator_splats(settings.integrator));
+    batches.push_back(f.mean);
+  }
+  return batches;
+}
 
 ChannelMeans channel_means(const std::vector<Image>& batches) {
   ChannelMeans r{};

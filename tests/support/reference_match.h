@@ -12,8 +12,16 @@
 
 #include "io/image.h"
 #include "render/film.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
 
 namespace clpt::test {
+
+// `count` independent renders of `scene` with `settings` and seeds seed0, seed0 + 1, ...:
+// their mean images. Each must reach settings.spp with no dropped sample, and report a
+// per-pixel variance exactly when its integrator does not splat.
+std::vector<Image> render_batches(const Scene& scene, RenderSettings settings, uint32_t count,
+                                  uint32_t seed0);
 
 // The image mean of each channel over a set of batches, with the standard error of that
 // mean from the spread of the batches' image means.
