@@ -74,7 +74,7 @@ struct Parser {
     for (const std::string& n : integrator_names())
       names += (names.empty() ? "" : "|") + n;
     app.add_option("--integrator", o.integrator,
-                   "Integrator: " + names + " (implemented: pt, lt, bdpt, direct, ao) [pt]")
+                   "Integrator: " + names + " (implemented: pt, lt, bdpt, pm, sppm, direct, ao) [pt]")
         ->type_name("NAME");
     app.add_option("--sampler", o.sampler,
                    "Sampler: independent|stratified|lhs|sobol; stratified and lhs need --spp "
@@ -123,6 +123,39 @@ struct Parser {
                    "bdpt: light vertex buffer per pass in MiB; larger images go in tiles [256]")
         ->type_name("MIB")
         ->check(CLI::Range(1u, 1u << 20).description(""));
+    app.add_option("--photons", o.photons,
+                   "pm: photon paths for the global map [200000]; sppm: photon paths per pass "
+                   "[one per pixel]")
+        ->type_name("N")
+        ->check(CLI::Range(uint64_t(1), uint64_t(0xffffffffu)).description(""));
+    app.add_option("--caustic-photons", o.caustic_photons,
+                   "pm: photon paths for the caustic map (only L S+ D photons are kept) "
+                   "[1000000]")
+        ->type_name("N")
+        ->check(CLI::Range(uint64_t(0), uint64_t(0xffffffffu)).description(""));
+    app.add_option("--final-gather", o.final_gather,
+                   "pm: gather rays per sample from the first diffuse hit, which read the "
+                   "global map where they land; 0 reads it at the hit itself [8]")
+        ->type_name("N")
+        ->check(CLI::Range(0u, 255u).description(""));
+    app.add_option("--knn", o.knn, "pm: photons per radiance estimate (k nearest) [50]")
+        ->type_name("K")
+        ->check(CLI::Range(1u, 256u).description(""));
+    app.add_option("--pm-max-radius", o.pm_max_radius,
+                   "pm: largest search radius of an estimate [2% of the scene's diagonal]")
+        ->type_name("DIST")
+        ->check(CLI::PositiveNumber.description(""));
+    app.add_option("--pm-filter", o.pm_filter,
+                   "pm: density estimation kernel: cone|epanechnikov|box [cone]")
+        ->type_name("NAME");
+    app.add_option("--sppm-radius", o.sppm_radius,
+                   "sppm: initial search radius [2 pixel footprints at the scene's centre]")
+        ->type_name("DIST")
+        ->check(CLI::PositiveNumber.description(""));
+    app.add_option("--sppm-alpha", o.sppm_alpha,
+                   "sppm: fraction of each pass's photons kept as the radius shrinks [0.667]")
+        ->type_name("A")
+        ->check(CLI::Range(0.01f, 1.0f).description(""));
     stats_opt = app.add_option("--stats", stats_value,
                                "Write render statistics as JSON to FILE, or stdout when no FILE")
                     ->expected(0, 1)
@@ -246,6 +279,11 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
     throw Error(ExitCode::Usage, "--env-rotate needs a finite number of degrees");
   if (p.time_opt->count() && !p.spp_opt->count()) o.spp = 0;  // --time alone: no sample limit
   if (p.stats_opt->count()) o.stats = p.stats_value.empty() ? std::string("-") : p.stats_value;
+  o.caustic_photons_set = p.app.count("--caustic-photons") > 0;
+  o.final_gather_set = p.app.count("--final-gather") > 0;
+  o.knn_set = p.app.count("--knn") > 0;
+  o.pm_filter_set = p.app.count("--pm-filter") > 0;
+  o.sppm_alpha_set = p.app.count("--sppm-alpha") > 0;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
   auto one_of = [](const char* option, const std::string& value,
                    std::initializer_list<const char*> names) {
@@ -276,6 +314,15 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--rr " + o.rr + ": expected throughput or fixed:ALPHA with "
                                    "0 <= ALPHA < 1");
   }
+  if (o.integrator == "sppm") {
+    // Its pixels are progressive estimates with statistics of their own (radius, photon count).
+    if (o.variance)
+      throw Error(ExitCode::Usage, "--variance is not available with --integrator sppm: a "
+                                   "pixel is one progressive estimate, not a mean of samples");
+    if (!o.checkpoint.empty() || !o.resume.empty())
+      throw Error(ExitCode::Usage, "--checkpoint and --resume are not supported with "
+                                   "--integrator sppm (its pixel statistics are not saved)");
+  }
   if (integrator_splats(o.integrator)) {
     // Splatted films: no per-pixel sample variance, and float atomics in no fixed order, so a
     // resumed render could not equal an uninterrupted one bit for bit.
@@ -288,6 +335,19 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
                                    "--integrator " + o.integrator + " (its splatted sums are not "
                                    "reproducible bit for bit)");
   }
+  const bool photon_integrator = o.integrator == "pm" || o.integrator == "sppm";
+  if (!photon_integrator && (o.photons || o.sppm_radius > 0.0f || o.sppm_alpha_set))
+    throw Error(ExitCode::Usage, "--photons, --sppm-radius and --sppm-alpha need --integrator pm "
+                                 "or sppm");
+  if (o.integrator != "pm" && (o.caustic_photons_set || o.final_gather_set || o.knn_set ||
+                               o.pm_max_radius > 0.0f || o.pm_filter_set))
+    throw Error(ExitCode::Usage, "--caustic-photons, --final-gather, --knn, --pm-max-radius and "
+                                 "--pm-filter need --integrator pm");
+  if (o.integrator == "pm" && (o.sppm_radius > 0.0f || o.sppm_alpha_set))
+    throw Error(ExitCode::Usage, "--sppm-radius and --sppm-alpha need --integrator sppm");
+  if (o.pm_filter != "cone" && o.pm_filter != "epanechnikov" && o.pm_filter != "box")
+    throw Error(ExitCode::Usage, "--pm-filter " + o.pm_filter + ": expected cone, epanechnikov "
+                                 "or box");
   if ((!o.bdpt_strategy.empty() || o.bdpt_unweighted || o.bdpt_mosaic || o.bdpt_lvc) &&
       o.integrator != "bdpt")
     throw Error(ExitCode::Usage, "--bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic and "

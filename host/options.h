@@ -41,6 +41,17 @@ struct Options {
   bool bdpt_mosaic = false;       // every strategy of 0..4 bounces in one image
   uint32_t bdpt_memory_mib = 256; // light vertex buffer budget per pass
   uint32_t bdpt_lvc = 0;          // light vertex caching: connections per camera vertex
+  // Photon mapping (pm, sppm). The *_set flags record that an option was given.
+  uint64_t photons = 0;            // 0: the integrator's default
+  uint64_t caustic_photons = 1000000;
+  uint32_t final_gather = 8;
+  uint32_t knn = 50;
+  float pm_max_radius = 0.0f;      // 0: 2 % of the scene's bounding-box diagonal
+  std::string pm_filter = "cone";
+  float sppm_radius = 0.0f;        // 0: two pixel footprints at the scene's centre
+  float sppm_alpha = 2.0f / 3.0f;
+  bool caustic_photons_set = false, final_gather_set = false, knn_set = false,
+       pm_filter_set = false, sppm_alpha_set = false;
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR
   std::string reference;          // image to compare with (relMSE), empty: none

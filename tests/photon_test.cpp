@@ -71,7 +71,7 @@ TEST(PhotonPower, PhotonsCarryTheLightsPowerInAFurnace) {
   DeviceScene ds(scene);
   PhotonTracer tracer(test::device_context(), *ds.buffers);
   constexpr uint64_t kPaths = 200000;
-  const PhotonSet set = tracer.trace(photon_params(4, 7), kPaths, false, kPaths * 4);
+  const PhotonSet set = tracer.trace(photon_params(4, 7), kPaths, 0u, kPaths * 4);
   ASSERT_EQ(set.dropped, 0u);
   const ScenePower sp = scene_power(scene, 2.0);
   const double phi = sp.inner + sp.outer;
@@ -103,13 +103,13 @@ TEST(PhotonPower, CausticPhotonsComeOnlyFromDeltaScattering) {
   {
     DeviceScene ds(test::cornell_box());
     PhotonTracer tracer(test::device_context(), *ds.buffers);
-    const PhotonSet set = tracer.trace(photon_params(8, 3), 50000, true, 50000 * 8);
+    const PhotonSet set = tracer.trace(photon_params(8, 3), 50000, PHOTON_STORE_CAUSTIC_ONLY, 50000 * 8);
     EXPECT_EQ(set.photons.size(), 0u) << "the diffuse Cornell box makes no caustic photons";
   }
   DeviceScene ds(test::cornell_box_glossy_glass());
   PhotonTracer tracer(test::device_context(), *ds.buffers);
-  const PhotonSet all = tracer.trace(photon_params(8, 3), 100000, false, 100000 * 8);
-  const PhotonSet caustic = tracer.trace(photon_params(8, 3), 100000, true, 100000 * 8);
+  const PhotonSet all = tracer.trace(photon_params(8, 3), 100000, 0u, 100000 * 8);
+  const PhotonSet caustic = tracer.trace(photon_params(8, 3), 100000, PHOTON_STORE_CAUSTIC_ONLY, 100000 * 8);
   size_t flagged = 0;
   for (const dev::Photon& ph : all.photons)
     if (ph.flags & PHOTON_CAUSTIC) {
@@ -124,7 +124,7 @@ TEST(PhotonPower, CausticPhotonsComeOnlyFromDeltaScattering) {
   std::cout << "[ figures  ] glass box: " << flagged << " caustic photons of " << all.photons.size()
             << "\n";
 
-  const PhotonSet small = tracer.trace(photon_params(8, 3), 1000, false, 10);
+  const PhotonSet small = tracer.trace(photon_params(8, 3), 1000, 0u, 10);
   EXPECT_EQ(small.photons.size(), 10u);
   EXPECT_GT(small.dropped, 0u);
 }

@@ -19,6 +19,7 @@
 #include "options.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
+#include "shared/photon_types.h"
 #include "stats/image_stats.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -168,6 +169,16 @@ int run(const Options& opt) {
   settings.bdpt_unweighted = opt.bdpt_unweighted;
   settings.bdpt_lvc = opt.bdpt_lvc;
   settings.bdpt_memory_bytes = size_t(opt.bdpt_memory_mib) << 20;
+  settings.photons = opt.photons;
+  settings.caustic_photons = opt.caustic_photons;
+  settings.final_gather = opt.final_gather;
+  settings.knn = opt.knn;
+  settings.pm_max_radius = opt.pm_max_radius;
+  settings.pm_filter = opt.pm_filter == "box"            ? dev::PHOTON_FILTER_BOX
+                       : opt.pm_filter == "epanechnikov" ? dev::PHOTON_FILTER_EPANECHNIKOV
+                                                         : dev::PHOTON_FILTER_CONE;
+  settings.sppm_radius = opt.sppm_radius;
+  settings.sppm_alpha = opt.sppm_alpha;
   if (opt.bdpt_mosaic) return run_mosaic(opt, ctx, scene, settings, device.name);
   Renderer renderer(ctx, scene, settings);
   if (reference && (reference->width != renderer.width() || reference->height != renderer.height()))
@@ -285,6 +296,21 @@ int run(const Options& opt) {
       j["connections"] = st.connections;
       j["connections_per_second"] = double(st.connections) / secs;
     }
+    if (opt.integrator == "pm" || opt.integrator == "sppm") {
+      const PhotonStats& ph = st.photons;
+      j["photons"] = {
+          {"paths", ph.paths},
+          {"stored", ph.stored},
+          {"rays", ph.rays},
+          {"emit_seconds", ph.emit_seconds},
+          {"paths_per_second", ph.emit_seconds > 0.0 ? double(ph.paths) / ph.emit_seconds : 0.0},
+          {"bytes_per_photon", sizeof(dev::Photon) + (opt.integrator == "pm" ? sizeof(dev::KdNode)
+                                                                             : sizeof(uint32_t))},
+          {opt.integrator == "pm" ? "kdtree_build_seconds" : "grid_build_seconds", ph.build_seconds},
+          {opt.integrator == "pm" ? "maps" : "grid_builds", ph.builds},
+          {"device_bytes", ph.device_bytes}};
+    }
+    // Rays of camera-side paths; photon rays are under "photons".
     j["rays"] = film.rays;
     j["rays_per_second"] = double(film.rays) / secs;
     j["dropped_samples"] = film.dropped_samples;
@@ -299,7 +325,9 @@ int run(const Options& opt) {
     if (!film.variance_available) {
       // Splatted films (lt) have no per-pixel sample variance; use --reference for errors.
       j["mean_variance"] = nullptr;
-      j["variance"] = "unavailable: " + opt.integrator + " splats light paths into any pixel";
+      j["variance"] = "unavailable: " + opt.integrator +
+                      (opt.integrator == "sppm" ? " pixels are progressive estimates, not sample means"
+                                                : " splats light paths into any pixel");
     }
     if (reference && film.samples_per_pixel > 0) {
       const ImageComparison c = compare_images(film.mean, *reference);

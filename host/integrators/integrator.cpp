@@ -5,6 +5,8 @@
 #include "integrators/bdpt.h"
 #include "integrators/light_tracer.h"
 #include "integrators/megakernel.h"
+#include "integrators/photon_mapper.h"
+#include "integrators/sppm.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -16,10 +18,15 @@ const std::vector<std::string>& integrator_names() {
 }
 
 bool integrator_implemented(const std::string& name) {
-  return name == "pt" || name == "lt" || name == "bdpt" || name == "direct" || name == "ao";
+  return name == "pt" || name == "lt" || name == "bdpt" || name == "pm" || name == "sppm" ||
+         name == "direct" || name == "ao";
 }
 
 bool integrator_splats(const std::string& name) { return name == "lt" || name == "bdpt"; }
+
+bool integrator_sums_samples(const std::string& name) {
+  return !integrator_splats(name) && name != "sppm";
+}
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::Context& ctx,
                                             const SceneBuffers& scene,
@@ -34,10 +41,13 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::C
   if (name == "lt") return std::make_unique<LightTracer>(ctx, scene);
   if (name == "bdpt")
     return std::make_unique<BidirectionalPathTracer>(ctx, scene, config.path_memory_bytes);
+  if (name == "pm")
+    return std::make_unique<PhotonMapper>(ctx, scene, config.photons, config.caustic_photons);
+  if (name == "sppm") return std::make_unique<Sppm>(ctx, scene, config.photons);
   if (name == "ao")
     return std::make_unique<MegakernelIntegrator>(ctx, scene, "ao", "integrators/ao.cl", "ao_render");
   throw Error(ExitCode::Usage,
-              "--integrator " + name + ": not implemented yet (available: pt, lt, bdpt, direct, ao)");
+              "--integrator " + name + ": not implemented yet (available: pt, lt, bdpt, pm, sppm, direct, ao)");
 }
 
 }  // namespace clpt

@@ -48,15 +48,15 @@
 
 #include <glm/glm.hpp>
 
+#include "shared/photon_types.h"
+
 namespace clpt {
 
-struct alignas(16) KdNode {
-  float pos[3];
-  uint32_t index_axis;  // photon index << 2 | split axis (0, 1, 2; 3 = leaf)
-};
+// The node layout is shared with the kernels (kernels/shared/photon_types.h).
+using KdNode = dev::KdNode;
 static_assert(sizeof(KdNode) == 16, "KdNode must stay 16 bytes (one float4 on the device)");
 
-constexpr uint32_t kKdLeafAxis = 3;
+constexpr uint32_t kKdLeafAxis = KD_LEAF_AXIS;
 constexpr uint32_t kKdMaxPoints = 1u << 30;  // photon_index must fit in 30 bits
 // Traversal stack entries: one per level below the root, at most 30 for 2^30 photons.
 constexpr int kKdMaxStack = 32;

@@ -1,6 +1,6 @@
 // Photon emission on the device (kernels/integrators/photon.cl): traces photon paths from
-// the lights and returns the photons they stored, for the photon maps of --integrator pm
-// and sppm (issue 7). Photons are 64 bytes (dev::Photon, kernels/shared/photon_types.h).
+// the lights and stores their photons, for the photon maps of --integrator pm and the
+// passes of sppm. Photons are 64 bytes (dev::Photon, kernels/shared/photon_types.h).
 #pragma once
 
 #include <cstdint>
@@ -25,17 +25,27 @@ class PhotonTracer {
   PhotonTracer(const cl::Context& ctx, const SceneBuffers& scene);
 
   // Emits `paths` photon paths with params' seed, sampler and max depth, the pass chosen by
-  // params.sample_offset, and keeps at most `capacity` photons (all of them when
-  // caustic_only is false; only L S+ D photons when true).
-  PhotonSet trace(const dev::RenderParams& params, uint64_t paths, bool caustic_only,
+  // params.sample_offset, into `photons` (room for `capacity`); `store` is a mask of
+  // PHOTON_STORE_* (0: every photon). Returns how many photons the paths made: more than
+  // capacity means only `capacity` of them were kept, which ones undefined (emit again into
+  // a larger buffer: the same params give the same photons). Blocks until done.
+  uint64_t emit(const dev::RenderParams& params, uint64_t paths, uint32_t store,
+                cl::Buffer& photons, size_t capacity);
+
+  // emit() into a buffer of `capacity` read back to the host.
+  PhotonSet trace(const dev::RenderParams& params, uint64_t paths, uint32_t store,
                   size_t capacity);
+
+  // Photon paths' rays (closest hits) traced so far.
+  uint64_t rays() const { return rays_; }
 
  private:
   const cl::Context& ctx_;
   cl::Program program_;
   cl::Kernel kernel_;
-  cl::Buffer params_;
+  cl::Buffer params_, count_, ray_count_;
   cl_uint first_arg_ = 0;
+  uint64_t rays_ = 0;
 };
 
 }  // namespace clpt

@@ -1,5 +1,6 @@
 #include "render/camera_setup.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "util/error.h"
@@ -69,6 +70,17 @@ void set_thin_lens(dev::CameraData& camera, float aperture, float focus_distance
     if (!(focus_distance > 0.0f)) focus_distance = 0.5f * glm::length(bounds.extent());
   }
   camera.focus_distance = focus_distance > 0.0f && std::isfinite(focus_distance) ? focus_distance : 1.0f;
+}
+
+float pixel_footprint(const dev::CameraData& camera, uint32_t height, const Bounds& bounds) {
+  const float up = glm::length(glm::vec3(camera.up[0], camera.up[1], camera.up[2]));
+  const float pixel = 2.0f * up / float(std::max<uint32_t>(height, 1));
+  if (camera.type == dev::CAMERA_ORTHOGRAPHIC || bounds.empty()) return pixel;
+  const glm::vec3 origin(camera.origin[0], camera.origin[1], camera.origin[2]);
+  const glm::vec3 forward(camera.forward[0], camera.forward[1], camera.forward[2]);
+  float depth = glm::dot(bounds.center() - origin, forward);
+  if (!(depth > 0.0f)) depth = 0.5f * glm::length(bounds.extent());
+  return pixel * depth;
 }
 
 }  // namespace clpt

@@ -26,4 +26,9 @@ dev::CameraData camera_data(const Camera& camera, uint32_t width, uint32_t heigh
 void set_thin_lens(dev::CameraData& camera, float aperture, float focus_distance,
                    const Bounds& bounds);
 
+// The side of one pixel's footprint on a plane facing the camera at the centre of `bounds`
+// (its depth along the view; if that is not ahead, half the bounds' diagonal): for SPPM's
+// default initial radius. Orthographic cameras: the pixel's side.
+float pixel_footprint(const dev::CameraData& camera, uint32_t height, const Bounds& bounds);
+
 }  // namespace clpt

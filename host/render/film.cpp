@@ -4,10 +4,11 @@
 
 namespace clpt {
 
-Film::Film(const cl::Context& ctx, uint32_t width, uint32_t height, bool splats)
+Film::Film(const cl::Context& ctx, uint32_t width, uint32_t height, bool splats, bool sums_samples)
     : width_(width),
       height_(height),
       splats_(splats),
+      sums_samples_(sums_samples),
       sum_(ctx, size_t(width) * height * sizeof(cl_float4), CL_MEM_READ_WRITE, nullptr, "film"),
       sum_sq_(ctx, size_t(width) * height * sizeof(cl_float4), CL_MEM_READ_WRITE, nullptr,
               "film variance buffer"),
@@ -34,7 +35,7 @@ FilmResult Film::resolve(uint64_t spp) const {
   r.mean = Image(width_, height_);
   r.variance = Image(width_, height_);
   r.samples_per_pixel = spp;
-  r.variance_available = !splats_;
+  r.variance_available = sums_samples();
   for (size_t i = 0; i < n; ++i) {
     if (splats_) {
       // N = spp * pixels light paths; each splat already carries the 1 / A_pixel of the

@@ -24,7 +24,11 @@ class Film {
  public:
   // splats: also allocate the splat film (kernels/film/splat.cl); its sums are added to the
   // per-pixel sums at resolve and normalised the same way, by samples per pixel.
-  Film(const cl::Context& ctx, uint32_t width, uint32_t height, bool splats = false);
+  // sums_samples: false when the film holds something other than a sum of one-sample
+  // estimates per pixel (sppm writes its progressive estimate times the passes): then it has
+  // no per-pixel variance (nor has a splatted film).
+  Film(const cl::Context& ctx, uint32_t width, uint32_t height, bool splats = false,
+       bool sums_samples = true);
 
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
@@ -33,6 +37,7 @@ class Film {
   cl::Buffer& sum_sq() { return sum_sq_; }
   cl::Buffer& ray_counts() { return ray_counts_; }
   bool splats() const { return splats_; }
+  bool sums_samples() const { return sums_samples_ && !splats_; }
   cl::Buffer& splat() { return splat_; }  // only with splats
   size_t device_bytes() const {
     return sum_.size() + sum_sq_.size() + ray_counts_.size() + (splats_ ? splat_.size() : 0);
@@ -44,6 +49,7 @@ class Film {
  private:
   uint32_t width_, height_;
   bool splats_;
+  bool sums_samples_;
   cl::Buffer sum_, sum_sq_, ray_counts_, splat_;
 };
 

@@ -56,7 +56,8 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
     log::warn("the scene has no lights (emissive surfaces, punctual lights or environment): "
               "the image will be black");
   scene_buffers_ = std::make_unique<SceneBuffers>(ctx_, flat);
-  film_ = std::make_unique<Film>(ctx_, width_, height_, integrator_splats(settings_.integrator));
+  film_ = std::make_unique<Film>(ctx_, width_, height_, integrator_splats(settings_.integrator),
+                                 integrator_sums_samples(settings_.integrator));
   stats_.scene_device_bytes = scene_buffers_->device_bytes();
   stats_.film_device_bytes = film_->device_bytes();
   stats_.texture_device_bytes = scene_buffers_->texture_bytes();
@@ -89,6 +90,18 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   params_.bdpt_t = settings_.bdpt_t;
   params_.bdpt_unweighted = settings_.bdpt_unweighted ? 1u : 0u;
   params_.bdpt_lvc = settings_.bdpt_lvc;
+  params_.knn = std::clamp<uint32_t>(settings_.knn, 1, PM_KNN_MAX);
+  params_.pm_max_radius = settings_.pm_max_radius > 0.0f
+                              ? settings_.pm_max_radius
+                              : 0.02f * glm::length(scene.bounds().extent());
+  params_.pm_filter = settings_.pm_filter;
+  params_.final_gather = settings_.final_gather;
+  params_.sppm_radius = settings_.sppm_radius > 0.0f
+                            ? settings_.sppm_radius
+                            : 2.0f * pixel_footprint(params_.camera, height_, scene.bounds());
+  if (!(params_.sppm_radius > 0.0f) || !std::isfinite(params_.sppm_radius))
+    params_.sppm_radius = std::max(1e-3f * glm::length(scene.bounds().extent()), 1e-6f);
+  params_.sppm_alpha = settings_.sppm_alpha;
   params_.ao_radius = settings_.ao_radius > 0.0f
                           ? settings_.ao_radius
                           : 0.1f * glm::length(scene.bounds().extent());
@@ -97,8 +110,9 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   // kernel for its work-group size at the first launch, which belongs to start-up, not to
   // the first pass's timing.
   t0 = Clock::now();
-  integrator_ = make_integrator(settings_.integrator, ctx_, *scene_buffers_,
-                                IntegratorConfig{settings_.bdpt_memory_bytes});
+  integrator_ = make_integrator(
+      settings_.integrator, ctx_, *scene_buffers_,
+      IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons});
   dev::RenderParams warmup = params_;
   warmup.samples_per_pass = 0;
   integrator_->render_pass(warmup, *film_);
@@ -110,9 +124,9 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
 Renderer::~Renderer() = default;
 
 FilmState Renderer::film_state(uint64_t samples_per_pixel) const {
-  if (film_->splats())
+  if (!film_->sums_samples())
     throw Error(ExitCode::Usage, "checkpoints are not supported with --integrator " +
-                                     settings_.integrator + " (splatted films)");
+                                     settings_.integrator + " (its film is not a sum of samples)");
   FilmState s;
   s.width = width_;
   s.height = height_;
@@ -124,9 +138,9 @@ FilmState Renderer::film_state(uint64_t samples_per_pixel) const {
 }
 
 void Renderer::restore(const FilmState& s) {
-  if (film_->splats())
+  if (!film_->sums_samples())
     throw Error(ExitCode::Usage, "--resume is not supported with --integrator " +
-                                     settings_.integrator + " (splatted films)");
+                                     settings_.integrator + " (its film is not a sum of samples)");
   if (s.width != width_ || s.height != height_)
     throw Error(ExitCode::Usage, "checkpoint is " + std::to_string(s.width) + "x" +
                                      std::to_string(s.height) + ", this render " +
@@ -183,6 +197,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   stats_.render_seconds = seconds_since(start);
   out.film = film_->resolve(done);
   stats_.connections = integrator_->connections();
+  stats_.photons = integrator_->photon_stats();
   out.stats = stats_;
   return out;
 }

@@ -38,6 +38,14 @@ struct RenderSettings {
   bool bdpt_unweighted = false;
   uint32_t bdpt_lvc = 0;  // light vertex caching: connections per camera vertex; 0: off
   size_t bdpt_memory_bytes = size_t(256) << 20;  // light vertex buffer budget
+  uint64_t photons = 0;             // pm: global map paths [200000]; sppm: per pass [pixels]
+  uint64_t caustic_photons = 1000000;  // pm: caustic map paths
+  uint32_t final_gather = 8;        // pm: gather rays per sample; 0: global map at the hit
+  uint32_t knn = 50;                // pm: photons per estimate
+  float pm_max_radius = 0.0f;       // pm: 0: 2 % of the scene's bounding-box diagonal
+  uint32_t pm_filter = 1;           // dev::PhotonFilter (cone)
+  float sppm_radius = 0.0f;         // sppm: initial radius; 0: 2 pixel footprints at the centre
+  float sppm_alpha = 2.0f / 3.0f;
   std::string camera;              // index or name; empty: the first camera or a default one
   std::string env_file;            // equirectangular environment map; empty: none
   float env_scale = 1.0f;          // multiplies the map
@@ -64,6 +72,7 @@ struct RenderStats {
   size_t scene_device_bytes = 0;
   size_t film_device_bytes = 0;
   uint64_t connections = 0;      // bdpt: shadow rays of connection strategies
+  PhotonStats photons;           // pm, sppm
 };
 
 struct RenderOutput {

@@ -64,6 +64,16 @@ inline float3 bsdf_eval_cos(const SurfaceHit* sh, float3 wo, float3 wi, int mode
   return gltf_bsdf_eval(&sh->bsdf, wo_l, wi_l, mode);
 }
 
+/* f(wo, wi) of the non-delta lobes without the cosine: photon density estimation, whose
+ * photons' flux per area already holds the cosine at their arrival. */
+inline float3 bsdf_eval(const SurfaceHit* sh, float3 wo, float3 wi, int mode) {
+  const BsdfFrame f = bsdf_frame(sh, wo);
+  const float3 wo_l = bsdf_to_local(&f, wo), wi_l = bsdf_to_local(&f, wi);
+  const float c = fabs(wi_l.z);
+  if (!(c > 1e-6f) || !bsdf_sides_agree(&f, sh, wo_l, wi_l, wi)) return (float3)(0.0f);
+  return gltf_bsdf_eval(&sh->bsdf, wo_l, wi_l, mode) / c;
+}
+
 /* Density of bsdf_sample at wi (solid angle), the delta lobes left out. */
 inline float bsdf_pdf_w(const SurfaceHit* sh, float3 wo, float3 wi) {
   const BsdfFrame f = bsdf_frame(sh, wo);

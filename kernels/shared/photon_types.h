@@ -1,5 +1,7 @@
-/* A photon as the photon-emission kernel stores it (kernels/integrators/photon/) and the
- * photon maps read it: 64 bytes in four 16-byte rows. */
+/* Photon mapping's device data (docs/concepts/photon-mapping.md): the photon as the
+ * photon-emission kernel stores it (kernels/integrators/photon/), the kd-tree node pm's
+ * k-nearest-neighbour search reads (host/photon/kdtree.h builds the tree), and an SPPM
+ * pixel's running statistics (kernels/integrators/sppm.cl). */
 #ifndef CLPT_SHARED_PHOTON_TYPES_H
 #define CLPT_SHARED_PHOTON_TYPES_H
 
@@ -11,6 +13,11 @@ CLPT_BEGIN_SHARED
 #define PHOTON_CAUSTIC 1u        /* its path was L S+ D: only delta scatterings before this hit */
 #define PHOTON_BOUNCE_SHIFT 8u   /* bits 8..15: the hit's index along the path, 1 = first hit */
 
+/* What a photon pass stores (photon_emit's `store` argument). */
+#define PHOTON_STORE_CAUSTIC_ONLY 1u /* only caustic photons; paths end once they cannot make one */
+#define PHOTON_STORE_SKIP_DIRECT 2u  /* not the first hit's photons (direct light is NEE's) */
+
+/* 64 bytes in four 16-byte rows. */
 typedef struct Photon {
   float p[3];      /* where it landed */
   u32 flags;
@@ -21,6 +28,23 @@ typedef struct Photon {
   float n[3];      /* geometric normal of the surface, on wi's side */
   float pad2;
 } Photon;
+
+/* A node of the left-balanced, heap-ordered kd-tree (host/photon/kdtree.h: node i's
+ * children are 2i + 1 and 2i + 2): its photon's position and photon_index << 2 | split axis
+ * (3: a leaf). 16 bytes, read by a kernel as one float4. */
+#define KD_LEAF_AXIS 3u
+typedef struct KdNode {
+  float pos[3];
+  u32 index_axis;
+} KdNode;
+
+/* One SPPM pixel's statistics (Hachisuka and Jensen 2009) after the passes so far. */
+typedef struct SppmPixel {
+  float tau[3];    /* flux of the photons gathered, rescaled to the current radius */
+  float n;         /* photons kept (N_i), fractional */
+  float direct[3]; /* sum over passes of emission and direct light along the camera path */
+  float radius;    /* current search radius; 0 until the pixel's first visible point */
+} SppmPixel;
 
 CLPT_END_SHARED
 

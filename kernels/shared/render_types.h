@@ -24,6 +24,8 @@ enum MisHeuristic { MIS_POWER = 0, MIS_BALANCE = 1 };
 enum HemisphereSampling { HEMISPHERE_BSDF = 0, HEMISPHERE_COSINE = 1, HEMISPHERE_UNIFORM = 2 };
 /* --rr */
 enum RussianRoulette { RR_THROUGHPUT = 0, RR_FIXED = 1 };
+/* --pm-filter: the density-estimation kernel of pm's k-nearest-neighbour estimates */
+enum PhotonFilter { PHOTON_FILTER_BOX = 0, PHOTON_FILTER_CONE = 1, PHOTON_FILTER_EPANECHNIKOV = 2 };
 
 /* A pinhole or orthographic camera as world-space vectors. For a film point (sx, sy) in
  * [-1, 1]^2 (+y up), a perspective ray has direction forward + sx*right + sy*up from
@@ -67,10 +69,17 @@ typedef struct RenderParams {
   u32 light_vertex_capacity; /* bdpt: light vertices stored per light subpath */
   u32 bdpt_lvc;         /* bdpt: connections per camera vertex to random cached light vertices
                          * (light vertex caching); 0: to every vertex of its own light subpath */
-  u32 pad[3];
+  u32 knn;              /* pm: photons per radiance estimate (--knn, <= PM_KNN_MAX) */
+  float pm_max_radius;  /* pm: the estimates' search radius bound (world units) */
+  u32 pm_filter;        /* pm: PhotonFilter */
+  u32 final_gather;     /* pm: gather rays from the first non-delta vertex; 0: maps directly */
+  float sppm_radius;    /* sppm: initial search radius (world units) */
+  float sppm_alpha;     /* sppm: fraction of new photons kept per pass (Hachisuka's alpha) */
+  u32 pad;
 } RenderParams;
 
 #define BDPT_ALL_STRATEGIES 0xffffffffu
+#define PM_KNN_MAX 256u /* largest --knn: the kernels' private neighbour heap */
 
 CLPT_END_SHARED
 

@@ -31,12 +31,15 @@ inline void photon_store(__global Photon* out, volatile __global u32* count, u32
   ph->pad2 = 0.0f;
 }
 
-/* One photon path. caustic_only: store only caustic photons (the caustic map's pass). */
+/* One photon path. store: PHOTON_STORE_* mask (caustic photons only, for the caustic map's
+ * pass; no first-hit photons, for SPPM whose direct light is NEE's). */
 inline void photon_trace(__constant const RenderParams* p, const SceneView* s,
-                         const Sampler* sampler, float inv_paths, int caustic_only,
+                         const Sampler* sampler, float inv_paths, u32 store,
                          __global Photon* out, volatile __global u32* count, u32 capacity,
                          u32* rays) {
   if (s->num_lights == 0u) return;
+  const int caustic_only = (store & PHOTON_STORE_CAUSTIC_ONLY) != 0u;
+  const u32 first_stored = (store & PHOTON_STORE_SKIP_DIRECT) ? 2u : 1u;
   const LightEmission e =
       light_emit(s, sample_1d(sampler, bounce_dim(0u, DIM_LIGHT_SELECT)),
                  sample_2d(sampler, DIM_LT_EMIT_POS), sample_2d(sampler, DIM_LT_EMIT_DIR));
@@ -55,7 +58,7 @@ inline void photon_trace(__constant const RenderParams* p, const SceneView* s,
     bsdf_orient(&sh, wo);
     if (bsdf_has_smooth_lobe(&sh)) {
       const int caustic = specular_only && depth > 1u;
-      if (caustic || !caustic_only)
+      if ((caustic || !caustic_only) && depth >= first_stored)
         photon_store(out, count, capacity, &sh, wo, power,
                      (caustic ? PHOTON_CAUSTIC : 0u) | (depth << PHOTON_BOUNCE_SHIFT));
     }

@@ -1,0 +1,85 @@
+#include "integrators/photon_mapper.h"
+
+#include <chrono>
+
+#include "photon/kdtree.h"
+#include "util/error.h"
+#include "util/log.h"
+
+namespace clpt {
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+}  // namespace
+
+PhotonMapper::PhotonMapper(const cl::Context& ctx, const SceneBuffers& scene, uint64_t global_paths,
+                           uint64_t caustic_paths)
+    : ctx_(ctx),
+      global_paths_(global_paths ? global_paths : kDefaultGlobalPaths),
+      caustic_paths_(caustic_paths),
+      tracer_(ctx, scene),
+      program_(ctx, "integrators/pm.cl"),
+      kernel_(program_, "pm_render"),
+      params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
+  first_arg_ = scene.bind(kernel_, 0);
+  // Empty maps until the first pass builds them (the warm-up launch reads none).
+  global_ = Map{cl::Buffer(ctx_, sizeof(dev::KdNode)), cl::Buffer(ctx_, sizeof(dev::Photon)), 0};
+  caustic_ = Map{cl::Buffer(ctx_, sizeof(dev::KdNode)), cl::Buffer(ctx_, sizeof(dev::Photon)), 0};
+}
+
+PhotonMapper::Map PhotonMapper::build_map(const dev::RenderParams& params, uint64_t paths,
+                                          uint32_t store) {
+  Map map;
+  if (paths == 0) {
+    map.nodes = cl::Buffer(ctx_, sizeof(dev::KdNode));
+    map.photons = cl::Buffer(ctx_, sizeof(dev::Photon));
+    return map;
+  }
+  dev::RenderParams p = params;
+  p.seed = photon_seed(params.seed) + store;  // the two maps' paths differ too
+  p.sampler = dev::SAMPLER_INDEPENDENT;
+  p.sample_offset = 0;
+  auto t0 = Clock::now();
+  // A first guess of the photons per path; emitting again with room for all of them gives
+  // the same photons (same seed), so nothing is lost but time.
+  size_t capacity = static_cast<size_t>(paths) * (store & PHOTON_STORE_CAUSTIC_ONLY ? 1 : 3);
+  PhotonSet set = tracer_.trace(p, paths, store, capacity);
+  if (set.dropped) set = tracer_.trace(p, paths, store, set.photons.size() + set.dropped);
+  stats_.emit_seconds += seconds_since(t0);
+  if (set.photons.size() >= kKdMaxPoints)
+    throw Error(ExitCode::Usage, "pm: " + std::to_string(set.photons.size()) +
+                                     " photons, more than a kd-tree indexes; lower --photons");
+  t0 = Clock::now();
+  std::vector<glm::vec3> points(set.photons.size());
+  for (size_t i = 0; i < points.size(); ++i)
+    points[i] = glm::vec3(set.photons[i].p[0], set.photons[i].p[1], set.photons[i].p[2]);
+  const KdTree tree = build_kdtree(points);
+  stats_.build_seconds += seconds_since(t0);
+  ++stats_.builds;
+  stats_.paths += paths;
+  stats_.stored += set.photons.size();
+  map.count = static_cast<uint32_t>(set.photons.size());
+  map.nodes = cl::Buffer::from_vector(ctx_, tree.nodes, CL_MEM_READ_ONLY, "photon kd-tree");
+  map.photons = cl::Buffer::from_vector(ctx_, set.photons, CL_MEM_READ_ONLY, "photon map");
+  stats_.device_bytes += map.nodes.size() + map.photons.size();
+  return map;
+}
+
+void PhotonMapper::render_pass(const dev::RenderParams& params, Film& film) {
+  if (!built_ && params.samples_per_pass > 0) {
+    global_ = build_map(params, global_paths_, 0u);
+    caustic_ = build_map(params, caustic_paths_, PHOTON_STORE_CAUSTIC_ONLY);
+    stats_.rays = tracer_.rays();
+    built_ = true;
+    log::verbose("pm: global map " + std::to_string(global_.count) + " photons, caustic map " +
+                 std::to_string(caustic_.count) + " photons");
+  }
+  params_.write(&params, sizeof(params));
+  kernel_.args(first_arg_, params_, global_.nodes, global_.photons, global_.count, caustic_.nodes,
+               caustic_.photons, caustic_.count, film.sum(), film.sum_sq(), film.ray_counts());
+  kernel_.launch(ctx_, film.pixels());
+}
+
+}  // namespace clpt

@@ -1,0 +1,97 @@
+/* The camera side of photon mapping (pm and sppm): a ray is followed through delta
+ * scatterings (mirrors, smooth glass) to its first vertex with a non-delta BSDF, the
+ * "visible point" where photon density estimates are made (Jensen 2001, ch. 9; Hachisuka
+ * and Jensen 2009). Emission seen on the way is kept when asked for: seen directly or after
+ * delta bounces only, nothing else can find it. Also: direct light at a visible point,
+ * by NEE and one BSDF sample combined by MIS exactly as the path tracer does.
+ *
+ * Depth counts bounces as in pt: a vertex at depth d has d scatterings before it, and a
+ * photon stored at its path's b-th hit has made b - 1 bounces, so at depth d photons with
+ * b <= max_depth - d make paths of at most max_depth bounces. */
+#ifndef CLPT_INTEGRATORS_PHOTON_VISIBLE_POINT_CL
+#define CLPT_INTEGRATORS_PHOTON_VISIBLE_POINT_CL
+
+#include "integrators/path_trace.cl"
+
+typedef struct VisiblePoint {
+  SurfaceHit sh;  /* normals oriented to wo */
+  float3 wo;
+  float3 beta;     /* throughput from the ray's origin to here */
+  float3 L;        /* emission found on the way, weighted by the throughput */
+  float distance;  /* length of the path from the ray's origin */
+  u32 depth;       /* bounces before this vertex */
+} VisiblePoint;
+
+/* Follows org, dir (a camera ray with depth 0 and from = 0, or a ray leaving vertex `from`
+ * at depth `depth` - 1) to the first non-delta vertex. Returns 0 when there is none within max_depth (escaped, absorbed, or
+ * only delta surfaces); vp->L is valid either way. Dimensions from bounce `depth` of
+ * `stream`. */
+inline int photon_visible_point(__constant const RenderParams* p, const SceneView* s,
+                                const Sampler* sampler, const SurfaceHit* from, float3 org,
+                                float3 dir, u32 depth, u32 stream, int add_emission, u32* rays,
+                                VisiblePoint* vp) {
+  vp->beta = (float3)(1.0f);
+  vp->L = (float3)(0.0f);
+  vp->distance = 0.0f;
+  SurfaceHit prev;
+  const int has_prev = from != 0;
+  if (has_prev) prev = *from;
+  for (u32 k = 0;; ++k) {
+    Hit hit;
+    ++*rays;
+    if (!intersect_closest(s, org, dir, INFINITY, &hit)) {
+      if (add_emission) vp->L += vp->beta * env_radiance(s, dir);
+      return 0;
+    }
+    if (k > 0u || has_prev) vp->beta *= volume_transmittance(s, &prev, dir, hit.t);
+    vp->distance += hit.t;
+    vp->sh = surface_shade(s, &hit, org, dir);
+    vp->wo = -dir;
+    if (add_emission) vp->L += vp->beta * light_radiance(s, &vp->sh, vp->wo);
+    if (depth >= p->max_depth) return 0;
+    bsdf_orient(&vp->sh, vp->wo);
+    vp->depth = depth;
+    if (bsdf_has_smooth_lobe(&vp->sh)) return 1;
+    const BsdfSample bs = bsdf_sample(
+        &vp->sh, vp->wo, sample_2d(sampler, stream_dim(bounce_dim(depth, DIM_BSDF_DIR), stream)),
+        sample_1d(sampler, stream_dim(bounce_dim(depth, DIM_BSDF_LOBE), stream)),
+        TRANSPORT_RADIANCE);
+    if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) return 0;
+    vp->beta *= bs.weight;
+    if (depth + 1u >= p->rr_depth) {
+      const float survive = rr_survival(p, vp->beta);
+      if (!(sample_1d(sampler, stream_dim(bounce_dim(depth, DIM_RR), stream)) < survive)) return 0;
+      vp->beta /= survive;
+    }
+    prev = vp->sh;
+    org = offset_ray_origin(vp->sh.p, dot(bs.wi, vp->sh.ng) >= 0.0f ? vp->sh.ng : -vp->sh.ng);
+    dir = bs.wi;
+    ++depth;
+  }
+}
+
+/* Direct light reflected at a visible point (not weighted by its throughput): NEE plus one
+ * BSDF-sampled ray that finds emitters and the environment, MIS-weighted as in pt (--direct,
+ * --mis, --light-samples). When that sample picks a delta lobe of a mixed material (a
+ * roughness-0 coat over a diffuse base), the light it finds has weight 1: NEE cannot. */
+inline float3 photon_direct(__constant const RenderParams* p, const SceneView* s,
+                            const Sampler* sampler, const VisiblePoint* vp, u32* rays) {
+  const SurfaceHit* sh = &vp->sh;
+  float3 L = pt_direct(p, s, sampler, sh, vp->wo, offset_ray_origin(sh->p, sh->ng), vp->depth,
+                       0u, rays);
+  const BsdfSample bs = pt_scatter_sample(
+      p, s, sh, vp->wo, sample_2d(sampler, bounce_dim(vp->depth, DIM_BSDF_DIR)),
+      sample_1d(sampler, bounce_dim(vp->depth, DIM_BSDF_LOBE)));
+  if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) return L;
+  const float3 org = offset_ray_origin(sh->p, dot(bs.wi, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
+  Hit hit;
+  ++*rays;
+  if (!intersect_closest(s, org, bs.wi, INFINITY, &hit))
+    return L + bs.weight * pt_emission_escaped(p, s, bs.wi, bs.pdf_w, bs.is_delta);
+  const float3 tr = volume_transmittance(s, sh, bs.wi, hit.t);
+  const SurfaceHit lh = surface_shade(s, &hit, org, bs.wi);
+  return L + bs.weight * tr *
+                 pt_emission_by_scattering(p, s, &lh, -bs.wi, hit.t, bs.pdf_w, bs.is_delta);
+}
+
+#endif

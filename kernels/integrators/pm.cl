@@ -1,0 +1,36 @@
+/* Entry point of classic photon mapping (kernels/integrators/photon/pm_radiance.cl): one
+ * work-item per pixel, samples_per_pass samples each, over the global and caustic maps the
+ * host built (host/integrators/photon_mapper.cpp). Same film layout as pt. */
+#include "camera/pixel_ray.cl"
+#include "film/film.cl"
+#include "integrators/photon/pm_radiance.cl"
+
+__kernel void pm_render(SCENE_KERNEL_ARGS, __constant const RenderParams* params,
+                        __global const KdNode* global_nodes, __global const Photon* global_photons,
+                        u32 global_count, __global const KdNode* caustic_nodes,
+                        __global const Photon* caustic_photons, u32 caustic_count,
+                        __global float4* film_sum, __global float4* film_sum_sq,
+                        __global u32* ray_counts) {
+  const u32 pixel = get_global_id(0);
+  if (pixel >= params->width * params->height) return;
+  const SceneView scene = SCENE_VIEW();
+  const u32 x = pixel % params->width, y = pixel / params->width;
+  PhotonMap global_map, caustic_map;
+  global_map.nodes = global_nodes;
+  global_map.photons = global_photons;
+  global_map.count = global_count;
+  caustic_map.nodes = caustic_nodes;
+  caustic_map.photons = caustic_photons;
+  caustic_map.count = caustic_count;
+
+  FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
+  u32 rays = 0;
+  for (u32 i = 0; i < params->samples_per_pass; ++i) {
+    const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
+    float3 org, dir;
+    pixel_ray(params, &sampler, x, y, &org, &dir);
+    film_add(&film, pm_radiance(params, &scene, &sampler, &global_map, &caustic_map, org, dir, &rays));
+  }
+  film_store(film_sum, film_sum_sq, pixel, &film);
+  ray_counts[pixel] += rays;
+}

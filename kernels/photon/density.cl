@@ -1,0 +1,43 @@
+/* Photon density estimation (Jensen 2001, ch. 7): the radiance a surface point x reflects
+ * towards wo, from the photons around it,
+ *     L(x, wo) ~ sum_p f(x, wo, wi_p) Phi_p K(d_p),
+ * with K a 2D kernel over the disc of radius r around x that integrates to 1:
+ *     box           K = 1 / (pi r^2)                              (SPPM's estimate)
+ *     cone (k = 1)  K = 3 / (pi r^2) (1 - d / r)                   (Jensen's cone filter)
+ *     Epanechnikov  K = 2 / (pi r^2) (1 - d^2 / r^2)
+ * A photon counts only where it lies on x's surface: its normal must be within about 37
+ * degrees of x's, either way round (the same plane seen from either side; which side may
+ * reflect is the BSDF's business, so transmission through rough glass is kept and light
+ * from behind an opaque wall is not). Photons on a wall meeting x's at a corner are left
+ * out without changing the disc's area, which is right: the plane through x meets the
+ * sphere of radius r in that disc whatever else the sphere holds. */
+#ifndef CLPT_PHOTON_DENSITY_CL
+#define CLPT_PHOTON_DENSITY_CL
+
+#include "bsdf/bsdf.cl"
+#include "shared/photon_types.h"
+#include "shared/render_types.h"
+
+#define PHOTON_NORMAL_COS 0.8f
+
+inline float photon_kernel(u32 filter, float d2, float r2) {
+  if (!(r2 > 0.0f) || d2 > r2) return 0.0f;
+  const float inv_area = 1.0f / (M_PI_F * r2);
+  if (filter == PHOTON_FILTER_CONE) return 3.0f * inv_area * (1.0f - sqrt(d2 / r2));
+  if (filter == PHOTON_FILTER_EPANECHNIKOV) return 2.0f * inv_area * (1.0f - d2 / r2);
+  return inv_area;
+}
+
+inline u32 photon_bounce(u32 flags) { return (flags >> PHOTON_BOUNCE_SHIFT) & 0xffu; }
+
+/* Whether a photon lies on the surface of hit sh (its normal check). */
+inline bool photon_on_surface(const SurfaceHit* sh, __global const Photon* ph) {
+  return fabs(dot(vload3(0, ph->n), sh->ng)) >= PHOTON_NORMAL_COS;
+}
+
+/* f(x, wo, wi_p) Phi_p for one photon on x's surface; sh's normals oriented to wo. */
+inline float3 photon_reflected(const SurfaceHit* sh, float3 wo, __global const Photon* ph) {
+  return bsdf_eval(sh, wo, vload3(0, ph->wi), TRANSPORT_RADIANCE) * vload3(0, ph->power);
+}
+
+#endif
