@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "io/image_io.h"
+#include "stats/image_stats.h"
 #include "support/run.h"
 
 namespace clpt {
@@ -114,6 +115,50 @@ TEST_F(Cli, BdptWritesStatsAndAStrategyMosaic) {
   EXPECT_GT(cell_sum(1, 1), 0.0);  // next-event estimation of one-bounce paths
   EXPECT_EQ(cell_sum(1, 3), 0.0);  // no such strategy
   EXPECT_GT(cell_sum(4, 5), 0.0);  // light tracing of four-bounce paths
+}
+
+TEST_F(Cli, BadPhotonOptionsAreUsageErrors) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{kCornell, "--integrator", "pt", "--photons", "1000"},
+        std::vector<std::string>{kCornell, "--integrator", "sppm", "--knn", "10"},
+        std::vector<std::string>{kCornell, "--integrator", "sppm", "--final-gather", "4"},
+        std::vector<std::string>{kCornell, "--integrator", "pm", "--sppm-radius", "0.1"},
+        std::vector<std::string>{kCornell, "--integrator", "pm", "--knn", "0"},
+        std::vector<std::string>{kCornell, "--integrator", "pm", "--knn", "257"},
+        std::vector<std::string>{kCornell, "--integrator", "pm", "--final-gather", "256"},
+        std::vector<std::string>{kCornell, "--integrator", "pm", "--pm-filter", "gauss"},
+        std::vector<std::string>{kCornell, "--integrator", "pm", "--pm-max-radius", "0"},
+        std::vector<std::string>{kCornell, "--integrator", "sppm", "--sppm-alpha", "1.5"},
+        std::vector<std::string>{kCornell, "--integrator", "sppm", "--sppm-radius", "-1"},
+        std::vector<std::string>{kCornell, "--integrator", "sppm", "--variance"},
+        std::vector<std::string>{kCornell, "--integrator", "sppm", "--checkpoint", path("c.ckpt")}}) {
+    const test::RunResult r = run_clpt(args);
+    EXPECT_EQ(r.exit_code, 1) << args[2] << " " << args[3] << ": " << r.err;
+    EXPECT_FALSE(r.err.empty());
+  }
+}
+
+// pm and sppm render and report their photons; sppm has no per-pixel variance.
+TEST_F(Cli, PhotonMappersWriteStats) {
+  for (const std::string integrator : {"pm", "sppm"}) {
+    const test::RunResult r = run_clpt(
+        {kCornell, "--device", "pocl", "--integrator", integrator, "--resolution", "16x16",
+         "--spp", "3", "--photons", "5000", "-o", path(integrator + ".exr"), "--stats",
+         path(integrator + ".json"), "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(test::read_file(path(integrator + ".json")));
+    const nlohmann::json& ph = j["photons"];
+    // pm: the global map's 5000 paths and the caustic map's 10^6; sppm: 5000 per pass.
+    EXPECT_EQ(ph["paths"].get<uint64_t>(), integrator == "pm" ? 5000u + 1000000u : 3u * 5000u);
+    EXPECT_GT(ph["stored"].get<uint64_t>(), 1000u);
+    EXPECT_GT(ph["rays"].get<uint64_t>(), ph["paths"].get<uint64_t>() / 2);
+    EXPECT_EQ(ph[integrator == "pm" ? "maps" : "grid_builds"].get<uint64_t>(), integrator == "pm" ? 2u : 3u);
+    EXPECT_GT(ph["device_bytes"].get<uint64_t>(), 64u * 1000u);
+    EXPECT_EQ(j["spp"].get<uint64_t>(), 3u);
+    EXPECT_EQ(j["mean_variance"].is_null(), integrator == "sppm");
+    const Image img = read_image(path(integrator + ".exr"));
+    EXPECT_GT(image_mean(img), 0.01) << integrator;
+  }
 }
 
 TEST_F(Cli, MissingSceneNamesTheFile) {

@@ -1,0 +1,193 @@
+// Photon mapping (--integrator pm and sppm) on the PoCL device:
+//   SphereFurnaceSppm   the furnace's closed form. Its irradiance is the same everywhere, and
+//                       on a surface that is a plane or a sphere the photons within R of a
+//                       point cover an area of exactly pi R^2, so each pass's estimate is
+//                       unbiased given its radius; SPPM's statistics sum those estimates
+//                       (tau / R^2 gains Phi_i / R_i^2 each pass), so the image mean over
+//                       independent renders must match the closed form (z-test), and the
+//                       per-pixel error must fall as passes are added (4N against N).
+//   CrossIntegrator     sppm against a high-spp pt reference on the Cornell box: relMSE falls
+//                       from 16 to 64 to 256 passes, and the image mean ends within 1 %;
+//                       pm within stated bias bounds (image and block means), and pm's
+//                       bias falls as its maps grow.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <vector>
+
+#include "render/renderer.h"
+#include "stats/image_stats.h"
+#include "support/device.h"
+#include "support/reference_match.h"
+#include "support/scenes.h"
+
+namespace clpt {
+namespace {
+
+RenderSettings settings(const std::string& integrator, uint64_t spp, uint32_t size) {
+  RenderSettings s;
+  s.width = s.height = size;
+  s.spp = spp;
+  s.integrator = integrator;
+  return s;
+}
+
+FilmResult render(const Scene& scene, RenderSettings s, uint32_t seed) {
+  s.seed = seed;
+  return Renderer(test::device_context(), scene, s).render().film;
+}
+
+// Root mean square over pixel-channels of (image - value).
+double rms_error(const Image& image, double value) {
+  double sum = 0.0;
+  for (float v : image.rgb) sum += (double(v) - value) * (double(v) - value);
+  return std::sqrt(sum / double(image.rgb.size()));
+}
+
+struct FurnaceCase {
+  float rho;
+  uint32_t max_depth;
+};
+
+class SphereFurnaceSppm : public ::testing::TestWithParam<FurnaceCase> {};
+
+TEST_P(SphereFurnaceSppm, ConvergesToClosedForm) {
+  const FurnaceCase c = GetParam();
+  const Scene scene = test::furnace_scene(c.rho, 1.0f);
+  const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
+  RenderSettings s = settings("sppm", 16, 16);
+  s.max_depth = c.max_depth;
+  s.photons = 20000;  // per pass
+
+  // Unbiased at any pass count: the image mean over independent renders.
+  const BatchMean bm = batch_mean(test::render_batches(scene, s, 16, 5000));
+  const double z = (bm.mean - expected) / bm.sigma;
+  EXPECT_LT(std::fabs(z), 4.0) << "mean " << bm.mean << " expected " << expected << " sigma " << bm.sigma;
+  EXPECT_LT(4.0 * bm.sigma, 0.01 * expected) << "too few samples for a meaningful test";
+
+  // Consistent: the per-pixel error after 4N passes is below that after N.
+  const double e16 = rms_error(render(scene, s, 77).mean, expected);
+  s.spp = 64;
+  const double e64 = rms_error(render(scene, s, 77).mean, expected);
+  EXPECT_LT(e64, e16);
+  std::cout << "[ figures  ] sppm furnace rho " << c.rho << " depth " << c.max_depth << ": mean "
+            << bm.mean << " expected " << expected << " sigma " << bm.sigma << " z " << z
+            << "; pixel rms error 16 passes " << e16 << ", 64 passes " << e64 << "\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, SphereFurnaceSppm,
+                         ::testing::Values(FurnaceCase{0.5f, 1}, FurnaceCase{0.5f, 3},
+                                           FurnaceCase{0.8f, 8}),
+                         [](const auto& info) {
+                           return "rho" + std::to_string(int(info.param.rho * 100)) + "_depth" +
+                                  std::to_string(info.param.max_depth);
+                         });
+
+TEST(CrossIntegrator, SppmConvergesToPtOnCornellBox) {
+  const Scene scene = test::cornell_box();
+  const FilmResult ref = render(scene, settings("pt", 8192, 32), 4242);
+  // A radius of about a third of a pixel's footprint (the box is 2 units wide, 32 pixels):
+  // the default of two footprints darkens the edges of the walls by some percent at 256
+  // passes (a disc that reaches past a wall's edge finds no photons there).
+  RenderSettings s = settings("sppm", 16, 32);
+  s.sppm_radius = 0.02f;
+  s.photons = 20000;
+  double previous = 0.0;
+  Image last;
+  for (uint64_t passes : {16u, 64u, 256u}) {
+    s.spp = passes;
+    last = render(scene, s, 11).mean;
+    const double rel_mse = compare_images(last, ref.mean).rel_mse;
+    std::cout << "[ figures  ] sppm cornell " << passes << " passes: relMSE " << rel_mse << "\n";
+    if (previous > 0.0) {
+      EXPECT_LT(rel_mse, previous) << passes << " passes";
+    }
+    previous = rel_mse;
+  }
+  // The image mean within 3 %: at 256 samples per pixel the camera's own sampling moves the
+  // image mean by about 1 % (pt at 256 spp, seeds 11 to 13: 0.1191, 0.1197, 0.1216 against
+  // 0.1210 at 8192), and the edges of the walls are still about 1 % dark at this radius
+  // (four seeds averaged 0.9 % below).
+  const double mean = image_mean(last), ref_mean = image_mean(ref.mean);
+  EXPECT_NEAR(mean, ref_mean, 0.03 * ref_mean);
+}
+
+// Relative deviation of the mean of each block x block tile of `image` from the reference's.
+std::vector<double> block_deviations(const Image& image, const Image& ref, uint32_t block) {
+  std::vector<double> out;
+  for (uint32_t by = 0; by + block <= image.height; by += block)
+    for (uint32_t bx = 0; bx + block <= image.width; bx += block) {
+      double a = 0.0, b = 0.0;
+      for (uint32_t y = by; y < by + block; ++y)
+        for (uint32_t x = bx; x < bx + block; ++x)
+          for (int c = 0; c < 3; ++c) {
+            a += image.pixel(x, y)[c];
+            b += ref.pixel(x, y)[c];
+          }
+      out.push_back(b > 0.0 ? a / b - 1.0 : 0.0);
+    }
+  return out;
+}
+
+// pm is biased (each estimate averages the light over a disc of k photons); its bounds here
+// are its measured bias plus the camera's own sampling noise at 256 samples per pixel, which
+// moves 8 x 8 blocks that hold an edge of the light by up to 4 % (pt itself at seed 11: the
+// block with the light's edge 3.9 % below the 8192-spp reference, and pm with the same
+// camera samples 3.8 %). Measured with the default maps (200 000 global paths, k = 50):
+// the blocks' deviations from the same-seed pt render within 1.3 % but one (4.7 %, where
+// that pt render has a firefly), the image mean 0.2 % below it.
+void expect_pm_within_bounds(const Scene& scene, const FilmResult& ref, RenderSettings s,
+                             const std::string& label) {
+  const Image pm = render(scene, s, 11).mean;
+  const double mean = image_mean(pm), ref_mean = image_mean(ref.mean);
+  EXPECT_NEAR(mean, ref_mean, 0.03 * ref_mean) << label;
+  double worst = 0.0;
+  for (double d : block_deviations(pm, ref.mean, 8)) worst = std::max(worst, std::fabs(d));
+  EXPECT_LT(worst, 0.08) << label;
+  std::cout << "[ figures  ] " << label << ": image mean " << mean << " (pt " << ref_mean
+            << "), worst 8x8 block " << worst << ", relMSE " << compare_images(pm, ref.mean).rel_mse
+            << "\n";
+}
+
+TEST(CrossIntegrator, PmWithinBiasBoundsOnCornellBox) {
+  const Scene scene = test::cornell_box();
+  const FilmResult ref = render(scene, settings("pt", 8192, 32), 4242);
+  expect_pm_within_bounds(scene, ref, settings("pm", 256, 32), "pm cornell, final gather 8");
+  RenderSettings s = settings("pm", 256, 32);
+  s.final_gather = 0;
+  expect_pm_within_bounds(scene, ref, s, "pm cornell, global map at the first hit");
+}
+
+// The caustic under the glass block comes from the caustic map (L S+ D), the rest of the
+// light through the glass from the camera path's delta bounces.
+TEST(CrossIntegrator, PmWithinBiasBoundsWithGlossyAndGlass) {
+  const Scene scene = test::cornell_box_glossy_glass();
+  const FilmResult ref = render(scene, settings("pt", 16384, 32), 4343);
+  expect_pm_within_bounds(scene, ref, settings("pm", 256, 32), "pm glossy+glass");
+}
+
+// pm is consistent: with k fixed, more photons mean smaller discs, so the error of the
+// global map read at the first hit (the most visible use of it) falls as the map grows.
+// The same seed keeps the camera's samples, so only the map differs.
+TEST(PhotonMapping, PmErrorFallsAsTheMapGrows) {
+  const Scene scene = test::cornell_box();
+  const FilmResult ref = render(scene, settings("pt", 8192, 32), 4242);
+  RenderSettings s = settings("pm", 64, 32);
+  s.final_gather = 0;
+  double previous = 0.0;
+  for (uint64_t photons : {10000u, 100000u, 1000000u}) {
+    s.photons = photons;
+    const double rel_mse = compare_images(render(scene, s, 11).mean, ref.mean).rel_mse;
+    std::cout << "[ figures  ] pm cornell, global map of " << photons << " paths at the first hit: relMSE "
+              << rel_mse << "\n";
+    if (previous > 0.0) {
+      EXPECT_LT(rel_mse, previous) << photons << " paths";
+    }
+    previous = rel_mse;
+  }
+}
+
+}  // namespace
+}  // namespace clpt
