@@ -1,6 +1,8 @@
 #include "integrators/photon_mapper.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cstring>
 
 #include "photon/kdtree.h"
 #include "util/error.h"
@@ -48,6 +50,12 @@ PhotonMapper::Map PhotonMapper::build_map(const dev::RenderParams& params, uint6
   PhotonSet set = tracer_.trace(p, paths, store, capacity);
   if (set.dropped) set = tracer_.trace(p, paths, store, set.photons.size() + set.dropped);
   stats_.emit_seconds += seconds_since(t0);
+  // The kernel appends photons in whatever order its work-items reach the counter; sorting
+  // them by their bytes makes the map, its tree and so every estimate the same from run to
+  // run (a resumed render equals an uninterrupted one).
+  std::sort(set.photons.begin(), set.photons.end(), [](const dev::Photon& a, const dev::Photon& b) {
+    return std::memcmp(&a, &b, sizeof(dev::Photon)) < 0;
+  });
   if (set.photons.size() >= kKdMaxPoints)
     throw Error(ExitCode::Usage, "pm: " + std::to_string(set.photons.size()) +
                                      " photons, more than a kd-tree indexes; lower --photons");
