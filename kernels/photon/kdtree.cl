@@ -51,12 +51,19 @@ inline bool kd_reaches(float bound, float r2, u32 count, u32 capacity) {
   return count < capacity ? bound <= r2 : bound < r2;
 }
 
-inline float kd_cell_distance2(float4 c) { return c.x * c.x + c.y * c.y + c.z * c.z; }
+/* Distances and cell bounds are summed without fused multiply-adds, as the host does: a
+ * fused bound could exceed a photon's unfused distance and prune it, and the host tests'
+ * exact agreement would not hold (tests/photon_map_test.cpp). */
+inline float kd_cell_distance2(float4 c) {
+#pragma OPENCL FP_CONTRACT OFF
+  return c.x * c.x + c.y * c.y + c.z * c.z;
+}
 
 /* The min(k, photons within max_r2) photons nearest to p, into heap[0, count) (heap order,
  * not sorted: heap[0] is the farthest). heap must hold k entries. Returns count. */
 inline u32 kd_knn(__global const KdNode* nodes, u32 n, float3 p, u32 k, float max_r2,
                   KdNeighbor* heap) {
+#pragma OPENCL FP_CONTRACT OFF
   if (n == 0u || k == 0u || !(max_r2 >= 0.0f)) return 0u;
   const u32 capacity = min(k, n);
   u32 count = 0u;
