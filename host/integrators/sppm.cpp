@@ -49,13 +49,16 @@ void Sppm::render_pass(const dev::RenderParams& params, Film& film) {
   if (params.samples_per_pass == 0) {
     // The renderer's warm-up: launch every kernel over nothing, so a driver that compiles at
     // the first launch (PoCL) does it now.
+    tracer_.warm_up();
     cl::Buffer none(ctx_, sizeof(dev::Photon));
-    tracer_.emit(params, 0, 0, none, 0);
     cl::Buffer heads(ctx_, sizeof(uint32_t)), next(ctx_, sizeof(uint32_t));
     const uint32_t zero = 0;
     const float one = 1.0f;
     insert_kernel_.args(0, none, zero, one, zero, heads, next);
     insert_kernel_.launch(ctx_, 1);
+    pass_kernel_.args(pass_arg_, params_, zero, zero, none, heads, next, one, zero, pixels_,
+                      film.sum(), film.ray_counts(), max_radius_);
+    pass_kernel_.launch(ctx_, 1);
     return;
   }
   if (params.sample_offset != next_sample_)
@@ -113,7 +116,8 @@ void Sppm::one_pass(const dev::RenderParams& params, uint32_t sample, Film& film
   ++stats_.builds;
 
   max_radius_.fill_zero();
-  pass_kernel_.args(pass_arg_, params_, sample, photons_, heads_, next_, inv_cell, bucket_mask_,
+  const auto pixels = static_cast<uint32_t>(film.pixels());
+  pass_kernel_.args(pass_arg_, params_, pixels, sample, photons_, heads_, next_, inv_cell, bucket_mask_,
                     pixels_, film.sum(), film.ray_counts(), max_radius_);
   pass_kernel_.launch(ctx_, film.pixels());
   uint32_t bits = max_radius_.read_vector<uint32_t>(1)[0];

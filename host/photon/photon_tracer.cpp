@@ -48,6 +48,13 @@ uint64_t PhotonTracer::emit(const dev::RenderParams& params, uint64_t paths, uin
   return made;
 }
 
+void PhotonTracer::warm_up() {
+  const uint32_t none = 0;
+  cl::Buffer photons(ctx_, sizeof(dev::Photon));
+  kernel_.args(first_arg_, params_, none, none, 1.0f, none, photons, none, count_, none, ray_count_);
+  kernel_.launch(ctx_, 1);
+}
+
 PhotonSet PhotonTracer::trace(const dev::RenderParams& params, uint64_t paths, uint32_t store,
                               size_t capacity) {
   PhotonSet set;

@@ -36,6 +36,10 @@ class PhotonTracer {
   PhotonSet trace(const dev::RenderParams& params, uint64_t paths, uint32_t store,
                   size_t capacity);
 
+  // Launches the kernel over no paths, so a driver that compiles at the first launch (PoCL)
+  // does it now rather than in the first timed pass.
+  void warm_up();
+
   // Photon paths' rays (closest hits) traced so far.
   uint64_t rays() const { return rays_; }
 

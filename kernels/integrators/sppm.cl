@@ -55,13 +55,15 @@ inline float3 sppm_gather(__global const Photon* photons, __global const u32* he
   return phi;
 }
 
-__kernel void sppm_pass(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 sample,
+/* pixel_count: width x height, or 0 for the host's warm-up launch. */
+__kernel void sppm_pass(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 pixel_count,
+                        u32 sample,
                         __global const Photon* photons, __global const u32* heads,
                         __global const u32* next, float inv_cell, u32 mask,
                         __global SppmPixel* pixels, __global float4* film_sum,
                         __global u32* ray_counts, volatile __global u32* max_radius) {
   const u32 pixel = get_global_id(0);
-  if (pixel >= params->width * params->height) return;
+  if (pixel >= pixel_count) return;
   const SceneView scene = SCENE_VIEW();
   const u32 x = pixel % params->width, y = pixel / params->width;
   SppmPixel px = pixels[pixel];
