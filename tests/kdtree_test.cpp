@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "support/point_sets.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -27,15 +28,6 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 const size_t kSizes[] = {0, 1, 2, 7, 1000, 100000};
 const size_t kKs[] = {1, 5, 50, 500};
 constexpr size_t kMaxK = 500;
-
-// The same expression, in the same order, as the tree's: distances compare exactly, so ties
-// are ties on both sides.
-float distance2(const glm::vec3& a, const glm::vec3& b) {
-  const float dx = a.x - b.x;
-  const float dy = a.y - b.y;
-  const float dz = a.z - b.z;
-  return dx * dx + dy * dy + dz * dz;
-}
 
 // ---------------------------------------------------------------------------------------
 // Point sets
@@ -52,110 +44,18 @@ struct Distribution {
   Generator make;
 };
 
-std::vector<glm::vec3> uniform_cube(size_t n, std::mt19937& rng) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<glm::vec3> p(n);
-  for (auto& x : p) x = {u(rng), u(rng), u(rng)};
-  return p;
-}
-
-// Eight Gaussian blobs of very different widths.
-std::vector<glm::vec3> blobs(size_t n, std::mt19937& rng) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  glm::vec3 centre[8];
-  float sigma[8];
-  for (int b = 0; b < 8; ++b) {
-    centre[b] = {u(rng), u(rng), u(rng)};
-    sigma[b] = 0.002f * std::pow(3.0f, static_cast<float>(b));  // 0.002 .. 4.4
-  }
-  std::normal_distribution<float> g(0.0f, 1.0f);
-  std::vector<glm::vec3> p(n);
-  for (auto& x : p) {
-    const int b = static_cast<int>(rng() % 8);
-    x = centre[b] + sigma[b] * glm::vec3(g(rng), g(rng), g(rng));
-  }
-  return p;
-}
-
-// On the plane y = 0.25: one axis has no extent at all.
-std::vector<glm::vec3> plane(size_t n, std::mt19937& rng) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<glm::vec3> p(n);
-  for (auto& x : p) x = {u(rng), 0.25f, u(rng)};
-  return p;
-}
-
-// Drawn from n / 50 + 1 distinct points: about 50 copies of each.
-std::vector<glm::vec3> duplicates(size_t n, std::mt19937& rng) {
-  const std::vector<glm::vec3> pool = uniform_cube(n / 50 + 1, rng);
-  std::vector<glm::vec3> p(n);
-  for (auto& x : p) x = pool[rng() % pool.size()];
-  return p;
-}
-
-// Points of a lattice with spacing 0.25 (exact in float): many equal coordinates and, from
-// lattice query points, many equal distances.
-std::vector<glm::vec3> lattice(size_t n, std::mt19937& rng) {
-  std::vector<glm::vec3> p(n);
-  for (auto& x : p)
-    x = 0.25f * glm::vec3(static_cast<float>(rng() % 12), static_cast<float>(rng() % 12),
-                          static_cast<float>(rng() % 12));
-  return p;
-}
-
-std::vector<glm::vec3> identical(size_t n, std::mt19937&) {
-  return std::vector<glm::vec3>(n, glm::vec3(0.3f, -0.7f, 2.0f));
-}
+std::vector<glm::vec3> lattice12(size_t n, std::mt19937& rng) { return test::lattice(n, rng, 12); }
 
 const Distribution kDistributions[] = {
-    {"uniform", uniform_cube}, {"blobs", blobs},     {"plane", plane},
-    {"duplicates", duplicates}, {"lattice", lattice}, {"identical", identical},
+    {"uniform", test::uniform_cube},     {"blobs", test::blobs},  {"plane", test::plane},
+    {"duplicates", test::duplicates},    {"lattice", lattice12},  {"identical", test::identical},
 };
-
-struct Box {
-  glm::vec3 lo{kInf}, hi{-kInf};
-};
-
-Box bounds(const std::vector<glm::vec3>& points) {
-  Box b;
-  for (const auto& p : points) {
-    b.lo = glm::min(b.lo, p);
-    b.hi = glm::max(b.hi, p);
-  }
-  if (points.empty()) b = {glm::vec3(-1.0f), glm::vec3(1.0f)};
-  return b;
-}
-
-// Query points: a quarter exactly on photons, a quarter near photons, a quarter anywhere in
-// the bounding box, a quarter outside it (up to 3 box sizes away).
-std::vector<glm::vec3> queries(const std::vector<glm::vec3>& points, size_t count, std::mt19937& rng) {
-  const Box b = bounds(points);
-  const glm::vec3 size = glm::max(b.hi - b.lo, glm::vec3(1e-3f));
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::normal_distribution<float> g(0.0f, 1.0f);
-  std::vector<glm::vec3> q(count);
-  for (size_t i = 0; i < count; ++i) {
-    const int kind = static_cast<int>(i % 4);
-    if (kind < 2 && !points.empty()) {
-      q[i] = points[rng() % points.size()];
-      if (kind == 1) q[i] += 0.01f * size * glm::vec3(g(rng), g(rng), g(rng));
-    } else if (kind == 2) {
-      q[i] = b.lo + size * glm::vec3(u(rng), u(rng), u(rng));
-    } else {
-      glm::vec3 t;
-      do t = glm::vec3(u(rng), u(rng), u(rng)) * 7.0f - 3.0f;  // [-3, 4] box units
-      while (t.x >= 0 && t.x <= 1 && t.y >= 0 && t.y <= 1 && t.z >= 0 && t.z <= 1);
-      q[i] = b.lo + size * t;
-    }
-  }
-  return q;
-}
 
 // Radii: 0 (coincident photons only), small (a few photons in the dense parts), large (a
 // good part of the cloud) and infinite. Each query adds a fifth: the distance to its 50th
 // nearest photon, which puts a photon on (or within rounding of) the sphere.
 std::vector<float> radii(const std::vector<glm::vec3>& points) {
-  const Box b = bounds(points);
+  const test::PointBox b = test::bounds(points);
   float diagonal = glm::length(b.hi - b.lo);
   if (!(diagonal > 0.0f)) diagonal = 1.0f;
   return {0.0f, 0.02f * diagonal, 0.4f * diagonal, kInf};
@@ -204,9 +104,9 @@ std::string check_knn(const std::vector<KdNeighbor>& got, size_t returned,
       s << "neighbour " << j << " at distance2 " << e.distance2 << ", brute force " << nearest[j].distance2;
     else if (e.index >= points.size())
       s << "neighbour " << j << " has index " << e.index << " of " << points.size();
-    else if (distance2(q, points[e.index]) != e.distance2)
+    else if (test::distance2(q, points[e.index]) != e.distance2)
       s << "neighbour " << j << " (photon " << e.index << ") reports distance2 " << e.distance2
-        << ", true " << distance2(q, points[e.index]);
+        << ", true " << test::distance2(q, points[e.index]);
     else if (stamp[e.index] == stamp_id)
       s << "photon " << e.index << " returned twice";
     if (!s.str().empty()) return s.str();
@@ -232,9 +132,9 @@ TEST(KdTree, KnnEqualsBruteForce) {
       const std::vector<float> rs = radii(points);
       std::vector<uint32_t> stamp(n, 0);
       uint32_t stamp_id = 0;
-      for (const glm::vec3& q : queries(points, query_count(n), rng)) {
+      for (const glm::vec3& q : test::query_points(points, query_count(n), rng)) {
         all.resize(n);
-        for (uint32_t i = 0; i < n; ++i) all[i] = {distance2(q, points[i]), i};
+        for (uint32_t i = 0; i < n; ++i) all[i] = {test::distance2(q, points[i]), i};
         const size_t prefix = std::min(n, kMaxK);
         std::partial_sort(all.begin(), all.begin() + prefix, all.end());
         all.resize(prefix);
@@ -274,10 +174,10 @@ TEST(KdTree, RadiusEqualsBruteForce) {
       std::vector<uint32_t> seen(n, 0);
       std::vector<float> d2(n);
       uint32_t id = 0;
-      const std::vector<glm::vec3> qs = queries(points, query_count(n), rng);
+      const std::vector<glm::vec3> qs = test::query_points(points, query_count(n), rng);
       for (size_t qi = 0; qi < qs.size(); ++qi) {
         const glm::vec3& q = qs[qi];
-        for (uint32_t i = 0; i < n; ++i) d2[i] = distance2(q, points[i]);
+        for (uint32_t i = 0; i < n; ++i) d2[i] = test::distance2(q, points[i]);
         std::vector<float> rq = rs;
         if (n > 0) {
           std::vector<float> sorted = d2;
@@ -377,7 +277,7 @@ size_t check_structure(const KdTree& tree, const std::vector<glm::vec3>& points,
     }
   }
   // Axis of largest extent of each subtree's photons (subtree boxes bottom-up).
-  std::vector<Box> box(n);
+  std::vector<test::PointBox> box(n);
   for (size_t i = n; i-- > 0;) {
     const glm::vec3 p(nodes[i].pos[0], nodes[i].pos[1], nodes[i].pos[2]);
     box[i] = {p, p};
@@ -401,7 +301,7 @@ TEST(KdTree, IsBalanced) {
   std::mt19937 rng(3);
   // Every size up to 70 (every shape of the last level), then the sizes of the other tests.
   for (size_t n = 0; n <= 70; ++n) {
-    const auto points = uniform_cube(n, rng);
+    const auto points = test::uniform_cube(n, rng);
     EXPECT_EQ(check_structure(build_kdtree(points), points, "uniform n=" + std::to_string(n)), 0u);
   }
   for (const Distribution& dist : kDistributions) {
@@ -417,13 +317,13 @@ TEST(KdTree, IsBalanced) {
 
   // A million photons: structure, a few queries against brute force, and the figures.
   const size_t n = 1000000;
-  const auto points = uniform_cube(n, rng);
+  const auto points = test::uniform_cube(n, rng);
   const auto t0 = std::chrono::steady_clock::now();
   const KdTree tree = build_kdtree(points);
   const auto t1 = std::chrono::steady_clock::now();
   EXPECT_EQ(check_structure(tree, points, "uniform n=1000000"), 0u);
 
-  const std::vector<glm::vec3> qs = queries(points, 4000, rng);
+  const std::vector<glm::vec3> qs = test::query_points(points, 4000, rng);
   std::vector<KdNeighbor> got;
   size_t total = 0;
   double seconds[4] = {0, 0, 0, 0};  // by query kind: on, near, in the box, outside
@@ -440,7 +340,7 @@ TEST(KdTree, IsBalanced) {
   for (size_t i = 0; i < 8; ++i) {
     const glm::vec3& q = qs[i];
     all.resize(n);
-    for (uint32_t j = 0; j < n; ++j) all[j] = {distance2(q, points[j]), j};
+    for (uint32_t j = 0; j < n; ++j) all[j] = {test::distance2(q, points[j]), j};
     std::partial_sort(all.begin(), all.begin() + 50, all.end());
     all.resize(50);
     tree.knn(q, 50, kInf, got);

@@ -33,6 +33,7 @@
 #include "shared/photon_types.h"
 #include "shared/render_types.h"
 #include "support/device.h"
+#include "support/point_sets.h"
 
 namespace clpt {
 namespace {
@@ -41,72 +42,10 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 const cl::Program& photon_map_program() { return test::test_program("kernels/photon_map_test.cl"); }
 
-// The kernels' expression, in the same order: the device's distances compare exactly (as
-// long as neither compiler contracts it into fused multiply-adds: OpenCL C may unless
-// FP_CONTRACT is off, and the host build targets baseline x86-64, which has no FMA).
-float distance2(const glm::vec3& a, const glm::vec3& b) {
-  const float dx = a.x - b.x;
-  const float dy = a.y - b.y;
-  const float dz = a.z - b.z;
-  return dx * dx + dy * dy + dz * dz;
-}
-
 // ---------------------------------------------------------------------------------------
 // PhotonKnn
 
-std::vector<glm::vec3> uniform_cube(size_t n, std::mt19937& rng) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<glm::vec3> p(n);
-  for (auto& x : p) x = {u(rng), u(rng), u(rng)};
-  return p;
-}
-
-// Eight Gaussian blobs of widths 0.002 to 4.4.
-std::vector<glm::vec3> clusters(size_t n, std::mt19937& rng) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::normal_distribution<float> g(0.0f, 1.0f);
-  glm::vec3 centre[8];
-  float sigma[8];
-  for (int b = 0; b < 8; ++b) {
-    centre[b] = {u(rng), u(rng), u(rng)};
-    sigma[b] = 0.002f * std::pow(3.0f, static_cast<float>(b));
-  }
-  std::vector<glm::vec3> p(n);
-  for (auto& x : p) {
-    const int b = static_cast<int>(rng() % 8);
-    x = centre[b] + sigma[b] * glm::vec3(g(rng), g(rng), g(rng));
-  }
-  return p;
-}
-
-// On the plane y = 0.25.
-std::vector<glm::vec3> plane(size_t n, std::mt19937& rng) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<glm::vec3> p(n);
-  for (auto& x : p) x = {u(rng), 0.25f, u(rng)};
-  return p;
-}
-
-// About 50 copies of each of n / 50 + 1 points.
-std::vector<glm::vec3> duplicates(size_t n, std::mt19937& rng) {
-  const std::vector<glm::vec3> pool = uniform_cube(n / 50 + 1, rng);
-  std::vector<glm::vec3> p(n);
-  for (auto& x : p) x = pool[rng() % pool.size()];
-  return p;
-}
-
-std::vector<glm::vec3> identical(size_t n, std::mt19937&) {
-  return std::vector<glm::vec3>(n, glm::vec3(0.3f, -0.7f, 2.0f));
-}
-
-// A lattice of spacing 0.25: many equal distances, so ties at the k-th.
-std::vector<glm::vec3> lattice(size_t n, std::mt19937& rng) {
-  std::vector<glm::vec3> p(n);
-  for (auto& x : p)
-    x = 0.25f * glm::vec3(static_cast<float>(rng() % 10), static_cast<float>(rng() % 10),
-                          static_cast<float>(rng() % 10));
-  return p;
-}
+std::vector<glm::vec3> lattice10(size_t n, std::mt19937& rng) { return test::lattice(n, rng, 10); }
 
 struct PointSetSpec {
   const char* name;
@@ -116,46 +55,13 @@ struct PointSetSpec {
 };
 
 const PointSetSpec kPointSets[] = {
-    {"uniform", uniform_cube, 3000, 200},  {"clusters", clusters, 5000, 200},
-    {"plane", plane, 3000, 200},           {"duplicates", duplicates, 3000, 200},
-    {"identical", identical, 500, 40},     {"lattice", lattice, 2000, 200},
-    {"empty", uniform_cube, 0, 20},        {"one", uniform_cube, 1, 20},
-    {"seven", clusters, 7, 40},            {"large", clusters, 50000, 100},
+    {"uniform", test::uniform_cube, 3000, 200},     {"clusters", test::blobs, 5000, 200},
+    {"plane", test::plane, 3000, 200},              {"duplicates", test::duplicates, 3000, 200},
+    {"identical", test::identical, 500, 40},        {"lattice", lattice10, 2000, 200},
+    {"empty", test::uniform_cube, 0, 20},           {"one", test::uniform_cube, 1, 20},
+    {"seven", test::blobs, 7, 40},                  {"large", test::blobs, 50000, 100},
 };
 const uint32_t kKs[] = {1, 8, 50, PM_KNN_MAX};
-
-// Query points: a quarter on photons, a quarter near them, a quarter anywhere in their
-// bounding box, a quarter outside it (up to 3 box sizes away).
-std::vector<glm::vec3> query_points(const std::vector<glm::vec3>& points, size_t count,
-                                    std::mt19937& rng) {
-  glm::vec3 lo(-1.0f), hi(1.0f);
-  if (!points.empty()) {
-    lo = hi = points[0];
-    for (const glm::vec3& p : points) {
-      lo = glm::min(lo, p);
-      hi = glm::max(hi, p);
-    }
-  }
-  const glm::vec3 size = glm::max(hi - lo, glm::vec3(1e-3f));
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::normal_distribution<float> g(0.0f, 1.0f);
-  std::vector<glm::vec3> q(count);
-  for (size_t i = 0; i < count; ++i) {
-    const size_t kind = i % 4;
-    if (kind < 2 && !points.empty()) {
-      q[i] = points[rng() % points.size()];
-      if (kind == 1) q[i] += 0.01f * size * glm::vec3(g(rng), g(rng), g(rng));
-    } else if (kind < 3) {
-      q[i] = lo + size * glm::vec3(u(rng), u(rng), u(rng));
-    } else {
-      glm::vec3 t;
-      do t = glm::vec3(u(rng), u(rng), u(rng)) * 7.0f - 3.0f;
-      while (t.x >= 0 && t.x <= 1 && t.y >= 0 && t.y <= 1 && t.z >= 0 && t.z <= 1);
-      q[i] = lo + size * t;
-    }
-  }
-  return q;
-}
 
 // One query: the point and the radius, the device getting max_r2 = radius^2 as the host
 // computes it.
@@ -172,7 +78,7 @@ std::vector<KnnQuery> knn_queries(const KdTree& tree, const std::vector<glm::vec
   std::vector<KnnQuery> out;
   std::vector<KdNeighbor> nearest;
   const float small = 0.02f * 2.0f * std::sqrt(3.0f);
-  for (const glm::vec3& q : query_points(points, count, rng)) {
+  for (const glm::vec3& q : test::query_points(points, count, rng)) {
     out.push_back({q, 0.0f});
     out.push_back({q, small});
     if (tree.knn(q, 20, kInf, nearest) > 0) out.push_back({q, std::sqrt(nearest.back().distance2)});
@@ -227,9 +133,9 @@ std::string compare_knn(std::vector<KdNeighbor> heap, const std::vector<KdNeighb
       s << "neighbour " << j << " at distance2 " << e.distance2 << ", host " << want[j].distance2;
     else if (e.index >= points.size())
       s << "neighbour " << j << " has index " << e.index << " of " << points.size();
-    else if (distance2(q, points[e.index]) != e.distance2)
+    else if (test::distance2(q, points[e.index]) != e.distance2)
       s << "neighbour " << j << " (photon " << e.index << ") reports distance2 " << e.distance2
-        << ", true " << distance2(q, points[e.index]);
+        << ", true " << test::distance2(q, points[e.index]);
     else if (j > 0 && e.index == heap[j - 1].index && e.distance2 == heap[j - 1].distance2)
       s << "photon " << e.index << " returned twice";
     if (!s.str().empty()) return s.str();
@@ -344,7 +250,7 @@ std::vector<Gathered> brute_force(const std::vector<glm::vec3>& photons,
     const glm::vec3 x(queries[i]);
     const float r2 = queries[i].w * queries[i].w;
     for (uint64_t j = 0; j < photons.size(); ++j)
-      if (distance2(photons[j], x) <= r2) {
+      if (test::distance2(photons[j], x) <= r2) {
         ++out[i].count;
         out[i].sum += j + 1;
         out[i].square_sum += (j + 1) * (j + 1);
