@@ -1,20 +1,14 @@
 #include "integrators/photon_mapper.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstring>
 
 #include "photon/kdtree.h"
 #include "util/error.h"
 #include "util/log.h"
+#include "util/timer.h"
 
 namespace clpt {
-namespace {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-}  // namespace
 
 PhotonMapper::PhotonMapper(const cl::Context& ctx, const SceneBuffers& scene, uint64_t global_paths,
                            uint64_t caustic_paths)
@@ -27,18 +21,17 @@ PhotonMapper::PhotonMapper(const cl::Context& ctx, const SceneBuffers& scene, ui
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
   first_arg_ = scene.bind(kernel_, 0);
   // Empty maps until the first pass builds them (the warm-up launch reads none).
-  global_ = Map{cl::Buffer(ctx_, sizeof(dev::KdNode)), cl::Buffer(ctx_, sizeof(dev::Photon)), 0};
-  caustic_ = Map{cl::Buffer(ctx_, sizeof(dev::KdNode)), cl::Buffer(ctx_, sizeof(dev::Photon)), 0};
+  global_ = empty_map();
+  caustic_ = empty_map();
+}
+
+PhotonMapper::Map PhotonMapper::empty_map() const {
+  return Map{cl::Buffer(ctx_, sizeof(dev::KdNode)), cl::Buffer(ctx_, sizeof(dev::Photon)), 0};
 }
 
 PhotonMapper::Map PhotonMapper::build_map(const dev::RenderParams& params, uint64_t paths,
                                           uint32_t store) {
-  Map map;
-  if (paths == 0) {
-    map.nodes = cl::Buffer(ctx_, sizeof(dev::KdNode));
-    map.photons = cl::Buffer(ctx_, sizeof(dev::Photon));
-    return map;
-  }
+  if (paths == 0) return empty_map();
   dev::RenderParams p = params;
   p.seed = photon_seed(params.seed) + store;  // the two maps' paths differ too
   p.sampler = dev::SAMPLER_INDEPENDENT;
@@ -68,6 +61,7 @@ PhotonMapper::Map PhotonMapper::build_map(const dev::RenderParams& params, uint6
   ++stats_.builds;
   stats_.paths += paths;
   stats_.stored += set.photons.size();
+  Map map;
   map.count = static_cast<uint32_t>(set.photons.size());
   map.nodes = cl::Buffer::from_vector(ctx_, tree.nodes, CL_MEM_READ_ONLY, "photon kd-tree");
   map.photons = cl::Buffer::from_vector(ctx_, set.photons, CL_MEM_READ_ONLY, "photon map");

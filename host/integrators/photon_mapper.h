@@ -33,6 +33,7 @@ class PhotonMapper final : public Integrator {
     uint32_t count = 0;
   };
   Map build_map(const dev::RenderParams& params, uint64_t paths, uint32_t store);
+  Map empty_map() const;  // no photons; buffers of one element so the kernel binds
 
   const cl::Context& ctx_;
   uint64_t global_paths_, caustic_paths_;

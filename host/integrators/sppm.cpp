@@ -1,19 +1,14 @@
 #include "integrators/sppm.h"
 
 #include <algorithm>
-#include <chrono>
+#include <cmath>
 #include <cstring>
 
 #include "integrators/photon_mapper.h"
 #include "util/error.h"
+#include "util/timer.h"
 
 namespace clpt {
-namespace {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-}  // namespace
 
 static_assert(sizeof(dev::SppmPixel) == 32, "SppmPixel should stay 32 bytes");
 

@@ -1,21 +1,15 @@
 #include "render/renderer.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "bvh/bvh.h"
 #include "render/camera_setup.h"
 #include "util/error.h"
 #include "util/log.h"
+#include "util/timer.h"
 
 namespace clpt {
-namespace {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-}  // namespace
 
 Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSettings& settings)
     : ctx_(ctx), settings_(settings) {
