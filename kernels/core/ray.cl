@@ -34,4 +34,11 @@ inline float3 offset_ray_origin(float3 p, float3 ng) {
   return select(p_i, p + float_scale * ng, isless(fabs(p), (float3)(origin)));
 }
 
+/* The origin of a ray leaving surface point p in direction w: p offset along the geometric
+ * normal ng turned to w's side (a reflected ray leaves on the side it arrived from, a
+ * transmitted one on the other). */
+inline float3 offset_ray_origin_towards(float3 p, float3 ng, float3 w) {
+  return offset_ray_origin(p, dot(w, ng) >= 0.0f ? ng : -ng);
+}
+
 #endif

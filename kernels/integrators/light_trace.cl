@@ -55,7 +55,7 @@ inline void lt_connect_surface(__constant const RenderParams* p, const SceneView
   const float3 f = bsdf_eval_cos(sh, wo, wi, TRANSPORT_IMPORTANCE) * lt_shading_correction(sh, wo, wi);
   if (is_black(f)) return;
   ++*rays;
-  const float3 org = offset_ray_origin(sh->p, dot(wi, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
+  const float3 org = offset_ray_origin_towards(sh->p, sh->ng, wi);
   if (intersect_any(s, org, wi, c.dist * (1.0f - 1e-4f))) return;
   film_splat(splat, lt_pixel(p, &c), beta * f * c.weight);
 }
@@ -81,12 +81,12 @@ inline void lt_trace(__constant const RenderParams* p, const SceneView* s, const
     if (c.valid && area_light_faces(s, s->triangles[light->triangle].material, ng, c.wi)) {
       const float3 to_cam = c.wi;
       ++*rays;
-      if (!intersect_any(s, offset_ray_origin(e.p, dot(to_cam, ng) >= 0.0f ? ng : -ng), to_cam,
+      if (!intersect_any(s, offset_ray_origin_towards(e.p, ng, to_cam), to_cam,
                          c.dist * (1.0f - 1e-4f)))
         film_splat(splat, lt_pixel(p, &c),
                    e.Le * (fabs(dot(ng, to_cam)) * c.weight / (e.pdf_select * e.pdf_a)));
     }
-    org = offset_ray_origin(e.p, dot(e.dir, ng) >= 0.0f ? ng : -ng);
+    org = offset_ray_origin_towards(e.p, ng, e.dir);
   }
   if (p->max_depth == 0u) return;
   /* The emitted flux of the path, then the BSDF weights (beta, which Russian roulette looks
@@ -114,7 +114,7 @@ inline void lt_trace(__constant const RenderParams* p, const SceneView* s, const
       if (!(sample_1d(sampler, bounce_dim(depth, DIM_RR)) < survive)) break;
       beta /= survive;
     }
-    org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);
+    org = offset_ray_origin_towards(sh.p, sh.ng, bs.wi);
     dir = bs.wi;
   }
 }

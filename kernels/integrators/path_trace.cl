@@ -136,7 +136,7 @@ inline float3 pt_continue(__constant const RenderParams* p, const SceneView* s,
       beta /= survive;
     }
     /* Leave on wi's side of the surface (transmission goes through). */
-    const float3 org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);
+    const float3 org = offset_ray_origin_towards(sh.p, sh.ng, bs.wi);
     Hit hit;
     ++*rays;
     if (!intersect_closest(s, org, bs.wi, INFINITY, &hit)) {

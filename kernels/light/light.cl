@@ -125,7 +125,7 @@ inline float3 light_emission_origin(const SceneView* s, const LightEmission* e) 
   float3 p0, p1, p2;
   triangle_vertices(s, l->triangle, &p0, &p1, &p2);
   const float3 ng = safe_normal(cross(p1 - p0, p2 - p0));
-  return offset_ray_origin(e->p, dot(e->dir, ng) >= 0.0f ? ng : -ng);
+  return offset_ray_origin_towards(e->p, ng, e->dir);
 }
 
 /* Densities of a light's two sampling techniques for one light point, in the form the

@@ -30,7 +30,7 @@ inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, con
                                   fabs(dot(sh->ng, ls.wi)));
   ++*rays;
   ++*connections;
-  const float3 org = offset_ray_origin(sh->p, dot(ls.wi, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
+  const float3 org = offset_ray_origin_towards(sh->p, sh->ng, ls.wi);
   if (intersect_any(s, org, ls.wi, ls.dist * (1.0f - 1e-4f))) return (float3)(0.0f);
   return f * ls.Le * (bdpt_strategy_weight(p, 1u, k + 1u, w) / ls.pdf_w);
 }
@@ -66,7 +66,7 @@ inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s,
                                       bsdf_pdf_w(&y, -dir, y_wo));
   ++*rays;
   ++*connections;
-  const float3 org = offset_ray_origin(sh->p, dot(dir, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
+  const float3 org = offset_ray_origin_towards(sh->p, sh->ng, dir);
   if (intersect_any(s, org, dir, dist * (1.0f - 1e-4f))) return (float3)(0.0f);
   return f_cam * f_light * ls.beta * volume_transmittance(s, sh, dir, dist) *
          (bdpt_strategy_weight(p, s_count, k + 1u, w) / dist2);
@@ -149,7 +149,7 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
       break;
     prev = sh;
     from = sh.p;
-    org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);
+    org = offset_ray_origin_towards(sh.p, sh.ng, bs.wi);
     dir = bs.wi;
   }
   return L;

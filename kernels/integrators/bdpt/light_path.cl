@@ -40,7 +40,7 @@ inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneVie
   const float w = bdpt_strategy_weight(p, depth + 1u, 1u, bdpt_weight_camera(p, st, camera_pdf_a, rev));
   ++*rays;
   ++*connections;
-  const float3 org = offset_ray_origin(sh->p, dot(c.wi, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
+  const float3 org = offset_ray_origin_towards(sh->p, sh->ng, c.wi);
   if (intersect_any(s, org, c.wi, c.dist * (1.0f - 1e-4f))) return;
   film_splat(splat, lt_pixel(p, &c), st->beta * f * (c.weight * w));
 }
@@ -101,7 +101,7 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
       break;
     prev = sh;
     from = sh.p;
-    org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);
+    org = offset_ray_origin_towards(sh.p, sh.ng, bs.wi);
     dir = bs.wi;
   }
   return stored;

@@ -75,7 +75,7 @@ inline void photon_trace(__constant const RenderParams* p, const SceneView* s,
     /* A caustic pass stops once a path can no longer make caustic photons. */
     if (caustic_only && !specular_only) break;
     prev = sh;
-    org = offset_ray_origin(sh.p, dot(bs.wi, sh.ng) >= 0.0f ? sh.ng : -sh.ng);
+    org = offset_ray_origin_towards(sh.p, sh.ng, bs.wi);
     dir = bs.wi;
   }
 }

@@ -65,8 +65,7 @@ inline float3 pm_final_gather(__constant const RenderParams* p, const SceneView*
         sample_1d(sampler, stream_dim(bounce_dim(vp->depth, DIM_BSDF_LOBE), stream)),
         TRANSPORT_RADIANCE);
     if (!(bs.pdf_w > 0.0f) || is_black(bs.weight) || bs.is_delta) continue;
-    const float3 org =
-        offset_ray_origin(vp->sh.p, dot(bs.wi, vp->sh.ng) >= 0.0f ? vp->sh.ng : -vp->sh.ng);
+    const float3 org = offset_ray_origin_towards(vp->sh.p, vp->sh.ng, bs.wi);
     VisiblePoint g;
     if (!photon_visible_point(p, s, sampler, &vp->sh, org, bs.wi, vp->depth + 1u, stream, 0,
                               rays, &g))

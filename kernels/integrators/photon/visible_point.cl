@@ -64,7 +64,7 @@ inline int photon_visible_point(__constant const RenderParams* p, const SceneVie
       vp->beta /= survive;
     }
     prev = vp->sh;
-    org = offset_ray_origin(vp->sh.p, dot(bs.wi, vp->sh.ng) >= 0.0f ? vp->sh.ng : -vp->sh.ng);
+    org = offset_ray_origin_towards(vp->sh.p, vp->sh.ng, bs.wi);
     dir = bs.wi;
     ++depth;
   }
@@ -83,7 +83,7 @@ inline float3 photon_direct(__constant const RenderParams* p, const SceneView* s
       p, s, sh, vp->wo, sample_2d(sampler, bounce_dim(vp->depth, DIM_BSDF_DIR)),
       sample_1d(sampler, bounce_dim(vp->depth, DIM_BSDF_LOBE)));
   if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) return L;
-  const float3 org = offset_ray_origin(sh->p, dot(bs.wi, sh->ng) >= 0.0f ? sh->ng : -sh->ng);
+  const float3 org = offset_ray_origin_towards(sh->p, sh->ng, bs.wi);
   Hit hit;
   ++*rays;
   if (!intersect_closest(s, org, bs.wi, INFINITY, &hit))
