@@ -7,7 +7,7 @@ For every <integrator>-seed<N>.exr in RUN_DIR (scripts/bench_relmse.sh), prints 
 against REFERENCE (the same measure as clpt-diff: mean over pixel-channels of
 (v - r)^2 / (|r| + 0.01)^2) over all pixels, over the pixels where MASK's red channel is 0,
 and over those where it is not, then the means per integrator. Used for the caustic scene,
-whose bdpt reference lacks the light seen through the glass sphere (docs/BENCHMARKS.md):
+whose bdpt reference has almost none of the light seen through the glass sphere (docs/BENCHMARKS.md):
 the mask is the sphere, rendered as the only emitter at --max-depth 0. Needs oiiotool.
 """
 import glob
