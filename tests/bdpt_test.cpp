@@ -21,6 +21,7 @@
 #include "stats/image_stats.h"
 #include "support/device.h"
 #include "support/reference_match.h"
+#include "support/reference_render.h"
 #include "support/scenes.h"
 #include "util/error.h"
 
@@ -92,7 +93,7 @@ FilmResult render(const Scene& scene, RenderSettings s, uint32_t seed) {
 
 TEST(CrossIntegrator, BdptMatchesPtOnCornellBox) {
   const Scene scene = test::cornell_box();
-  const FilmResult ref = render(scene, settings("pt", 8192), 4242);
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
   test::expect_matches_reference(test::render_batches(scene, settings("bdpt", 32), 16, 700), ref,
                                  "bdpt cornell");
 }
@@ -102,7 +103,7 @@ TEST(CrossIntegrator, BdptMatchesPtOnCornellBox) {
 // the tiles (and so the caches) are small, which must not matter either.
 TEST(CrossIntegrator, BdptWithLightVertexCachingMatchesPt) {
   const Scene scene = test::cornell_box();
-  const FilmResult ref = render(scene, settings("pt", 8192), 4242);
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
   RenderSettings s = settings("bdpt", 32);
   s.bdpt_lvc = 2;
   test::expect_matches_reference(test::render_batches(scene, s, 16, 1700), ref, "bdpt lvc 2");
@@ -114,7 +115,7 @@ TEST(CrossIntegrator, BdptWithLightVertexCachingMatchesPt) {
 
 TEST(CrossIntegrator, BdptMatchesPtWithGlossyAndGlass) {
   const Scene scene = test::cornell_box_glossy_glass();
-  const FilmResult ref = render(scene, settings("pt", 16384), 4343);
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBoxGlossyGlass, 32, 16384, 4343);
   // The floor under the glass block, seen through it, is lit only by S D S paths: bdpt has
   // one strategy for them (s = 0, the camera path hits the light), as pt has, and at 512 spp
   // per pixel their batch variance underestimates a heavy tail (measured: a handful of those

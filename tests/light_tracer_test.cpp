@@ -27,6 +27,7 @@
 #include "stats/image_stats.h"
 #include "support/block_test.h"
 #include "support/reference_match.h"
+#include "support/reference_render.h"
 #include "support/device.h"
 #include "support/scenes.h"
 #include "util/error.h"
@@ -274,18 +275,8 @@ const Scene& cornell() {
   return scene;
 }
 
-FilmResult render_cornell(const std::string& integrator, uint64_t spp, uint32_t seed) {
-  RenderSettings s;
-  s.width = s.height = kSize;
-  s.spp = spp;
-  s.seed = seed;
-  s.integrator = integrator;
-  Renderer r(test::device_context(), cornell(), s);
-  return r.render().film;
-}
-
 TEST(CrossIntegrator, LtMatchesPtOnCornellBox) {
-  const FilmResult ref = render_cornell("pt", 8192, 4242);
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
   RenderSettings s;
   s.width = s.height = kSize;
   s.spp = 64;
@@ -338,15 +329,14 @@ std::vector<bool> pixels_seeing_material(const Scene& scene, const std::string& 
 // glossy reflections and the glass block's caustics included, lt must agree with pt.
 TEST(CrossIntegrator, LtMatchesPtWithGlossyAndGlassOutsideTheGlass) {
   const Scene scene = test::cornell_box_glossy_glass();
-  RenderSettings s;
-  s.width = s.height = kSize;
-  s.spp = 16384;
-  s.seed = 4343;
-  const FilmResult ref = Renderer(test::device_context(), scene, s).render().film;
+  const FilmResult ref =
+      test::pt_reference(test::ReferenceScene::CornellBoxGlossyGlass, kSize, 16384, 4343);
   const std::vector<bool> glass = pixels_seeing_material(scene, "glass", kSize);
   const size_t left_out = size_t(std::count(glass.begin(), glass.end(), true));
   ASSERT_GT(left_out, 20u) << "the glass block should cover some pixels";
   ASSERT_LT(left_out, size_t(kSize) * kSize / 4);
+  RenderSettings s;
+  s.width = s.height = kSize;
   s.spp = 64;
   s.integrator = "lt";
   std::vector<Image> batches = test::render_batches(scene, s, 16, 600);

@@ -21,6 +21,7 @@
 #include "stats/image_stats.h"
 #include "support/device.h"
 #include "support/reference_match.h"
+#include "support/reference_render.h"
 #include "support/scenes.h"
 
 namespace clpt {
@@ -87,7 +88,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, SphereFurnaceSppm,
 
 TEST(CrossIntegrator, SppmConvergesToPtOnCornellBox) {
   const Scene scene = test::cornell_box();
-  const FilmResult ref = render(scene, settings("pt", 8192, 32), 4242);
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
   // A radius of about a third of a pixel's footprint (the box is 2 units wide, 32 pixels):
   // the default of two footprints darkens the edges of the walls by some percent at 256
   // passes (a disc that reaches past a wall's edge finds no photons there).
@@ -153,7 +154,7 @@ void expect_pm_within_bounds(const Scene& scene, const FilmResult& ref, RenderSe
 
 TEST(CrossIntegrator, PmWithinBiasBoundsOnCornellBox) {
   const Scene scene = test::cornell_box();
-  const FilmResult ref = render(scene, settings("pt", 8192, 32), 4242);
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
   expect_pm_within_bounds(scene, ref, settings("pm", 256, 32), "pm cornell, final gather 8");
   RenderSettings s = settings("pm", 256, 32);
   s.final_gather = 0;
@@ -164,7 +165,7 @@ TEST(CrossIntegrator, PmWithinBiasBoundsOnCornellBox) {
 // light through the glass from the camera path's delta bounces.
 TEST(CrossIntegrator, PmWithinBiasBoundsWithGlossyAndGlass) {
   const Scene scene = test::cornell_box_glossy_glass();
-  const FilmResult ref = render(scene, settings("pt", 16384, 32), 4343);
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBoxGlossyGlass, 32, 16384, 4343);
   expect_pm_within_bounds(scene, ref, settings("pm", 256, 32), "pm glossy+glass");
 }
 
@@ -173,7 +174,7 @@ TEST(CrossIntegrator, PmWithinBiasBoundsWithGlossyAndGlass) {
 // The same seed keeps the camera's samples, so only the map differs.
 TEST(PhotonMapping, PmErrorFallsAsTheMapGrows) {
   const Scene scene = test::cornell_box();
-  const FilmResult ref = render(scene, settings("pt", 8192, 32), 4242);
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
   RenderSettings s = settings("pm", 64, 32);
   s.final_gather = 0;
   double previous = 0.0;

@@ -1,0 +1,155 @@
+#include "support/reference_render.h"
+
+#include <OpenImageIO/hash.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cl/program.h"
+#include "render/renderer.h"
+#include "support/device.h"
+#include "support/scenes.h"
+
+namespace clpt::test {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr char kMagic[8] = {'C', 'L', 'P', 'T', 'R', 'E', 'F', '1'};
+
+// A digest of this executable's bytes: it changes with any change to the host code, the
+// test scenes or the embedded kernels.
+const std::string& executable_digest() {
+  static const std::string digest = [] {
+    std::ifstream f("/proc/self/exe", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    if (bytes.empty()) return std::string();
+    std::ostringstream s;
+    s << std::hex << OIIO::xxhash::XXH64(bytes.data(), bytes.size(), 0);
+    return s.str();
+  }();
+  return digest;
+}
+
+const char* scene_name(ReferenceScene scene) {
+  return scene == ReferenceScene::CornellBox ? "cornell_box" : "cornell_box_glossy_glass";
+}
+
+struct Key {
+  std::string text;
+  fs::path file;  // empty: no cache
+  uint64_t check = 0;
+};
+
+Key make_key(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed) {
+  Key k;
+  const std::string exe = executable_digest();
+  const fs::path dir = cl::kernel_cache_dir();
+  if (exe.empty() || dir.empty()) return k;
+  const cl::DeviceInfo& dev = device_context().device();
+  std::ostringstream s;
+  s << "clpt-test-reference-v1\n"
+    << exe << '\n'
+    << dev.platform_name << '\n'
+    << dev.name << '\n'
+    << dev.driver_version << '\n'
+    << scene_name(scene) << ' ' << size << ' ' << spp << ' ' << seed << '\n'
+    << cl::resolve_kernel_source("integrators/pt.cl", cl::KernelSources::core());
+  k.text = s.str();
+  const OIIO::farmhash::uint128_t h = OIIO::farmhash::Fingerprint128(k.text.data(), k.text.size());
+  std::ostringstream name;
+  name << scene_name(scene) << '-' << std::hex << std::setfill('0') << std::setw(16)
+       << OIIO::farmhash::Uint128High64(h) << std::setw(16) << OIIO::farmhash::Uint128Low64(h)
+       << ".ref";
+  k.file = dir / "test-references" / name.str();
+  k.check = OIIO::xxhash::XXH64(k.text.data(), k.text.size(), 0);
+  return k;
+}
+
+// The entry's layout: magic, key check, then the header fields and the two images, then an
+// XXH64 of everything after the magic.
+struct Header {
+  uint64_t check, spp, dropped, rays;
+  uint32_t width, height, variance_available, pad;
+};
+
+bool read_entry(const Key& key, FilmResult* out) {
+  std::ifstream f(key.file, std::ios::binary);
+  if (!f) return false;
+  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  Header h;
+  if (bytes.size() < 8 + sizeof(Header) + 8 || std::memcmp(bytes.data(), kMagic, 8) != 0) return false;
+  std::memcpy(&h, bytes.data() + 8, sizeof(h));
+  if (h.check != key.check) return false;
+  const size_t floats = size_t(h.width) * h.height * 3;
+  if (bytes.size() != 8 + sizeof(Header) + 2 * floats * sizeof(float) + 8) return false;
+  uint64_t stored = 0;
+  std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
+  if (OIIO::xxhash::XXH64(bytes.data() + 8, bytes.size() - 16, 0) != stored) return false;
+  FilmResult r;
+  r.mean = Image(h.width, h.height);
+  r.variance = Image(h.width, h.height);
+  const char* p = bytes.data() + 8 + sizeof(Header);
+  std::memcpy(r.mean.rgb.data(), p, floats * sizeof(float));
+  std::memcpy(r.variance.rgb.data(), p + floats * sizeof(float), floats * sizeof(float));
+  r.variance_available = h.variance_available != 0;
+  r.samples_per_pixel = h.spp;
+  r.dropped_samples = h.dropped;
+  r.rays = h.rays;
+  *out = std::move(r);
+  return true;
+}
+
+void write_entry(const Key& key, const FilmResult& r) {
+  std::error_code ec;
+  fs::create_directories(key.file.parent_path(), ec);
+  Header h{key.check, r.samples_per_pixel, r.dropped_samples, r.rays,
+           r.mean.width, r.mean.height, r.variance_available ? 1u : 0u, 0u};
+  std::string bytes(kMagic, 8);
+  bytes.append(reinterpret_cast<const char*>(&h), sizeof(h));
+  bytes.append(reinterpret_cast<const char*>(r.mean.rgb.data()), r.mean.rgb.size() * sizeof(float));
+  bytes.append(reinterpret_cast<const char*>(r.variance.rgb.data()),
+               r.variance.rgb.size() * sizeof(float));
+  const uint64_t digest = OIIO::xxhash::XXH64(bytes.data() + 8, bytes.size() - 8, 0);
+  bytes.append(reinterpret_cast<const char*>(&digest), 8);
+  const fs::path tmp = key.file.string() + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f || !f.write(bytes.data(), std::streamsize(bytes.size())) || !f.flush()) {
+      fs::remove(tmp, ec);
+      return;  // an unwritable cache only costs the next process a render
+    }
+  }
+  fs::rename(tmp, key.file, ec);
+  if (ec) fs::remove(tmp, ec);
+}
+
+}  // namespace
+
+fs::path pt_reference_file(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed) {
+  return make_key(scene, size, spp, seed).file;
+}
+
+FilmResult pt_reference(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed) {
+  const Key key = make_key(scene, size, spp, seed);
+  FilmResult result;
+  if (!key.file.empty() && read_entry(key, &result)) return result;
+  RenderSettings s;
+  s.width = s.height = size;
+  s.spp = spp;
+  s.seed = seed;
+  s.integrator = "pt";
+  const Scene built = scene == ReferenceScene::CornellBox ? cornell_box() : cornell_box_glossy_glass();
+  result = Renderer(device_context(), built, s).render().film;
+  if (!key.file.empty()) write_entry(key, result);
+  return result;
+}
+
+}  // namespace clpt::test
