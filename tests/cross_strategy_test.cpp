@@ -15,6 +15,7 @@
 #include "stats/image_stats.h"
 #include "support/block_test.h"
 #include "support/device.h"
+#include "support/reference_render.h"
 #include "support/scenes.h"
 
 namespace clpt {
@@ -51,12 +52,10 @@ const Scene& cornell() {
   return scene;
 }
 
+// pt with the default estimator choices (shared with other test processes, on disk).
 const FilmResult& reference() {
-  static const FilmResult ref = [] {
-    const Strategy def{"default", 0, 0, 1, 0, 0, 0.0f, 1, 0};
-    Renderer r(test::device_context(), cornell(), settings_for(def, 8192, 4242));
-    return r.render().film;
-  }();
+  static const FilmResult ref =
+      test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
   return ref;
 }
 

@@ -65,12 +65,13 @@ inline float3 bsdf_eval_cos(const SurfaceHit* sh, float3 wo, float3 wi, int mode
 }
 
 /* f(wo, wi) of the non-delta lobes without the cosine: photon density estimation, whose
- * photons' flux per area already holds the cosine at their arrival. */
-inline float3 bsdf_eval(const SurfaceHit* sh, float3 wo, float3 wi, int mode) {
-  const BsdfFrame f = bsdf_frame(sh, wo);
-  const float3 wo_l = bsdf_to_local(&f, wo), wi_l = bsdf_to_local(&f, wi);
+ * photons' flux per area already holds the cosine at their arrival. The frame f =
+ * bsdf_frame(sh, wo) and wo_l = wo in it are made once for all the photons of an estimate. */
+inline float3 bsdf_eval_in_frame(const SurfaceHit* sh, const BsdfFrame* f, float3 wo_l, float3 wi,
+                                 int mode) {
+  const float3 wi_l = bsdf_to_local(f, wi);
   const float c = fabs(wi_l.z);
-  if (!(c > 1e-6f) || !bsdf_sides_agree(&f, sh, wo_l, wi_l, wi)) return (float3)(0.0f);
+  if (!(c > 1e-6f) || !bsdf_sides_agree(f, sh, wo_l, wi_l, wi)) return (float3)(0.0f);
   return gltf_bsdf_eval(&sh->bsdf, wo_l, wi_l, mode) / c;
 }
 

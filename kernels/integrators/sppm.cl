@@ -35,6 +35,7 @@ inline float3 sppm_gather(__global const Photon* photons, __global const u32* he
    * axis; the bound only guards against a radius that is not. */
   if (hi.x - lo.x > 3 || hi.y - lo.y > 3 || hi.z - lo.z > 3) return phi;
   const u32 max_bounce = max_depth - vp->depth;
+  const PhotonShading shading = photon_shading(&vp->sh, vp->wo);
   for (int cz = lo.z; cz <= hi.z; ++cz)
     for (int cy = lo.y; cy <= hi.y; ++cy)
       for (int cx = lo.x; cx <= hi.x; ++cx) {
@@ -49,7 +50,7 @@ inline float3 sppm_gather(__global const Photon* photons, __global const u32* he
           const u32 b = photon_bounce(ph->flags);
           if (b < 2u || b > max_bounce || !photon_on_surface(&vp->sh, ph)) continue;
           ++*m;
-          phi += photon_reflected(&vp->sh, vp->wo, ph);
+          phi += photon_reflected(&vp->sh, &shading, ph);
         }
       }
   return phi;

@@ -35,9 +35,24 @@ inline bool photon_on_surface(const SurfaceHit* sh, __global const Photon* ph) {
   return fabs(dot(vload3(0, ph->n), sh->ng)) >= PHOTON_NORMAL_COS;
 }
 
+/* x's BSDF towards wo, set up once per estimate for all its photons. */
+typedef struct PhotonShading {
+  BsdfFrame frame;
+  float3 wo_local;
+} PhotonShading;
+
+inline PhotonShading photon_shading(const SurfaceHit* sh, float3 wo) {
+  PhotonShading s;
+  s.frame = bsdf_frame(sh, wo);
+  s.wo_local = bsdf_to_local(&s.frame, wo);
+  return s;
+}
+
 /* f(x, wo, wi_p) Phi_p for one photon on x's surface; sh's normals oriented to wo. */
-inline float3 photon_reflected(const SurfaceHit* sh, float3 wo, __global const Photon* ph) {
-  return bsdf_eval(sh, wo, vload3(0, ph->wi), TRANSPORT_RADIANCE) * vload3(0, ph->power);
+inline float3 photon_reflected(const SurfaceHit* sh, const PhotonShading* s,
+                               __global const Photon* ph) {
+  return bsdf_eval_in_frame(sh, &s->frame, s->wo_local, vload3(0, ph->wi), TRANSPORT_RADIANCE) *
+         vload3(0, ph->power);
 }
 
 #endif

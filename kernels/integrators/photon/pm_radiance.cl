@@ -39,6 +39,7 @@ inline float3 pm_estimate(__constant const RenderParams* p, const PhotonMap* map
   if (count == 0u) return (float3)(0.0f);
   const float r2 = count == k ? heap[0].d2 : max_r2;
   const u32 max_bounce = p->max_depth - vp->depth;
+  const PhotonShading shading = photon_shading(&vp->sh, vp->wo);
   float3 L = (float3)(0.0f);
   for (u32 i = 0; i < count; ++i) {
     __global const Photon* ph = map->photons + heap[i].index;
@@ -46,7 +47,7 @@ inline float3 pm_estimate(__constant const RenderParams* p, const PhotonMap* map
     if (b < min_bounce || b > max_bounce) continue;
     if (exclude_caustic && (ph->flags & PHOTON_CAUSTIC)) continue;
     if (!photon_on_surface(&vp->sh, ph)) continue;
-    L += photon_reflected(&vp->sh, vp->wo, ph) * photon_kernel(p->pm_filter, heap[i].d2, r2);
+    L += photon_reflected(&vp->sh, &shading, ph) * photon_kernel(p->pm_filter, heap[i].d2, r2);
   }
   return L;
 }
