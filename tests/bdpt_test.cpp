@@ -28,10 +28,7 @@
 namespace clpt {
 namespace {
 
-struct FurnaceCase {
-  float rho;
-  uint32_t max_depth;
-};
+using test::FurnaceCase;
 
 class SphereFurnaceBdpt : public ::testing::TestWithParam<FurnaceCase> {};
 
@@ -60,10 +57,7 @@ TEST_P(SphereFurnaceBdpt, MatchesClosedForm) {
 INSTANTIATE_TEST_SUITE_P(Cases, SphereFurnaceBdpt,
                          ::testing::Values(FurnaceCase{0.5f, 0}, FurnaceCase{0.5f, 1},
                                            FurnaceCase{0.5f, 3}, FurnaceCase{0.8f, 8}),
-                         [](const auto& info) {
-                           return "rho" + std::to_string(int(info.param.rho * 100)) + "_depth" +
-                                  std::to_string(info.param.max_depth);
-                         });
+                         [](const auto& info) { return test::furnace_case_name(info.param); });
 
 constexpr uint32_t kSize = 32;
 

@@ -227,13 +227,7 @@ TEST(CameraImportance, BehindTheCameraIsInvalid) {
   EXPECT_NEAR(c.raster_valid[1].y, 16.0f, 1e-3f);
 }
 
-struct FurnaceCase {
-  float rho;
-  unsigned max_depth;
-};
-void PrintTo(const FurnaceCase& c, std::ostream* os) {
-  *os << "rho " << c.rho << ", max depth " << c.max_depth;
-}
+using test::FurnaceCase;
 
 class SphereFurnaceLt : public ::testing::TestWithParam<FurnaceCase> {};
 
@@ -263,10 +257,7 @@ TEST_P(SphereFurnaceLt, MatchesClosedForm) {
 INSTANTIATE_TEST_SUITE_P(Cases, SphereFurnaceLt,
                          ::testing::Values(FurnaceCase{0.5f, 0}, FurnaceCase{0.5f, 1},
                                            FurnaceCase{0.5f, 3}, FurnaceCase{0.8f, 8}),
-                         [](const auto& info) {
-                           return "rho" + std::to_string(int(info.param.rho * 100)) + "_depth" +
-                                  std::to_string(info.param.max_depth);
-                         });
+                         [](const auto& info) { return test::furnace_case_name(info.param); });
 
 constexpr uint32_t kSize = 32;
 

@@ -47,10 +47,7 @@ double rms_error(const Image& image, double value) {
   return std::sqrt(sum / double(image.rgb.size()));
 }
 
-struct FurnaceCase {
-  float rho;
-  uint32_t max_depth;
-};
+using test::FurnaceCase;
 
 class SphereFurnaceSppm : public ::testing::TestWithParam<FurnaceCase> {};
 
@@ -81,10 +78,7 @@ TEST_P(SphereFurnaceSppm, ConvergesToClosedForm) {
 INSTANTIATE_TEST_SUITE_P(Cases, SphereFurnaceSppm,
                          ::testing::Values(FurnaceCase{0.5f, 1}, FurnaceCase{0.5f, 3},
                                            FurnaceCase{0.8f, 8}),
-                         [](const auto& info) {
-                           return "rho" + std::to_string(int(info.param.rho * 100)) + "_depth" +
-                                  std::to_string(info.param.max_depth);
-                         });
+                         [](const auto& info) { return test::furnace_case_name(info.param); });
 
 TEST(CrossIntegrator, SppmConvergesToPtOnCornellBox) {
   const Scene scene = test::cornell_box();

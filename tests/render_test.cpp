@@ -15,14 +15,7 @@
 namespace clpt {
 namespace {
 
-struct FurnaceCase {
-  float rho;
-  unsigned max_depth;
-};
-
-void PrintTo(const FurnaceCase& c, std::ostream* os) {
-  *os << "rho " << c.rho << ", max depth " << c.max_depth;
-}
+using test::FurnaceCase;
 
 class SphereFurnace : public ::testing::TestWithParam<FurnaceCase> {};
 
@@ -53,10 +46,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, SphereFurnace,
                          ::testing::Values(FurnaceCase{0.5f, 0}, FurnaceCase{0.5f, 1},
                                            FurnaceCase{0.5f, 3}, FurnaceCase{0.8f, 8},
                                            FurnaceCase{0.95f, 20}),
-                         [](const auto& info) {
-                           return "rho" + std::to_string(int(info.param.rho * 100)) + "_depth" +
-                                  std::to_string(info.param.max_depth);
-                         });
+                         [](const auto& info) { return test::furnace_case_name(info.param); });
 
 FilmResult render_cornell(uint32_t seed, uint64_t spp, uint32_t max_per_pass) {
   static const Scene scene = test::cornell_box();

@@ -46,6 +46,14 @@ double furnace_radiance(double rho, double Le, unsigned max_depth) {
   return Le * (1.0 - std::pow(rho, double(max_depth) + 1.0)) / (1.0 - rho);
 }
 
+void PrintTo(const FurnaceCase& c, std::ostream* os) {
+  *os << "rho " << c.rho << ", max depth " << c.max_depth;
+}
+
+std::string furnace_case_name(const FurnaceCase& c) {
+  return "rho" + std::to_string(int(c.rho * 100)) + "_depth" + std::to_string(c.max_depth);
+}
+
 Scene cornell_box() { return load_gltf(std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf"); }
 
 Scene cornell_box_glossy_glass() {

@@ -1,6 +1,10 @@
 // Scenes built in code for tests, with known answers.
 #pragma once
 
+#include <cstdint>
+#include <ostream>
+#include <string>
+
 #include "scene/scene.h"
 #include "support/mesh.h"
 
@@ -14,6 +18,14 @@ void add_mesh(Scene& scene, const Mesh& mesh, const Material& material);
 // Every camera ray then sees L = Le (1 - rho^(D+1)) / (1 - rho) at max depth D.
 Scene furnace_scene(float rho, float Le);
 double furnace_radiance(double rho, double Le, unsigned max_depth);
+
+// One furnace test case of the integrators' SphereFurnace suites: albedo and max depth.
+struct FurnaceCase {
+  float rho;
+  uint32_t max_depth;
+};
+void PrintTo(const FurnaceCase& c, std::ostream* os);  // gtest's description of a case
+std::string furnace_case_name(const FurnaceCase& c);   // e.g. "rho80_depth8"
 
 // The project's Cornell box (scenes/cornell_box.gltf).
 Scene cornell_box();
