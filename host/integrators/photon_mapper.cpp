@@ -78,7 +78,10 @@ void PhotonMapper::render_pass(const dev::RenderParams& params, Film& film) {
     log::verbose("pm: global map " + std::to_string(global_.count) + " photons, caustic map " +
                  std::to_string(caustic_.count) + " photons");
   }
-  if (params.samples_per_pass == 0) tracer_.warm_up();  // the renderer's warm-up pass
+  if (params.samples_per_pass == 0) {  // the renderer's warm-up pass
+    tracer_.warm_up(global_paths_);
+    tracer_.warm_up(caustic_paths_);
+  }
   params_.write(&params, sizeof(params));
   kernel_.args(first_arg_, params_, global_.nodes, global_.photons, global_.count, caustic_.nodes,
                caustic_.photons, caustic_.count, film.sum(), film.sum_sq(), film.ray_counts());

@@ -28,9 +28,6 @@ uint64_t PhotonTracer::emit(const dev::RenderParams& params, uint64_t paths, uin
   ray_count_.fill_zero();
   const float inv_paths = float(1.0 / double(paths));
   const uint32_t cap = static_cast<uint32_t>(std::min<size_t>(capacity, 0xffffffffu));
-  // Per launch at most 2^20 paths, so the 32-bit counters cannot wrap within one (a path
-  // stores at most max_depth <= 1024 photons and traces as many rays).
-  constexpr uint64_t kChunk = uint64_t(1) << 20;
   uint64_t made = 0;
   for (uint64_t first = 0; first < paths; first += kChunk) {
     const auto n = static_cast<uint32_t>(std::min(kChunk, paths - first));
@@ -48,11 +45,11 @@ uint64_t PhotonTracer::emit(const dev::RenderParams& params, uint64_t paths, uin
   return made;
 }
 
-void PhotonTracer::warm_up() {
+void PhotonTracer::warm_up(uint64_t paths) {
   const uint32_t none = 0;
   cl::Buffer photons(ctx_, sizeof(dev::Photon));
   kernel_.args(first_arg_, params_, none, none, 1.0f, none, photons, none, count_, none, ray_count_);
-  kernel_.launch(ctx_, 1);
+  kernel_.launch(ctx_, static_cast<size_t>(std::clamp<uint64_t>(paths, 1, kChunk)));
 }
 
 PhotonSet PhotonTracer::trace(const dev::RenderParams& params, uint64_t paths, uint32_t store,

@@ -36,14 +36,21 @@ class PhotonTracer {
   PhotonSet trace(const dev::RenderParams& params, uint64_t paths, uint32_t store,
                   size_t capacity);
 
-  // Launches the kernel over no paths, so a driver that compiles at the first launch (PoCL)
-  // does it now rather than in the first timed pass.
-  void warm_up();
+  // Launches the kernel as emit() would for `paths` paths, but with none to trace, so a
+  // driver that compiles at the first launch does it now rather than in the first timed
+  // pass. The launch's size matters: PoCL compiles again for a much larger grid (a warm-up
+  // over 4 096 work-items left the first 200 000-path launch 4x slower, one over 65 536 did
+  // not; docs/BENCHMARKS.md, session 5).
+  void warm_up(uint64_t paths);
 
   // Photon paths' rays (closest hits) traced so far.
   uint64_t rays() const { return rays_; }
 
  private:
+  // Paths per launch at most, so the 32-bit counters cannot wrap within one (a path
+  // stores at most max_depth <= 1024 photons and traces as many rays).
+  static constexpr uint64_t kChunk = uint64_t(1) << 20;
+
   const cl::Context& ctx_;
   cl::Program program_;
   cl::Kernel kernel_;
