@@ -48,10 +48,28 @@ inline PhotonShading photon_shading(const SurfaceHit* sh, float3 wo) {
   return s;
 }
 
-/* f(x, wo, wi_p) Phi_p for one photon on x's surface; sh's normals oriented to wo. */
+/* wi rotated by the smallest rotation that takes unit vector a to unit vector b (dot(a, b)
+ * > -1): Rodrigues' formula with k = a x b, c = a . b. */
+inline float3 rotate_between(float3 a, float3 b, float3 wi) {
+  const float3 k = cross(a, b);
+  const float c = dot(a, b);
+  return wi * c + cross(k, wi) + k * (dot(k, wi) / (1.0f + c));
+}
+
+/* f(x, wo, wi_p) Phi_p for one photon on x's surface; sh's normals oriented to wo. The
+ * photon's direction is carried from its own surface to x's first: rotated by the rotation
+ * that takes its normal n_p (stored facing the side it lit) to x's normal on that side. On
+ * a plane that changes nothing. On a curved surface it keeps a photon that arrived at a
+ * grazing angle on a neighbouring facet on the side it lit: taken as it is, wi_p could lie
+ * below x's tangent plane (x's BSDF gives 0: light lost, 0.35 % of a furnace's inner
+ * sphere) or, for a photon inside a thin shell, above it (light leaking out through a lamp
+ * shade: PhotonMapping.NoLightThroughAClosedShell). */
 inline float3 photon_reflected(const SurfaceHit* sh, const PhotonShading* s,
                                __global const Photon* ph) {
-  return bsdf_eval_in_frame(sh, &s->frame, s->wo_local, vload3(0, ph->wi), TRANSPORT_RADIANCE) *
+  const float3 n_p = vload3(0, ph->n);
+  const float3 n_x = dot(n_p, sh->ng) >= 0.0f ? sh->ng : -sh->ng;
+  const float3 wi = rotate_between(n_p, n_x, vload3(0, ph->wi));
+  return bsdf_eval_in_frame(sh, &s->frame, s->wo_local, wi, TRANSPORT_RADIANCE) *
          vload3(0, ph->power);
 }
 
