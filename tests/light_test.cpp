@@ -508,11 +508,7 @@ TEST_P(ConvexEnvFurnace, ShowsRhoTimesL) {
   const glm::vec3 L(1.0f, 0.5f, 0.25f);
   Scene s;
   test::add_mesh(s, test::icosphere(glm::vec3(0.0f), 1.0f, 3), diffuse(kRho));
-  Camera cam;
-  cam.camera_to_world[3] = glm::vec4(0.0f, 0.0f, 1.6f, 1.0f);
-  cam.yfov = 0.6f;
-  cam.aspect = 1.0f;
-  s.cameras.push_back(cam);
+  test::add_camera_on_z(s, 1.6f, 0.6f);
   RenderSettings rs;
   rs.width = rs.height = 16;
   rs.spp = 256;

@@ -206,12 +206,7 @@ TEST(PhotonMapping, NoLightThroughAClosedShell) {
   point.intensity = 10.0f;
   point.position = glm::vec3(0.0f, 0.1f, 0.05f);
   scene.lights.push_back(point);
-  Camera cam;
-  cam.camera_to_world = glm::mat4(1.0f);
-  cam.camera_to_world[3] = glm::vec4(0.0f, 0.0f, 2.0f, 1.0f);
-  cam.yfov = 0.6f;
-  cam.aspect = 1.0f;
-  scene.cameras.push_back(cam);
+  test::add_camera_on_z(scene, 2.0f, 0.6f);
 
   RenderSettings s = settings("sppm", 16, 16);
   s.sppm_radius = 0.2f;

@@ -21,6 +21,15 @@ void add_mesh(Scene& scene, const Mesh& mesh, const Material& material) {
   }
 }
 
+void add_camera_on_z(Scene& scene, float z, float yfov) {
+  Camera cam;
+  cam.camera_to_world = glm::mat4(1.0f);
+  cam.camera_to_world[3] = glm::vec4(0.0f, 0.0f, z, 1.0f);
+  cam.yfov = yfov;
+  cam.aspect = 1.0f;
+  scene.cameras.push_back(cam);
+}
+
 Scene furnace_scene(float rho, float Le) {
   Scene scene;
   Material m;
@@ -33,12 +42,7 @@ Scene furnace_scene(float rho, float Le) {
   Mesh outer = icosphere(glm::vec3(0.0f), 5.0f, 3);
   for (glm::uvec3& t : outer.triangles) std::swap(t.y, t.z);  // face inwards
   add_mesh(scene, outer, m);
-  Camera cam;
-  cam.camera_to_world = glm::mat4(1.0f);
-  cam.camera_to_world[3] = glm::vec4(0.0f, 0.0f, 3.5f, 1.0f);
-  cam.yfov = 0.785398163f;
-  cam.aspect = 1.0f;
-  scene.cameras.push_back(cam);
+  add_camera_on_z(scene, 3.5f, 0.785398163f);
   return scene;
 }
 

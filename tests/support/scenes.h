@@ -13,6 +13,10 @@ namespace clpt::test {
 // Adds a mesh to a scene with one material; normals left zero (flat shading).
 void add_mesh(Scene& scene, const Mesh& mesh, const Material& material);
 
+// Adds a square perspective camera at (0, 0, z) looking down -z, with vertical field of view
+// yfov (radians).
+void add_camera_on_z(Scene& scene, float z, float yfov);
+
 // The furnace: an inner sphere of radius 1 inside a closed sphere of radius 5, both diffuse
 // with albedo rho and emitting radiance Le, with a camera inside looking at the inner sphere.
 // Every camera ray then sees L = Le (1 - rho^(D+1)) / (1 - rho) at max depth D.
