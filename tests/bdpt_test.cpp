@@ -22,6 +22,7 @@
 #include "support/device.h"
 #include "support/reference_match.h"
 #include "support/reference_render.h"
+#include "support/render.h"
 #include "support/scenes.h"
 #include "util/error.h"
 
@@ -63,11 +64,7 @@ constexpr uint32_t kSize = 32;
 
 // A size x size render with `integrator` at spp and max depth 8.
 RenderSettings settings(const std::string& integrator, uint64_t spp, uint32_t size = kSize) {
-  RenderSettings s;
-  s.width = s.height = size;
-  s.spp = spp;
-  s.integrator = integrator;
-  return s;
+  return test::render_settings(integrator, spp, size);
 }
 
 // bdpt with strategy (s, t) alone, at the max depth its paths have (s + t - 2 bounces).
@@ -80,10 +77,7 @@ RenderSettings strategy(uint32_t s, uint32_t t, bool unweighted, uint64_t spp, u
   return r;
 }
 
-FilmResult render(const Scene& scene, RenderSettings s, uint32_t seed) {
-  s.seed = seed;
-  return Renderer(test::device_context(), scene, s).render().film;
-}
+using test::render;
 
 TEST(CrossIntegrator, BdptMatchesPtOnCornellBox) {
   const Scene scene = test::cornell_box();

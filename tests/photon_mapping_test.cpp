@@ -23,23 +23,14 @@
 #include "support/mesh.h"
 #include "support/reference_match.h"
 #include "support/reference_render.h"
+#include "support/render.h"
 #include "support/scenes.h"
 
 namespace clpt {
 namespace {
 
-RenderSettings settings(const std::string& integrator, uint64_t spp, uint32_t size) {
-  RenderSettings s;
-  s.width = s.height = size;
-  s.spp = spp;
-  s.integrator = integrator;
-  return s;
-}
-
-FilmResult render(const Scene& scene, RenderSettings s, uint32_t seed) {
-  s.seed = seed;
-  return Renderer(test::device_context(), scene, s).render().film;
-}
+using test::render;
+using test::render_settings;
 
 // Root mean square over pixel-channels of (image - value).
 double rms_error(const Image& image, double value) {
@@ -56,7 +47,7 @@ TEST_P(SphereFurnaceSppm, ConvergesToClosedForm) {
   const FurnaceCase c = GetParam();
   const Scene scene = test::furnace_scene(c.rho, 1.0f);
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
-  RenderSettings s = settings("sppm", 16, 16);
+  RenderSettings s = render_settings("sppm", 16, 16);
   s.max_depth = c.max_depth;
   s.photons = 20000;  // per pass
 
@@ -87,7 +78,7 @@ TEST(CrossIntegrator, SppmConvergesToPtOnCornellBox) {
   // A radius of about a third of a pixel's footprint (the box is 2 units wide, 32 pixels):
   // the default of two footprints darkens the edges of the walls by some percent at 256
   // passes (a disc that reaches past a wall's edge finds no photons there).
-  RenderSettings s = settings("sppm", 16, 32);
+  RenderSettings s = render_settings("sppm", 16, 32);
   s.sppm_radius = 0.02f;
   s.photons = 20000;
   double previous = 0.0;
@@ -150,8 +141,8 @@ void expect_pm_within_bounds(const Scene& scene, const FilmResult& ref, RenderSe
 TEST(CrossIntegrator, PmWithinBiasBoundsOnCornellBox) {
   const Scene scene = test::cornell_box();
   const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
-  expect_pm_within_bounds(scene, ref, settings("pm", 256, 32), "pm cornell, final gather 8");
-  RenderSettings s = settings("pm", 256, 32);
+  expect_pm_within_bounds(scene, ref, render_settings("pm", 256, 32), "pm cornell, final gather 8");
+  RenderSettings s = render_settings("pm", 256, 32);
   s.final_gather = 0;
   expect_pm_within_bounds(scene, ref, s, "pm cornell, global map at the first hit");
 }
@@ -161,7 +152,7 @@ TEST(CrossIntegrator, PmWithinBiasBoundsOnCornellBox) {
 TEST(CrossIntegrator, PmWithinBiasBoundsWithGlossyAndGlass) {
   const Scene scene = test::cornell_box_glossy_glass();
   const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBoxGlossyGlass, 32, 16384, 4343);
-  expect_pm_within_bounds(scene, ref, settings("pm", 256, 32), "pm glossy+glass");
+  expect_pm_within_bounds(scene, ref, render_settings("pm", 256, 32), "pm glossy+glass");
 }
 
 // pm is consistent: with k fixed, more photons mean smaller discs, so the error of the
@@ -170,7 +161,7 @@ TEST(CrossIntegrator, PmWithinBiasBoundsWithGlossyAndGlass) {
 TEST(PhotonMapping, PmErrorFallsAsTheMapGrows) {
   const Scene scene = test::cornell_box();
   const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
-  RenderSettings s = settings("pm", 64, 32);
+  RenderSettings s = render_settings("pm", 64, 32);
   s.final_gather = 0;
   double previous = 0.0;
   for (uint64_t photons : {10000u, 100000u, 1000000u}) {
@@ -208,11 +199,11 @@ TEST(PhotonMapping, NoLightThroughAClosedShell) {
   scene.lights.push_back(point);
   test::add_camera_on_z(scene, 2.0f, 0.6f);
 
-  RenderSettings s = settings("sppm", 16, 16);
+  RenderSettings s = render_settings("sppm", 16, 16);
   s.sppm_radius = 0.2f;
   s.photons = 20000;
   const Image sppm = render(scene, s, 3).mean;
-  s = settings("pm", 4, 16);
+  s = render_settings("pm", 4, 16);
   s.final_gather = 0;  // the global map read at the visible point
   s.photons = 20000;
   s.pm_max_radius = 0.2f;
@@ -229,7 +220,7 @@ TEST(PhotonMapping, NoLightThroughAClosedShell) {
 // maps, so two renders with one seed are identical bit for bit (which checkpoints rely on).
 TEST(PhotonMapping, PmIsReproducible) {
   const Scene scene = test::cornell_box_glossy_glass();
-  RenderSettings s = settings("pm", 2, 24);
+  RenderSettings s = render_settings("pm", 2, 24);
   s.photons = 30000;
   s.caustic_photons = 30000;
   const Image a = render(scene, s, 5).mean, b = render(scene, s, 5).mean;

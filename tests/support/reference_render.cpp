@@ -15,6 +15,7 @@
 #include "cl/program.h"
 #include "render/renderer.h"
 #include "support/device.h"
+#include "support/render.h"
 #include "support/scenes.h"
 
 namespace clpt::test {
@@ -141,13 +142,8 @@ FilmResult pt_reference(ReferenceScene scene, uint32_t size, uint64_t spp, uint3
   const Key key = make_key(scene, size, spp, seed);
   FilmResult result;
   if (!key.file.empty() && read_entry(key, &result)) return result;
-  RenderSettings s;
-  s.width = s.height = size;
-  s.spp = spp;
-  s.seed = seed;
-  s.integrator = "pt";
   const Scene built = scene == ReferenceScene::CornellBox ? cornell_box() : cornell_box_glossy_glass();
-  result = Renderer(device_context(), built, s).render().film;
+  result = render(built, render_settings("pt", spp, size), seed);
   if (!key.file.empty()) write_entry(key, result);
   return result;
 }
