@@ -100,16 +100,13 @@ std::string check_knn(const std::vector<KdNeighbor>& got, size_t returned,
     const KdNeighbor& e = got[j];
     // Same distances position by position: sorted, and the same multiset as the brute force
     // (so ties at the k-th distance may be any of the tied photons).
-    if (e.distance2 != nearest[j].distance2)
-      s << "neighbour " << j << " at distance2 " << e.distance2 << ", brute force " << nearest[j].distance2;
-    else if (e.index >= points.size())
-      s << "neighbour " << j << " has index " << e.index << " of " << points.size();
-    else if (test::distance2(q, points[e.index]) != e.distance2)
-      s << "neighbour " << j << " (photon " << e.index << ") reports distance2 " << e.distance2
-        << ", true " << test::distance2(q, points[e.index]);
-    else if (stamp[e.index] == stamp_id)
+    if (!test::neighbour_ok(s, points, q, j, e.distance2, e.index, nearest[j].distance2,
+                            "brute force"))
+      return s.str();
+    if (stamp[e.index] == stamp_id) {
       s << "photon " << e.index << " returned twice";
-    if (!s.str().empty()) return s.str();
+      return s.str();
+    }
     stamp[e.index] = stamp_id;
   }
   return {};

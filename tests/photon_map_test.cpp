@@ -129,16 +129,12 @@ std::string compare_knn(std::vector<KdNeighbor> heap, const std::vector<KdNeighb
   });
   for (size_t j = 0; j < heap.size(); ++j) {
     const KdNeighbor& e = heap[j];
-    if (e.distance2 != want[j].distance2)
-      s << "neighbour " << j << " at distance2 " << e.distance2 << ", host " << want[j].distance2;
-    else if (e.index >= points.size())
-      s << "neighbour " << j << " has index " << e.index << " of " << points.size();
-    else if (test::distance2(q, points[e.index]) != e.distance2)
-      s << "neighbour " << j << " (photon " << e.index << ") reports distance2 " << e.distance2
-        << ", true " << test::distance2(q, points[e.index]);
-    else if (j > 0 && e.index == heap[j - 1].index && e.distance2 == heap[j - 1].distance2)
+    if (!test::neighbour_ok(s, points, q, j, e.distance2, e.index, want[j].distance2, "host"))
+      return s.str();
+    if (j > 0 && e.index == heap[j - 1].index && e.distance2 == heap[j - 1].distance2) {
       s << "photon " << e.index << " returned twice";
-    if (!s.str().empty()) return s.str();
+      return s.str();
+    }
   }
   // The same photons below the farthest distance; those at it are interchangeable (the
   // distances matched, so both sides hold equally many of them).

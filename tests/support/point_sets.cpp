@@ -95,4 +95,18 @@ std::vector<glm::vec3> query_points(const std::vector<glm::vec3>& points, size_t
   return q;
 }
 
+bool neighbour_ok(std::ostream& out, const std::vector<glm::vec3>& points, const glm::vec3& q,
+                  size_t j, float d2, uint32_t index, float expected_d2, const char* source) {
+  if (d2 != expected_d2)
+    out << "neighbour " << j << " at distance2 " << d2 << ", " << source << " " << expected_d2;
+  else if (index >= points.size())
+    out << "neighbour " << j << " has index " << index << " of " << points.size();
+  else if (distance2(q, points[index]) != d2)
+    out << "neighbour " << j << " (photon " << index << ") reports distance2 " << d2 << ", true "
+        << distance2(q, points[index]);
+  else
+    return true;
+  return false;
+}
+
 }  // namespace clpt::test

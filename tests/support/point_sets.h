@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <limits>
+#include <ostream>
 #include <random>
 #include <vector>
 
@@ -40,5 +42,13 @@ PointBox bounds(const std::vector<glm::vec3>& points);
 // their bounding box, a quarter outside it (up to 3 box sizes away).
 std::vector<glm::vec3> query_points(const std::vector<glm::vec3>& points, size_t count,
                                     std::mt19937& rng);
+
+// Checks neighbour j (squared distance d2, photon `index`) of a kNN answer for query q against
+// the squared distance expected at position j (`source` says whose: "brute force", "host"):
+// the distances must be equal, the index must name a point, and d2 must be that point's true
+// distance. Writes what is wrong to `out` and returns false, or returns true. Repeated
+// photons are the caller's to find.
+bool neighbour_ok(std::ostream& out, const std::vector<glm::vec3>& points, const glm::vec3& q,
+                  size_t j, float d2, uint32_t index, float expected_d2, const char* source);
 
 }  // namespace clpt::test
