@@ -16,26 +16,9 @@ the glass sphere (E S S D S S L paths, which pt samples only with a large light)
 pt's where pt can find it. Needs oiiotool.
 """
 import math
-import re
-import subprocess
 import sys
 
-
-def load(path):
-    """{(x, y): {channel name: value}} from oiiotool."""
-    run = lambda *args: subprocess.run(["oiiotool", *args, path], capture_output=True,
-                                       text=True, check=True).stdout
-    m = re.search(r"channel list:\s*(.*)", run("--info", "-v"))
-    if not m:
-        sys.exit(f"{path}: no channel list in oiiotool's output")
-    names = [n.strip() for n in m.group(1).split(",")]
-    pixels = {}
-    for line in run("--dumpdata").splitlines():
-        m = re.match(r"\s*Pixel \((\d+), (\d+)\): (.*)", line)
-        if m:
-            values = [float(t) for t in m.group(3).split()]
-            pixels[(int(m.group(1)), int(m.group(2)))] = dict(zip(names, values))
-    return pixels
+from exr_pixels import load_channels as load
 
 
 def main():

@@ -12,20 +12,9 @@ the mask is the sphere, rendered as the only emitter at --max-depth 0. Needs oii
 """
 import glob
 import os
-import re
-import subprocess
 import sys
 
-
-def load(path):
-    out = subprocess.run(["oiiotool", "--dumpdata", path], capture_output=True, text=True,
-                         check=True).stdout
-    pixels = {}
-    for line in out.splitlines():
-        m = re.match(r"\s*Pixel \((\d+), (\d+)\): (.*)", line)
-        if m:
-            pixels[(int(m.group(1)), int(m.group(2)))] = [float(t) for t in m.group(3).split()[:3]]
-    return pixels
+from exr_pixels import load_rgb as load
 
 
 def rel_mse(image, ref, keep):
