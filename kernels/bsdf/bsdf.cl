@@ -15,11 +15,13 @@
 #include "bsdf/gltf_bsdf.cl"
 #include "core/surface.cl"
 
-/* Orients the hit's normals to the side wo comes from (sh->front keeps the original side). */
+/* Orients the hit's normals to wo's side (sh->front keeps the side the ray arrived from,
+ * sh->flipped whether the normals now face the back). */
 inline void bsdf_orient(SurfaceHit* sh, float3 wo) {
   if (dot(sh->ng, wo) < 0.0f) {
     sh->ng = -sh->ng;
     sh->ns = -sh->ns;
+    sh->flipped ^= 1u;
   }
 }
 
@@ -32,8 +34,10 @@ typedef struct BsdfFrame {
 inline BsdfFrame bsdf_frame(const SurfaceHit* sh, float3 wo) {
   BsdfFrame f;
   f.go = dot(sh->ng, wo);
-  /* ng and ns are on one side: the front one, or wo's after bsdf_orient. */
-  const float sign = ((f.go > 0.0f) == (sh->front != 0u)) ? 1.0f : -1.0f;
+  /* ng and ns are on one side, the front one unless bsdf_orient flipped them. That is read
+   * from sh alone, not guessed from wo: a reverse density (wo and wi swapped, as
+   * bidirectional MIS asks for) has wo on the other side after a refraction. */
+  const float sign = sh->flipped ? -1.0f : 1.0f;
   const float3 ng_front = sign * sh->ng;
   f.n = sign * sh->ns;
   if (dot(f.n, wo) * dot(ng_front, wo) <= 0.0f) f.n = ng_front;

@@ -19,6 +19,8 @@ typedef struct SurfaceHit {
   u32 triangle;
   u32 material;
   u32 front;          /* 1 when the ray arrived on the front (winding) side */
+  u32 flipped;        /* 1 while ng and ns are the front face's negated (bsdf_orient
+                       * turned them to a back-side wo); 0 while they are the front face's */
   BsdfParams bsdf;    /* resolved by material_resolve (kernels/material/material.cl) */
   float3 emission;    /* emitted radiance of the material at this point (front side) */
 } SurfaceHit;
@@ -61,6 +63,7 @@ inline SurfaceHit surface_at(const SceneView* s, const Hit* hit, float3 org, flo
   sh.triangle = hit->triangle;
   sh.material = t.material;
   sh.front = dot(sh.ng, dir) < 0.0f ? 1u : 0u;
+  sh.flipped = 0u;
   return sh;
 }
 

@@ -26,6 +26,7 @@
 #include "film/splat.cl"
 #include "light/light.cl"
 #include "material/material.cl"
+#include "material/volume.cl"
 #include "sampler/sampler.cl"
 #include "shared/render_types.h"
 
@@ -93,10 +94,14 @@ inline void lt_trace(__constant const RenderParams* p, const SceneView* s, const
    * at like pt's throughput). */
   const float3 emitted = e.Le * (e.cos_light / (e.pdf_select * e.pdf_a * e.pdf_w));
   float3 beta = (float3)(1.0f), dir = e.dir;
+  SurfaceHit prev; /* the vertex the ray left, for absorption inside a volume */
   for (u32 depth = 1u;; ++depth) {
     Hit hit;
     ++*rays;
     if (!intersect_closest(s, org, dir, INFINITY, &hit)) break;
+    /* Inside a KHR_materials_volume, as pt, bdpt and the photon tracer (lights are taken to
+     * lie outside every volume, so the first segment is not absorbed). */
+    if (depth > 1u) beta *= volume_transmittance(s, &prev, dir, hit.t);
     SurfaceHit sh = surface_shade(s, &hit, org, dir);
     const float3 wo = -dir;
     bsdf_orient(&sh, wo);
@@ -114,6 +119,7 @@ inline void lt_trace(__constant const RenderParams* p, const SceneView* s, const
       if (!(sample_1d(sampler, bounce_dim(depth, DIM_RR)) < survive)) break;
       beta /= survive;
     }
+    prev = sh;
     org = offset_ray_origin_towards(sh.p, sh.ng, bs.wi);
     dir = bs.wi;
   }

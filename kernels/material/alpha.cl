@@ -68,4 +68,17 @@ inline bool alpha_hole(const SceneView* s, u32 tri, float b1, float b2, float3 o
   return alpha_hash(org, dir, tri) >= alpha;
 }
 
+/* The probability that a ray reaching hit `hit` of surface `tri` meets the surface rather
+ * than a hole: a BLEND material's alpha, 1 elsewhere (a MASK hit is always on the solid
+ * part). A density estimate from photons stored at hits divides by it: the photons stored
+ * there are that fraction of those that arrived, while the light the surface reflects is
+ * the whole incident light's (the camera meets the surface with that probability too). */
+inline float alpha_coverage(const SceneView* s, u32 tri, float b1, float b2) {
+  if (!(s->flags & SCENE_ALPHA) || s->materials == 0) return 1.0f;
+  const Triangle t = s->triangles[tri];
+  __global const Material* m = &s->materials[t.material];
+  if (!(m->flags & MATERIAL_ALPHA_BLEND)) return 1.0f;
+  return clamp(material_alpha(s, m, &t, b1, b2), 0.0f, 1.0f);
+}
+
 #endif

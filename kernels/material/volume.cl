@@ -10,12 +10,12 @@
 
 #include "core/surface.cl"
 
-/* sh: the surface the ray leaves, its normals oriented towards the side it was reached from
- * (bsdf_orient), so the outward normal is ng on the front side and -ng on the back. */
+/* sh: the surface the ray leaves; its outward normal is the front face's, ng unless
+ * bsdf_orient flipped it. */
 inline float3 volume_transmittance(const SceneView* s, const SurfaceHit* sh, float3 wi, float t) {
   const __global Material* m = &s->materials[sh->material];
   if (!(m->flags & MATERIAL_VOLUME)) return (float3)(1.0f);
-  const float3 outward = sh->front ? sh->ng : -sh->ng;
+  const float3 outward = sh->flipped ? -sh->ng : sh->ng;
   if (!(dot(wi, outward) < 0.0f)) return (float3)(1.0f);
   const float3 c = clamp(vload3(0, m->attenuation_color), 0.0f, 1.0f);
   return pow(c, (float3)(t / m->attenuation_distance));

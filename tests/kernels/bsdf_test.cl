@@ -63,7 +63,8 @@ __kernel void bsdf_eval_pairs(__global const float* cfg, int mode, __global cons
  * by up to ~35 degrees, wo on either side (sh.front says which), normals oriented by
  * bsdf_orient or not. Per item, 4 float4:
  *   (weight, pdf_w) of a sample, (eval_cos, pdf) at the sampled wi,
- *   (dot(ng, wo) dot(ng, wi), the same with the normal that shades, is_delta, 0), (wi, 0). */
+ *   (dot(ng, wo) dot(ng, wi), the same with the normal that shades, is_delta, the reverse pdf
+ *   of the point reached from wi's side), (wi, the reverse pdf of sh as it stands). */
 __kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
                                __global float4* out, uint n) {
   const uint i = get_global_id(0);
@@ -84,7 +85,9 @@ __kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
   float3 wo = warp_uniform_sphere(r1.xy);
   if (fabs(dot(wo, sh.ng)) < 1e-3f) wo = sh.ng;
   sh.front = dot(wo, sh.ng) > 0.0f ? 1u : 0u;
+  sh.flipped = 0u;
   const float3 ng0 = sh.ng, ns0 = sh.ns;
+  SurfaceHit reverse = sh; /* the same point reached along -wi instead, normals as built */
   if (r1.z < 0.5f) bsdf_orient(&sh, wo);
   const BsdfSample bs = bsdf_sample(&sh, wo, r2.xy, r2.z, mode);
   const float3 e = bsdf_eval_cos(&sh, wo, bs.wi, mode);
@@ -93,9 +96,12 @@ __kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
   out[4u * i + 1u] = (float4)(e, q);
   /* The normal that shades: ns, or ng when wo is below the shading hemisphere (bsdf_frame). */
   const float3 n_eff = dot(ns0, wo) * dot(ng0, wo) > 0.0f ? ns0 : ng0;
+  /* The reverse density (wo and wi swapped), as bidirectional MIS asks it of the oriented
+   * vertex, and as the same point reached from wi's side would give it. */
+  reverse.front = dot(bs.wi, ng0) > 0.0f ? 1u : 0u;
   out[4u * i + 2u] = (float4)(dot(ng0, wo) * dot(ng0, bs.wi), dot(n_eff, wo) * dot(n_eff, bs.wi),
-                              (float)bs.is_delta, 0.0f);
-  out[4u * i + 3u] = (float4)(bs.wi, 0.0f);
+                              (float)bs.is_delta, bsdf_pdf_w(&reverse, bs.wi, wo));
+  out[4u * i + 3u] = (float4)(bs.wi, bsdf_pdf_w(&sh, bs.wi, wo));
 }
 
 /* The GGX visible-normal warp: h for wo with its pdf; pdf at points; invert. */

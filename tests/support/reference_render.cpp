@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <iterator>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -49,7 +50,8 @@ struct Key {
   uint64_t check = 0;
 };
 
-Key make_key(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed) {
+// label names the scene and every setting the render depends on beyond size, spp and seed.
+Key make_key(const std::string& label, uint32_t size, uint64_t spp, uint32_t seed) {
   Key k;
   const std::string exe = executable_digest();
   const fs::path dir = cl::kernel_cache_dir();
@@ -61,12 +63,12 @@ Key make_key(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed) {
     << dev.platform_name << '\n'
     << dev.name << '\n'
     << dev.driver_version << '\n'
-    << scene_name(scene) << ' ' << size << ' ' << spp << ' ' << seed << '\n'
+    << label << ' ' << size << ' ' << spp << ' ' << seed << '\n'
     << cl::resolve_kernel_source("integrators/pt.cl", cl::KernelSources::core());
   k.text = s.str();
   const OIIO::farmhash::uint128_t h = OIIO::farmhash::Fingerprint128(k.text.data(), k.text.size());
   std::ostringstream name;
-  name << scene_name(scene) << '-' << std::hex << std::setfill('0') << std::setw(16)
+  name << label.substr(0, label.find(' ')) << '-' << std::hex << std::setfill('0') << std::setw(16)
        << OIIO::farmhash::Uint128High64(h) << std::setw(16) << OIIO::farmhash::Uint128Low64(h)
        << ".ref";
   k.file = dir / "test-references" / name.str();
@@ -135,15 +137,24 @@ void write_entry(const Key& key, const FilmResult& r) {
 }  // namespace
 
 fs::path pt_reference_file(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed) {
-  return make_key(scene, size, spp, seed).file;
+  return make_key(scene_name(scene), size, spp, seed).file;
 }
 
 FilmResult pt_reference(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed) {
-  const Key key = make_key(scene, size, spp, seed);
+  return pt_reference(
+      scene_name(scene),
+      [scene] { return scene == ReferenceScene::CornellBox ? cornell_box() : cornell_box_glossy_glass(); },
+      render_settings("pt", spp, size), seed);
+}
+
+FilmResult pt_reference(const std::string& label, const std::function<Scene()>& build,
+                        const RenderSettings& settings, uint32_t seed) {
+  if (settings.integrator != "pt" || settings.width != settings.height)
+    throw std::logic_error("pt_reference: square pt renders only");
+  const Key key = make_key(label, settings.width, settings.spp, seed);
   FilmResult result;
   if (!key.file.empty() && read_entry(key, &result)) return result;
-  const Scene built = scene == ReferenceScene::CornellBox ? cornell_box() : cornell_box_glossy_glass();
-  result = render(built, render_settings("pt", spp, size), seed);
+  result = render(build(), settings, seed);
   if (!key.file.empty()) write_entry(key, result);
   return result;
 }

@@ -14,8 +14,12 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <string>
 
 #include "render/film.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
 
 namespace clpt::test {
 
@@ -24,6 +28,13 @@ enum class ReferenceScene { CornellBox, CornellBoxGlossyGlass };
 // pt on the PoCL test device (device_context()) at size x size pixels with RenderSettings'
 // defaults otherwise.
 FilmResult pt_reference(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed);
+
+// Any scene built in code, rendered with pt and `settings` (square, integrator "pt"), kept
+// under `label`: the label must name the scene and every setting that differs from
+// render_settings()' defaults (its first word also names the file), since only it, the size,
+// spp and seed enter the key beside the executable, the pt source and the device.
+FilmResult pt_reference(const std::string& label, const std::function<Scene()>& build,
+                        const RenderSettings& settings, uint32_t seed);
 
 // Where pt_reference keeps that render; empty when there is no cache directory.
 std::filesystem::path pt_reference_file(ReferenceScene scene, uint32_t size, uint64_t spp,

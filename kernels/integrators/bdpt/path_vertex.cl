@@ -50,6 +50,7 @@ inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   sh.triangle = 0u;
   sh.material = v->material;
   sh.front = v->front;
+  sh.flipped = v->front ? 0u : 1u; /* stored oriented to the side the ray arrived from */
   sh.bsdf.base_color = vload3(0, v->base_color);
   sh.bsdf.specular_color = vload3(0, v->specular_color);
   sh.bsdf.metallic = v->metallic;
