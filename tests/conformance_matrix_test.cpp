@@ -135,14 +135,6 @@ std::string masked(const Cell& c, int region) {
   const std::string e = estimators()[c.estimator].name;
   if (e == "lt" && c.material == StageMaterial::GlassSmooth && region == test::REGION_OBJECT)
     return "lt cannot connect the camera to a delta surface: what the camera sees in smooth glass";
-  // Open (docs/TESTING.md, "Conformance matrix"): found by this matrix and not yet explained.
-  // lt and bdpt put 3.7 % more light on the alpha-1 metal sphere than pt, pm and sppm
-  // (t 4.5 and 7.7), with flat shading too, so not the shading-normal adjoint; bdpt inherits
-  // it from its lt strategy or from the same evaluation. Masked so the rest of the matrix
-  // guards what it can; remove the mask with the fix.
-  if ((e == "lt" || e == "bdpt") && c.material == StageMaterial::Metal1 &&
-      c.light == StageLight::AreaDouble && region == test::REGION_OBJECT)
-    return "OPEN: lt/bdpt +3.7 % on the alpha-1 metal sphere under a double-sided light";
   return "";
 }
 
@@ -204,7 +196,7 @@ TEST_P(ConformanceMatrix, AgreesWithPtReference) {
   const std::string scene_label = "matrix_" + test::stage_material_name(c.material) + "_" +
                                   test::stage_light_name(c.light);
   auto build = [&] { return test::stage_scene(c.material, c.light); };
-  const FilmResult ref = test::pt_reference(scene_label + " stage-v1", build,
+  const FilmResult ref = test::pt_reference(scene_label + " stage-v2", build,
                                             test::stage_settings(c.light, "pt", kReferenceSpp, kSize), 1);
   ASSERT_EQ(ref.dropped_samples, 0u);
   RenderSettings s = test::stage_settings(c.light, est.integrator, est.spp, kSize);

@@ -255,4 +255,16 @@ CLPT_INLINE bool intersect_any(const SceneView* s, float3 org, float3 dir, float
   return false;
 }
 
+/* Whether anything blocks the segment from org to target. Both ends must already be off the
+ * surfaces they lie on (offset_ray_origin in core/ray.cl, towards each other): the segment is
+ * shortened only by a relative 1e-4 for rounding, and that alone does not keep a short
+ * segment from ending inside the target's own surface, since each end's offset is a fixed
+ * number of ulps (issue 14: a light 5 cm from a surface facing it shadowed itself). */
+CLPT_INLINE bool segment_occluded(const SceneView* s, float3 org, float3 target) {
+  const float3 d = target - org;
+  const float len = length(d);
+  if (!(len > 0.0f) || !isfinite(len)) return false;
+  return intersect_any(s, org, d / len, len * (1.0f - 1e-4f));
+}
+
 #endif

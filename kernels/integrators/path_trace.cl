@@ -81,9 +81,8 @@ inline float3 pt_direct(__constant const RenderParams* p, const SceneView* s, co
     const float3 f = bsdf_eval_cos(sh, wo, ls.wi, TRANSPORT_RADIANCE);
     if (is_black(f)) continue;
     ++*rays;
-    /* The shadow ray stops just short of the light sample so it does not hit the light. */
     /* org leaves on wo's side; a transmitted light sample leaves from the other side. */
-    if (intersect_any(s, dot(ls.wi, sh->ng) >= 0.0f ? org : offset_ray_origin(sh->p, -sh->ng), ls.wi, ls.dist * (1.0f - 1e-4f))) continue;
+    if (light_sample_occluded(s, dot(ls.wi, sh->ng) >= 0.0f ? org : offset_ray_origin(sh->p, -sh->ng), &ls)) continue;
     const float w = p->direct != DIRECT_MIS || ls.is_delta
                         ? 1.0f
                         : pt_mis_weight(p, (float)n, ls.pdf_w, 1.0f, pt_scatter_pdf(p, s, sh, wo, ls.wi));

@@ -48,6 +48,7 @@ inline LightSample area_light_illuminate(const SceneView* s, u32 tri, float3 p, 
   if (!(area > 0.0f)) return ls;
   const float3 ng = c / (2.0f * area);
   ls.p = (1.0f - b.x - b.y) * p0 + b.x * p1 + b.y * p2;
+  ls.n = ng;
   const float3 d = ls.p - p;
   const float dist2 = dot(d, d);
   if (!(dist2 > 0.0f)) return ls;

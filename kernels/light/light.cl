@@ -57,6 +57,15 @@ inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select
   return ls;
 }
 
+/* Whether light sample ls is hidden from org, a point already off the receiving surface
+ * towards ls->wi: a shadow ray to an infinitely far light, or a segment to the light point,
+ * moved off an area light's own surface (bvh/intersect.cl, segment_occluded). */
+inline bool light_sample_occluded(const SceneView* s, float3 org, const LightSample* ls) {
+  if (!isfinite(ls->dist)) return intersect_any(s, org, ls->wi, INFINITY);
+  const float3 target = dot(ls->n, ls->n) > 0.0f ? offset_ray_origin_towards(ls->p, ls->n, -ls->wi) : ls->p;
+  return segment_occluded(s, org, target);
+}
+
 /* light_illuminate's density for a ray that hit emitter triangle `tri` (leaf order) at
  * distance dist under cosine cos_light at the light. */
 inline float light_pdf_w(const SceneView* s, u32 tri, float dist, float cos_light) {

@@ -9,6 +9,7 @@ typedef struct LightSample {
   float3 p;      /* point on the light; for directional and environment lights, org + wi */
   float3 wi;     /* unit direction from the shading point towards the light */
   float dist;    /* distance to p; INFINITY for directional and environment lights */
+  float3 n;      /* area lights: the light's geometric normal at p (either side); else 0 */
   float3 Le;     /* arriving radiance, or for a delta light the irradiance-like I / d^2 (point,
                   * spot) or E (directional): the contribution is f * Le / pdf_w either way */
   float pdf_w;   /* solid-angle density at the shading point including the light's selection
@@ -23,6 +24,7 @@ inline LightSample light_sample_none(float3 p) {
   ls.p = p;
   ls.wi = (float3)(0.0f, 0.0f, 1.0f);
   ls.dist = 0.0f;
+  ls.n = (float3)(0.0f);
   ls.Le = (float3)(0.0f);
   ls.pdf_w = 0.0f;
   ls.is_delta = 0;

@@ -221,9 +221,10 @@ void add_light(Scene& scene, StageLight light) {
       add_axis_quad(scene, 1, 0.98f, {-0.65f, 0.35f}, {-0.35f, 0.65f}, -1.0f, emitter(12.0f, false));
       break;
     case StageLight::AreaUp: {
-      add_axis_quad(scene, 1, 0.62f, {-0.56f, 0.44f}, {-0.44f, 0.56f}, 1.0f, emitter(60.0f, false));
+      // 10 cm under the ceiling: shadow rays to the ceiling are short (issue 14's NEE bug).
+      add_axis_quad(scene, 1, 0.9f, {-0.56f, 0.44f}, {-0.44f, 0.56f}, 1.0f, emitter(60.0f, false));
       Mesh shade;  // a closed diffuse box 1 cm under the panel
-      const glm::vec3 lo(0.42f, 0.59f, -0.58f), hi(0.58f, 0.61f, -0.42f);
+      const glm::vec3 lo(0.42f, 0.87f, -0.58f), hi(0.58f, 0.89f, -0.42f);
       const Mesh cube = grid_cube(0.5f * (lo + hi), 1.0f, 1);
       for (glm::vec3 p : cube.positions) {
         const glm::vec3 half = 0.5f * (hi - lo);

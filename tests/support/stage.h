@@ -39,7 +39,7 @@ enum class StageMaterial {
 
 enum class StageLight {
   AreaDown,     // 0.3 m quad under the ceiling, facing down
-  AreaUp,       // 0.12 m panel above the sphere facing up at the ceiling, a diffuse shade under it
+  AreaUp,       // 0.12 m panel 10 cm under the ceiling facing up at it, a diffuse shade under it
   AreaSide,     // 0.25 m quad on the left wall, facing +x
   AreaDouble,   // double-sided vertical 0.2 m quad right of the sphere, facing +-x
   Point,        // KHR_lights_punctual point light under the ceiling

@@ -31,7 +31,7 @@ inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, con
   ++*rays;
   ++*connections;
   const float3 org = offset_ray_origin_towards(sh->p, sh->ng, ls.wi);
-  if (intersect_any(s, org, ls.wi, ls.dist * (1.0f - 1e-4f))) return (float3)(0.0f);
+  if (light_sample_occluded(s, org, &ls)) return (float3)(0.0f);
   return f * ls.Le * (bdpt_strategy_weight(p, 1u, k + 1u, w) / ls.pdf_w);
 }
 
@@ -67,7 +67,7 @@ inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s,
   ++*rays;
   ++*connections;
   const float3 org = offset_ray_origin_towards(sh->p, sh->ng, dir);
-  if (intersect_any(s, org, dir, dist * (1.0f - 1e-4f))) return (float3)(0.0f);
+  if (segment_occluded(s, org, offset_ray_origin_towards(y.p, y.ng, -dir))) return (float3)(0.0f);
   return f_cam * f_light * ls.beta * volume_transmittance(s, sh, dir, dist) *
          (bdpt_strategy_weight(p, s_count, k + 1u, w) / dist2);
 }
