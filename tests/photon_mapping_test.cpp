@@ -9,7 +9,10 @@
 //   CrossIntegrator     sppm against a high-spp pt reference on the Cornell box: relMSE falls
 //                       from 16 to 64 to 256 passes, and the image mean ends within 1 %;
 //                       pm within stated bias bounds (image and block means), and pm's
-//                       bias falls as its maps grow.
+//                       bias falls as its maps grow;
+//   ThroughRoughGlass   pm and sppm on a large rough glass sphere (issue 14): the camera side
+//                       path traces through glossy vertices instead of estimating density at
+//                       them (density estimation at the glass put pm 13 % off).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -218,6 +221,77 @@ TEST(PhotonMapping, NoLightThroughAClosedShell) {
 
 // The photon kernel appends photons in no fixed order; pm sorts them before building its
 // maps, so two renders with one seed are identical bit for bit (which checkpoints rely on).
+// A rough glass sphere (roughness 0.3, ior 1.5, radius 0.5) on a diffuse floor under a
+// 0.5 m quad light, as issue 14 reported it; the camera on +z looks at it.
+Scene rough_glass_scene() {
+  Scene scene;
+  Material floor;
+  floor.base_color = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+  floor.metallic = 0.0f;
+  floor.specular = 0.0f;
+  test::Mesh quad;
+  quad.positions = {{-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, {-3, 0, -3}};
+  quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+  test::add_mesh(scene, quad, floor);
+  Material lamp = floor;
+  lamp.base_color = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  lamp.emission = glm::vec3(10.0f);
+  quad.positions = {{-0.25f, 2, -0.25f}, {0.25f, 2, -0.25f}, {0.25f, 2, 0.25f}, {-0.25f, 2, 0.25f}};
+  test::add_mesh(scene, quad, lamp);
+  Material glass;
+  glass.base_color = glm::vec4(1.0f);
+  glass.metallic = 0.0f;
+  glass.roughness = 0.3f;
+  glass.transmission = 1.0f;
+  glass.ior = 1.5f;
+  test::add_mesh(scene, test::icosphere(glm::vec3(0.0f, 0.5f, 0.0f), 0.5f, 4), glass);
+  Camera cam;
+  cam.camera_to_world = glm::mat4(1.0f);
+  cam.camera_to_world[3] = glm::vec4(0.0f, 0.5f, 3.0f, 1.0f);
+  cam.yfov = 0.45f;
+  cam.aspect = 1.0f;
+  scene.cameras.push_back(cam);
+  return scene;
+}
+
+TEST(PhotonMapping, ThroughRoughGlass) {
+  constexpr uint32_t kSize = 32;
+  const FilmResult ref = test::pt_reference("rough_glass_sphere v1", rough_glass_scene,
+                                            render_settings("pt", 4096, kSize), 1);
+  // The pixels whose centre ray meets the sphere (radius 0.5 at (0, 0.5, 0)).
+  std::vector<bool> sphere(size_t(kSize) * kSize);
+  const float tan_half = std::tan(0.5f * 0.45f);
+  for (uint32_t y = 0; y < kSize; ++y)
+    for (uint32_t x = 0; x < kSize; ++x) {
+      const glm::vec3 d = glm::normalize(glm::vec3((2.0f * (x + 0.5f) / kSize - 1.0f) * tan_half,
+                                                   (1.0f - 2.0f * (y + 0.5f) / kSize) * tan_half, -1.0f));
+      const glm::vec3 oc = glm::vec3(0.0f, 0.5f, 3.0f) - glm::vec3(0.0f, 0.5f, 0.0f);
+      const float b = glm::dot(oc, d), disc = b * b - (glm::dot(oc, oc) - 0.25f);
+      sphere[size_t(y) * kSize + x] = disc > 0.0f;
+    }
+  auto sphere_mean = [&](const Image& img) {
+    double sum = 0.0;
+    size_t n = 0;
+    for (size_t i = 0; i < sphere.size(); ++i)
+      if (sphere[i]) sum += (double(img.rgb[3 * i]) + img.rgb[3 * i + 1] + img.rgb[3 * i + 2]) / 3.0, ++n;
+    return sum / double(n);
+  };
+  const double reference = sphere_mean(ref.mean);
+  for (const char* integrator : {"pm", "sppm"}) {
+    RenderSettings s = render_settings(integrator, 64, kSize);
+    if (std::string(integrator) == "sppm") s.photons = 16384;
+    std::vector<double> m;
+    for (const Image& b : test::render_batches(rough_glass_scene(), s, 4, 40)) m.push_back(sphere_mean(b));
+    double mean = 0.0;
+    for (double v : m) mean += v / double(m.size());
+    // Stated bound: 4 % (density estimation at the floor behind and under the glass). With
+    // density estimated at the glass itself pm was +12.7 % here (and sppm +-0 %: its radius
+    // is small at this size).
+    EXPECT_NEAR(mean / reference, 1.0, 0.04) << integrator << ": sphere mean " << mean << ", pt " << reference;
+    std::cout << "[ figures  ] " << integrator << " through rough glass: sphere mean / pt " << mean / reference << "\n";
+  }
+}
+
 TEST(PhotonMapping, PmIsReproducible) {
   const Scene scene = test::cornell_box_glossy_glass();
   RenderSettings s = render_settings("pm", 2, 24);

@@ -10,7 +10,7 @@
 CLPT_BEGIN_SHARED
 
 /* Photon.flags */
-#define PHOTON_CAUSTIC 1u        /* its path was L S+ D: only delta scatterings before this hit */
+#define PHOTON_CAUSTIC 1u        /* its path was L S+ D: only delta or glossy scatterings before this hit */
 #define PHOTON_BOUNCE_SHIFT 8u   /* bits 8..15: the hit's index along the path, 1 = first hit */
 
 /* What a photon pass stores (photon_emit's `store` argument). */

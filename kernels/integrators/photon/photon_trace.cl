@@ -14,6 +14,7 @@
 
 #include "integrators/light_trace.cl"
 #include "material/volume.cl"
+#include "photon/glossy.cl"
 #include "shared/photon_types.h"
 
 inline void photon_store(__global Photon* out, volatile __global u32* count, u32 capacity,
@@ -56,7 +57,10 @@ inline void photon_trace(__constant const RenderParams* p, const SceneView* s,
     SurfaceHit sh = surface_shade(s, &hit, org, dir);
     const float3 wo = -dir;
     bsdf_orient(&sh, wo);
-    if (bsdf_has_smooth_lobe(&sh)) {
+    /* Glossy vertices hold no photons: no density estimate is made there
+     * (kernels/integrators/photon/visible_point.cl). */
+    const int glossy = photon_glossy(&sh);
+    if (bsdf_has_smooth_lobe(&sh) && !glossy) {
       const int caustic = specular_only && depth > 1u;
       const float coverage = alpha_coverage(s, hit.triangle, hit.b1, hit.b2);
       if ((caustic || !caustic_only) && depth >= first_stored && coverage > 0.0f)
@@ -72,7 +76,7 @@ inline void photon_trace(__constant const RenderParams* p, const SceneView* s,
     const float survive = fmin(1.0f, max_component(scatter));
     if (!(sample_1d(sampler, bounce_dim(depth, DIM_RR)) < survive)) break;
     power *= scatter / survive;
-    specular_only = specular_only && bs.is_delta;
+    specular_only = specular_only && (bs.is_delta || glossy);
     /* A caustic pass stops once a path can no longer make caustic photons. */
     if (caustic_only && !specular_only) break;
     prev = sh;

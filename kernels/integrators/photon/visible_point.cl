@@ -1,9 +1,17 @@
 /* The camera side of photon mapping (pm and sppm): a ray is followed through delta
- * scatterings (mirrors, smooth glass) to its first vertex with a non-delta BSDF, the
- * "visible point" where photon density estimates are made (Jensen 2001, ch. 9; Hachisuka
- * and Jensen 2009). Emission seen on the way is kept when asked for: seen directly or after
- * delta bounces only, nothing else can find it. Also: direct light at a visible point,
- * by NEE and one BSDF sample combined by MIS exactly as the path tracer does.
+ * scatterings (mirrors, smooth glass) and glossy ones (photon_glossy: no diffuse lobe,
+ * roughness below PHOTON_GLOSSY_ROUGHNESS) to its first other vertex, the "visible point"
+ * where photon density estimates are made (Jensen 2001, ch. 9; Hachisuka and Jensen 2009).
+ * A density estimate blurs over the kernel's footprint, which a sharp glossy lobe cannot
+ * hide: at rough glass (roughness 0.3) pm was 13 % off (docs/TESTING.md), so glossy vertices
+ * are path traced through instead, as SPPM implementations commonly do.
+ *
+ * Emission seen on the way is kept when asked for (camera paths): after delta bounces with
+ * weight 1, nothing else can find it; at a glossy vertex the light is found by NEE and by the
+ * continuing BSDF sample, combined by MIS exactly as the path tracer does. Gather rays (no
+ * emission asked for) pass glossy vertices like delta ones: the light of L G+ D paths is
+ * the caustic map's, whose photons count glossy scatterings as caustic. Also: direct light
+ * at a visible point, by NEE and one BSDF sample combined by MIS as in pt.
  *
  * Depth counts bounces as in pt: a vertex at depth d has d scatterings before it, and a
  * photon stored at its path's b-th hit has made b - 1 bounces, so at depth d photons with
@@ -12,6 +20,7 @@
 #define CLPT_INTEGRATORS_PHOTON_VISIBLE_POINT_CL
 
 #include "integrators/path_trace.cl"
+#include "photon/glossy.cl"
 
 typedef struct VisiblePoint {
   SurfaceHit sh;  /* normals oriented to wo */
@@ -23,9 +32,9 @@ typedef struct VisiblePoint {
 } VisiblePoint;
 
 /* Follows org, dir (a camera ray with depth 0 and from = 0, or a ray leaving vertex `from`
- * at depth `depth` - 1) to the first non-delta vertex. Returns 0 when there is none within max_depth (escaped, absorbed, or
- * only delta surfaces); vp->L is valid either way. Dimensions from bounce `depth` of
- * `stream`. */
+ * at depth `depth` - 1) to the first vertex neither delta nor glossy. Returns 0 when there is
+ * none within max_depth (escaped, absorbed, or only delta and glossy surfaces); vp->L is valid
+ * either way. Dimensions from bounce `depth` of `stream`. */
 inline int photon_visible_point(__constant const RenderParams* p, const SceneView* s,
                                 const Sampler* sampler, const SurfaceHit* from, float3 org,
                                 float3 dir, u32 depth, u32 stream, int add_emission, u32* rays,
@@ -36,28 +45,38 @@ inline int photon_visible_point(__constant const RenderParams* p, const SceneVie
   SurfaceHit prev;
   const int has_prev = from != 0;
   if (has_prev) prev = *from;
+  /* The last scattering's density and whether it was a delta one (emission weights). */
+  float last_pdf = 1.0f;
+  int last_delta = 1;
   for (u32 k = 0;; ++k) {
     Hit hit;
     ++*rays;
     if (!intersect_closest(s, org, dir, INFINITY, &hit)) {
-      if (add_emission) vp->L += vp->beta * env_radiance(s, dir);
+      if (add_emission) vp->L += vp->beta * pt_emission_escaped(p, s, dir, last_pdf, last_delta);
       return 0;
     }
     if (k > 0u || has_prev) vp->beta *= volume_transmittance(s, &prev, dir, hit.t);
     vp->distance += hit.t;
     vp->sh = surface_shade(s, &hit, org, dir);
     vp->wo = -dir;
-    if (add_emission) vp->L += vp->beta * light_radiance(s, &vp->sh, vp->wo);
+    if (add_emission)
+      vp->L += vp->beta * pt_emission_by_scattering(p, s, &vp->sh, vp->wo, hit.t, last_pdf, last_delta);
     if (depth >= p->max_depth) return 0;
     bsdf_orient(&vp->sh, vp->wo);
     vp->depth = depth;
-    if (bsdf_has_smooth_lobe(&vp->sh)) return 1;
+    const int glossy = photon_glossy(&vp->sh);
+    if (bsdf_has_smooth_lobe(&vp->sh) && !glossy) return 1;
+    if (glossy && add_emission)
+      vp->L += vp->beta * pt_direct(p, s, sampler, &vp->sh, vp->wo,
+                                    offset_ray_origin(vp->sh.p, vp->sh.ng), depth, stream, rays);
     const BsdfSample bs = bsdf_sample(
         &vp->sh, vp->wo, sample_2d(sampler, stream_dim(bounce_dim(depth, DIM_BSDF_DIR), stream)),
         sample_1d(sampler, stream_dim(bounce_dim(depth, DIM_BSDF_LOBE), stream)),
         TRANSPORT_RADIANCE);
     if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) return 0;
     vp->beta *= bs.weight;
+    last_pdf = bs.pdf_w;
+    last_delta = bs.is_delta;
     if (depth + 1u >= p->rr_depth) {
       const float survive = rr_survival(p, vp->beta);
       if (!(sample_1d(sampler, stream_dim(bounce_dim(depth, DIM_RR), stream)) < survive)) return 0;
