@@ -238,13 +238,8 @@ Scene rough_glass_scene() {
   lamp.emission = glm::vec3(10.0f);
   quad.positions = {{-0.25f, 2, -0.25f}, {0.25f, 2, -0.25f}, {0.25f, 2, 0.25f}, {-0.25f, 2, 0.25f}};
   test::add_mesh(scene, quad, lamp);
-  Material glass;
-  glass.base_color = glm::vec4(1.0f);
-  glass.metallic = 0.0f;
-  glass.roughness = 0.3f;
-  glass.transmission = 1.0f;
-  glass.ior = 1.5f;
-  test::add_mesh(scene, test::icosphere(glm::vec3(0.0f, 0.5f, 0.0f), 0.5f, 4), glass);
+  test::add_mesh(scene, test::icosphere(glm::vec3(0.0f, 0.5f, 0.0f), 0.5f, 4),
+                 test::glass_material(0.3f));
   Camera cam;
   cam.camera_to_world = glm::mat4(1.0f);
   cam.camera_to_world[3] = glm::vec4(0.0f, 0.5f, 3.0f, 1.0f);

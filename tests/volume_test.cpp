@@ -17,12 +17,7 @@ namespace {
 
 Image render_cube(bool volume) {
   Scene scene;
-  Material m;
-  m.base_color = glm::vec4(1.0f);
-  m.metallic = 0.0f;
-  m.roughness = 0.0f;
-  m.transmission = 1.0f;
-  m.ior = 1.0f;
+  Material m = test::glass_material(0.0f, 1.0f);
   m.volume = volume;
   m.attenuation_color = glm::vec3(0.5f, 0.25f, 0.8f);
   m.attenuation_distance = volume ? 2.0f : std::numeric_limits<float>::infinity();

@@ -58,6 +58,17 @@ std::string furnace_case_name(const FurnaceCase& c) {
   return "rho" + std::to_string(int(c.rho * 100)) + "_depth" + std::to_string(c.max_depth);
 }
 
+Material glass_material(float roughness, float ior) {
+  Material m;
+  m.base_color = glm::vec4(1.0f);
+  m.metallic = 0.0f;
+  m.roughness = roughness;
+  m.specular = 1.0f;
+  m.transmission = 1.0f;
+  m.ior = ior;
+  return m;
+}
+
 Scene cornell_box() { return load_gltf(std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf"); }
 
 Scene cornell_box_glossy_glass() {

@@ -31,6 +31,10 @@ struct FurnaceCase {
 void PrintTo(const FurnaceCase& c, std::ostream* os);  // gtest's description of a case
 std::string furnace_case_name(const FurnaceCase& c);   // e.g. "rho80_depth8"
 
+// A clear dielectric: white, metallic 0, transmission 1, the given GGX roughness (0: delta)
+// and index of refraction, default specular.
+Material glass_material(float roughness, float ior = 1.5f);
+
 // The project's Cornell box (scenes/cornell_box.gltf).
 Scene cornell_box();
 

@@ -140,12 +140,7 @@ Material object_material(Scene& scene, StageMaterial kind) {
     case StageMaterial::GlassRough:
     case StageMaterial::GlassAbsorbing:
     case StageMaterial::GlassSheet:
-      m.base_color = glm::vec4(1.0f);
-      m.metallic = 0.0f;
-      m.roughness = kind == StageMaterial::GlassSmooth ? 0.0f : 0.3f;
-      m.specular = 1.0f;
-      m.transmission = 1.0f;
-      m.ior = 1.5f;
+      m = glass_material(kind == StageMaterial::GlassSmooth ? 0.0f : 0.3f);
       if (kind == StageMaterial::GlassAbsorbing) {
         m.volume = true;
         m.attenuation_color = glm::vec3(0.9f, 0.4f, 0.2f);
