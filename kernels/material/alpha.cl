@@ -54,17 +54,24 @@ inline float alpha_hash(float3 org, float3 dir, u32 tri) {
   return (float)(h >> 8) * 0x1.0p-24f;
 }
 
+/* The material of leaf-order triangle `tri` (and the triangle in *t) when it has one of the
+ * alpha modes in `modes`; 0 otherwise. Opaque scenes skip the material look-up, and kernels
+ * without a material buffer (tests) see every surface as opaque. */
+inline __global const Material* alpha_material(const SceneView* s, u32 tri, u32 modes, Triangle* t) {
+  if (!(s->flags & SCENE_ALPHA) || s->materials == 0) return 0;
+  *t = s->triangles[tri];
+  __global const Material* m = &s->materials[t->material];
+  return (m->flags & modes) ? m : 0;
+}
+
 /* Whether the hit of ray (org, dir) on leaf-order triangle `tri` at (b1, b2) falls in a hole
- * of its material. Kernels without a material buffer (tests) see no holes. */
+ * of its material. */
 inline bool alpha_hole(const SceneView* s, u32 tri, float b1, float b2, float3 org, float3 dir) {
-  /* Opaque scenes skip the material look-up per candidate hit. */
-  if (!(s->flags & SCENE_ALPHA) || s->materials == 0) return false;
-  const Triangle t = s->triangles[tri];
-  __global const Material* m = &s->materials[t.material];
-  const u32 flags = m->flags;
-  if ((flags & (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND)) == 0u) return false;
+  Triangle t;
+  __global const Material* m = alpha_material(s, tri, MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, &t);
+  if (!m) return false;
   const float alpha = material_alpha(s, m, &t, b1, b2);
-  if (flags & MATERIAL_ALPHA_MASK) return !(alpha >= m->alpha_cutoff);
+  if (m->flags & MATERIAL_ALPHA_MASK) return !(alpha >= m->alpha_cutoff);
   return alpha_hash(org, dir, tri) >= alpha;
 }
 
@@ -74,11 +81,9 @@ inline bool alpha_hole(const SceneView* s, u32 tri, float b1, float b2, float3 o
  * there are that fraction of those that arrived, while the light the surface reflects is
  * the whole incident light's (the camera meets the surface with that probability too). */
 inline float alpha_coverage(const SceneView* s, u32 tri, float b1, float b2) {
-  if (!(s->flags & SCENE_ALPHA) || s->materials == 0) return 1.0f;
-  const Triangle t = s->triangles[tri];
-  __global const Material* m = &s->materials[t.material];
-  if (!(m->flags & MATERIAL_ALPHA_BLEND)) return 1.0f;
-  return clamp(material_alpha(s, m, &t, b1, b2), 0.0f, 1.0f);
+  Triangle t;
+  __global const Material* m = alpha_material(s, tri, MATERIAL_ALPHA_BLEND, &t);
+  return m ? clamp(material_alpha(s, m, &t, b1, b2), 0.0f, 1.0f) : 1.0f;
 }
 
 #endif

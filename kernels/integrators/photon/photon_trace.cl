@@ -62,10 +62,12 @@ inline void photon_trace(__constant const RenderParams* p, const SceneView* s,
     const int glossy = photon_glossy(&sh);
     if (bsdf_has_smooth_lobe(&sh) && !glossy) {
       const int caustic = specular_only && depth > 1u;
-      const float coverage = alpha_coverage(s, hit.triangle, hit.b1, hit.b2);
-      if ((caustic || !caustic_only) && depth >= first_stored && coverage > 0.0f)
-        photon_store(out, count, capacity, &sh, wo, power / coverage,
-                     (caustic ? PHOTON_CAUSTIC : 0u) | (depth << PHOTON_BOUNCE_SHIFT));
+      if ((caustic || !caustic_only) && depth >= first_stored) {
+        const float coverage = alpha_coverage(s, hit.triangle, hit.b1, hit.b2);
+        if (coverage > 0.0f)
+          photon_store(out, count, capacity, &sh, wo, power / coverage,
+                       (caustic ? PHOTON_CAUSTIC : 0u) | (depth << PHOTON_BOUNCE_SHIFT));
+      }
     }
     if (depth >= p->max_depth) break;
     const BsdfSample bs =
