@@ -50,8 +50,21 @@ struct Key {
   uint64_t check = 0;
 };
 
-// label names the scene and every setting the render depends on beyond size, spp and seed.
-Key make_key(const std::string& label, uint32_t size, uint64_t spp, uint32_t seed) {
+// The settings a pt render's image depends on, as text (floats in hex, so exact).
+std::string settings_text(const RenderSettings& r) {
+  std::ostringstream s;
+  s << std::hexfloat << r.integrator << ' ' << r.width << 'x' << r.height << ' ' << r.spp
+    << " depth " << r.max_depth << ' ' << r.rr_depth << " sampler " << r.sampler << " direct "
+    << r.direct << " mis " << r.mis << ' ' << r.light_samples << " hemisphere " << r.hemisphere
+    << " rr " << r.rr << ' ' << r.rr_absorb << " branching " << r.branching << " camera '"
+    << r.camera << "' env '" << r.env_file << "' " << r.env_scale << ' ' << r.env_rotation
+    << " background " << r.background.x << ' ' << r.background.y << ' ' << r.background.z
+    << " lens " << r.aperture << ' ' << r.focus_distance;
+  return s.str();
+}
+
+// label names the scene; the render's settings enter the key themselves.
+Key make_key(const std::string& label, const RenderSettings& settings, uint32_t seed) {
   Key k;
   const std::string exe = executable_digest();
   const fs::path dir = cl::kernel_cache_dir();
@@ -63,7 +76,8 @@ Key make_key(const std::string& label, uint32_t size, uint64_t spp, uint32_t see
     << dev.platform_name << '\n'
     << dev.name << '\n'
     << dev.driver_version << '\n'
-    << label << ' ' << size << ' ' << spp << ' ' << seed << '\n'
+    << label << '\n'
+    << settings_text(settings) << " seed " << seed << '\n'
     << cl::resolve_kernel_source("integrators/pt.cl", cl::KernelSources::core());
   k.text = s.str();
   const OIIO::farmhash::uint128_t h = OIIO::farmhash::Fingerprint128(k.text.data(), k.text.size());
@@ -137,7 +151,7 @@ void write_entry(const Key& key, const FilmResult& r) {
 }  // namespace
 
 fs::path pt_reference_file(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed) {
-  return make_key(scene_name(scene), size, spp, seed).file;
+  return make_key(scene_name(scene), render_settings("pt", spp, size), seed).file;
 }
 
 FilmResult pt_reference(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed) {
@@ -151,7 +165,7 @@ FilmResult pt_reference(const std::string& label, const std::function<Scene()>& 
                         const RenderSettings& settings, uint32_t seed) {
   if (settings.integrator != "pt" || settings.width != settings.height)
     throw std::logic_error("pt_reference: square pt renders only");
-  const Key key = make_key(label, settings.width, settings.spp, seed);
+  const Key key = make_key(label, settings, seed);
   FilmResult result;
   if (!key.file.empty() && read_entry(key, &result)) return result;
   result = render(build(), settings, seed);

@@ -30,9 +30,9 @@ enum class ReferenceScene { CornellBox, CornellBoxGlossyGlass };
 FilmResult pt_reference(ReferenceScene scene, uint32_t size, uint64_t spp, uint32_t seed);
 
 // Any scene built in code, rendered with pt and `settings` (square, integrator "pt"), kept
-// under `label`: the label must name the scene and every setting that differs from
-// render_settings()' defaults (its first word also names the file), since only it, the size,
-// spp and seed enter the key beside the executable, the pt source and the device.
+// under `label`, which must name the scene (its first word also names the file); the
+// settings that shape the image enter the key themselves, beside the executable, the pt
+// source and the device.
 FilmResult pt_reference(const std::string& label, const std::function<Scene()>& build,
                         const RenderSettings& settings, uint32_t seed);
 

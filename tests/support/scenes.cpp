@@ -58,6 +58,21 @@ std::string furnace_case_name(const FurnaceCase& c) {
   return "rho" + std::to_string(int(c.rho * 100)) + "_depth" + std::to_string(c.max_depth);
 }
 
+glm::vec3 pixel_centre_direction(uint32_t x, uint32_t y, uint32_t size, float yfov) {
+  const float tan_half = std::tan(0.5f * yfov);
+  const float fx = 2.0f * (float(x) + 0.5f) / float(size) - 1.0f;
+  const float fy = 1.0f - 2.0f * (float(y) + 0.5f) / float(size);
+  return glm::normalize(glm::vec3(fx * tan_half, fy * tan_half, -1.0f));
+}
+
+float ray_sphere(glm::vec3 o, glm::vec3 d, glm::vec3 c, float r) {
+  const glm::vec3 oc = o - c;
+  const float b = glm::dot(oc, d), cc = glm::dot(oc, oc) - r * r, disc = b * b - cc;
+  if (disc < 0.0f) return -1.0f;
+  const float t = -b - std::sqrt(disc);
+  return t > 0.0f ? t : -1.0f;
+}
+
 Material glass_material(float roughness, float ior) {
   Material m;
   m.base_color = glm::vec4(1.0f);

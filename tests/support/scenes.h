@@ -31,6 +31,15 @@ struct FurnaceCase {
 void PrintTo(const FurnaceCase& c, std::ostream* os);  // gtest's description of a case
 std::string furnace_case_name(const FurnaceCase& c);   // e.g. "rho80_depth8"
 
+// The unit direction, in camera space (looking down -z), of the ray through the centre of
+// pixel (x, y) of a square size x size pinhole film with vertical field of view yfov: the
+// ray the kernels' camera_ray gives for film offset (0.5, 0.5).
+glm::vec3 pixel_centre_direction(uint32_t x, uint32_t y, uint32_t size, float yfov);
+
+// Distance along the unit-direction ray (o, d) to where it enters the sphere, or -1 when it
+// misses it or starts inside.
+float ray_sphere(glm::vec3 o, glm::vec3 d, glm::vec3 c, float r);
+
 // A clear dielectric: white, metallic 0, transmission 1, the given GGX roughness (0: delta)
 // and index of refraction, default specular.
 Material glass_material(float roughness, float ior = 1.5f);

@@ -267,15 +267,6 @@ void add_light(Scene& scene, StageLight light) {
   }
 }
 
-// Distance along the ray to the sphere, or -1.
-float ray_sphere(glm::vec3 o, glm::vec3 d, glm::vec3 c, float r) {
-  const glm::vec3 oc = o - c;
-  const float b = glm::dot(oc, d), cc = glm::dot(oc, oc) - r * r, disc = b * b - cc;
-  if (disc < 0.0f) return -1.0f;
-  const float t = -b - std::sqrt(disc);
-  return t > 0.0f ? t : -1.0f;
-}
-
 }  // namespace
 
 std::string stage_material_name(StageMaterial m) {
@@ -344,12 +335,9 @@ RenderSettings stage_settings(StageLight light, const std::string& integrator, u
 
 std::vector<uint8_t> stage_regions(StageMaterial material, uint32_t size) {
   std::vector<uint8_t> region(size_t(size) * size, REGION_REST);
-  const float tan_half = std::tan(0.5f * kYfov);
   for (uint32_t y = 0; y < size; ++y)
     for (uint32_t x = 0; x < size; ++x) {
-      const float fx = 2.0f * (float(x) + 0.5f) / float(size) - 1.0f;
-      const float fy = 1.0f - 2.0f * (float(y) + 0.5f) / float(size);
-      const glm::vec3 d = glm::normalize(glm::vec3(fx * tan_half, fy * tan_half, -1.0f));
+      const glm::vec3 d = pixel_centre_direction(x, y, size, kYfov);  // the camera is unrotated
       const glm::vec3 o = kCameraOrigin;
       uint8_t& r = region[size_t(y) * size + x];
       if (material == StageMaterial::GlassSheet) {
