@@ -1,7 +1,8 @@
 // KHR_lights_punctual for the glTF loader: the model's light definitions (point, spot,
-// directional), validated once, and the nodes that place them. Only host/scene/gltf_loader.cpp
-// uses this; like the loader, it treats everything in the file as untrusted and reports
-// problems through the loader's fail(), which throws Error(BadInput) naming the file.
+// directional), validated once, and the nodes that place them. Only the glTF loader
+// (host/scene/gltf/) uses this; like the loader, it treats everything in the file as
+// untrusted and reports problems through the loader's fail(), which throws Error(BadInput)
+// naming the file.
 #pragma once
 
 #include <functional>

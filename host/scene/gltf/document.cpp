@@ -1,0 +1,150 @@
+// The glTF document before tinygltf sees it: the GLB container (header and chunk table), the
+// JSON nesting pre-scan, the JSON parse with clear messages, the asset version, and the
+// extensions clpt supports (unsupported required ones are refused up front).
+#include <algorithm>
+#include <cstdio>
+
+#include "scene/gltf/gltf_internal.h"
+#include "util/log.h"
+
+namespace clpt::gltf {
+namespace {
+
+// Extensions clpt implements. Anything else in extensionsRequired is refused; anything else in
+// extensionsUsed is ignored with one warning.
+const char* const kSupportedExtensions[] = {
+    "KHR_materials_emissive_strength",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+    "KHR_materials_specular",
+    "KHR_materials_volume",
+    "KHR_texture_transform",
+    "EXT_mesh_gpu_instancing",
+    "KHR_lights_punctual",
+};
+
+bool is_supported_extension(const std::string& name) {
+  for (const char* s : kSupportedExtensions)
+    if (name == s) return true;
+  return false;
+}
+
+std::string hex32(uint32_t v) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%08X", v);
+  return buf;
+}
+
+}  // namespace
+
+uint32_t read_u32le(const unsigned char* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+// Checks the GLB header and chunk table (tinygltf checks less, and says only "Invalid glTF
+// binary."). Returns the JSON chunk. `fail` throws.
+std::pair<const char*, size_t> check_glb(const std::vector<unsigned char>& d, const Fail& fail) {
+  const uint64_t size = d.size();
+  if (size < 12) fail("truncated GLB: the file is " + std::to_string(size) + " bytes, shorter than the 12-byte header");
+  uint32_t version = read_u32le(&d[4]);
+  uint32_t length = read_u32le(&d[8]);
+  if (version != 2) fail("GLB version " + std::to_string(version) + " is not supported (only 2)");
+  if (length != size)
+    fail("GLB header says the file is " + std::to_string(length) + " bytes, but it is " +
+         std::to_string(size) + " bytes");
+  if (size < 20) fail("truncated GLB: no room for the JSON chunk header");
+  uint64_t json_len = read_u32le(&d[12]);
+  uint32_t json_type = read_u32le(&d[16]);
+  if (json_type != kChunkJson)
+    fail("GLB chunk 0 has type " + hex32(json_type) + ", expected JSON (" + hex32(kChunkJson) + ")");
+  if (json_len == 0) fail("GLB JSON chunk is empty");
+  if (20 + json_len > size)
+    fail("GLB JSON chunk (" + std::to_string(json_len) + " bytes at offset 20) runs past the end of the file (" +
+         std::to_string(size) + " bytes)");
+  uint64_t pos = 20 + json_len;
+  if (pos % 4 != 0) log::verbose("GLB JSON chunk is not padded to 4 bytes");
+  if (pos < size) {
+    if (size - pos < 8)
+      fail("GLB chunk 1 header is truncated (" + std::to_string(size - pos) + " bytes left at offset " +
+           std::to_string(pos) + ")");
+    uint64_t bin_len = read_u32le(&d[pos]);
+    uint32_t bin_type = read_u32le(&d[pos + 4]);
+    if (bin_type != kChunkBin)
+      fail("GLB chunk 1 has type " + hex32(bin_type) + ", expected BIN (" + hex32(kChunkBin) + ")");
+    if (pos + 8 + bin_len > size)
+      fail("GLB BIN chunk (" + std::to_string(bin_len) + " bytes at offset " + std::to_string(pos + 8) +
+           ") runs past the end of the file (" + std::to_string(size) + " bytes)");
+    if (bin_len < 4 || bin_len % 4 != 0)
+      fail("GLB BIN chunk length " + std::to_string(bin_len) + " is not a positive multiple of 4");
+    // Chunks after BIN are allowed and ignored.
+  }
+  return {reinterpret_cast<const char*>(d.data() + 20), size_t(json_len)};
+}
+
+// Nesting depth of JSON arrays/objects, stopping early past `limit`.
+size_t json_depth(const char* p, size_t n, size_t limit) {
+  size_t depth = 0, max_depth = 0;
+  bool in_string = false, escaped = false;
+  for (size_t i = 0; i < n; ++i) {
+    char c = p[i];
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      max_depth = std::max(max_depth, ++depth);
+      if (max_depth > limit) return max_depth;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return max_depth;
+}
+
+// Parses the JSON text (the file, or the GLB's JSON chunk) with nlohmann, for a clear message
+// when it is invalid, and checks that it is a glTF 2.x document (asset.version).
+nlohmann::json parse_json(const char* json_text, size_t json_size, bool binary, const Fail& fail) {
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(json_text, json_text + json_size);
+  } catch (const nlohmann::json::exception& e) {
+    std::string what = e.what();
+    size_t close = what.find("] ");
+    if (what.rfind("[json.exception", 0) == 0 && close != std::string::npos) what = what.substr(close + 2);
+    fail(std::string(binary ? "invalid JSON chunk: " : "invalid JSON: ") + what);
+  }
+  if (!doc.is_object()) fail("the JSON root is not an object, so this is not a glTF file");
+  {
+    auto asset = doc.find("asset");
+    if (asset == doc.end() || !asset->is_object() || !asset->contains("version") ||
+        !(*asset)["version"].is_string())
+      fail("missing asset.version, so this is not a glTF 2.0 file");
+    std::string version = (*asset)["version"].get<std::string>();
+    if (version.rfind("2.", 0) != 0) fail("glTF version " + printable(version) + " is not supported (only 2.x)");
+  }
+  return doc;
+}
+
+// Extensions: refuses unsupported required ones before anything else looks at the data.
+// Returns the unsupported ones of extensionsUsed, ignored with one warning once parsed.
+std::vector<std::string> check_extensions(const nlohmann::json& doc, const Fail& fail) {
+  std::vector<std::string> unsupported_required, unsupported_used;
+  auto collect = [&](const char* key, std::vector<std::string>* out) {
+    auto it = doc.find(key);
+    if (it == doc.end() || !it->is_array()) return;
+    for (const auto& e : *it)
+      if (e.is_string() && !is_supported_extension(e.get<std::string>()) &&
+          std::find(out->begin(), out->end(), e.get<std::string>()) == out->end())
+        out->push_back(e.get<std::string>());
+  };
+  collect("extensionsRequired", &unsupported_required);
+  collect("extensionsUsed", &unsupported_used);
+  if (!unsupported_required.empty())
+    fail(std::string("requires extension") + (unsupported_required.size() > 1 ? "s " : " ") +
+         join(unsupported_required, ", ") + ", which clpt does not support");
+  return unsupported_used;
+}
+
+}  // namespace clpt::gltf

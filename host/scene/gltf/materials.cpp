@@ -1,0 +1,331 @@
+// The glTF loader's materials and textures: images (decoded by scene/image_decode from the
+// bytes uri.cpp kept or from a checked bufferView; --lenient: a magenta placeholder), samplers,
+// textureInfos with KHR_texture_transform, and the metallic-roughness materials with the
+// KHR_materials_* extensions clpt supports.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "scene/gltf/gltf_internal.h"
+#include "util/log.h"
+
+namespace clpt::gltf {
+
+// ---- textures
+
+const DecodedImage& Converter::image(int index, const std::string& where) {
+  auto found = decoded_.find(index);
+  if (found != decoded_.end()) return found->second;
+  const tinygltf::Image& gi = m_.images[size_t(index)];
+  std::string label = "image " + std::to_string(index);
+  if (!gi.name.empty()) label += " " + printable(gi.name);
+  else if (!gi.uri.empty() && gi.uri.rfind("data:", 0) != 0) label += " " + printable(gi.uri);
+  DecodedImage img;
+  std::string why;
+  bool ok = false;
+  if (gi.bufferView >= 0) {
+    const ViewBytes v = buffer_view(gi.bufferView, label);
+    ok = decode_image(v.data, size_t(v.length), &img, &why, limits_.image_dimension, limits_.image_pixels);
+  } else {
+    auto bytes = images_.bytes.find(index);
+    if (bytes != images_.bytes.end()) {
+      ok = decode_image(bytes->second.data(), bytes->second.size(), &img, &why, limits_.image_dimension,
+                        limits_.image_pixels);
+      images_.bytes.erase(bytes);  // decoded once; the encoded copy is no longer needed
+    } else {
+      auto p = images_.problem.find(index);
+      why = p != images_.problem.end() ? p->second : "its data could not be read";
+    }
+  }
+  if (ok && total_texels_ + uint64_t(img.width) * img.height > limits_.total_texels) {
+    ok = false;
+    why = "the scene's textures together exceed the limit of " + std::to_string(limits_.total_texels) + " texels";
+  }
+  if (!ok) {
+    if (!images_.lenient)
+      fail(label + " (used by " + where + "): " + why + " (--lenient: warn and use a magenta texture)");
+    log::warn(display_ + ": " + label + " (used by " + where + "): " + why + "; using a magenta texture");
+    img = placeholder_image();
+  }
+  return decoded_.emplace(index, std::move(img)).first->second;
+}
+
+// The scene texture for glTF texture `texture` (decoded image + its sampler), or -1 when the
+// texture has no image clpt can use. Textures with the same image and sampler settings share.
+int Converter::scene_texture(int texture, const std::string& where) {
+  if (texture < 0 || size_t(texture) >= m_.textures.size())
+    fail(where + " refers to texture " + std::to_string(texture) + ", which does not exist (the file has " +
+         std::to_string(m_.textures.size()) + ")");
+  auto known = texture_of_.find(texture);
+  if (known != texture_of_.end()) return known->second;
+  const tinygltf::Texture& gt = m_.textures[size_t(texture)];
+  const std::string tdesc = "texture " + std::to_string(texture);
+  if (gt.source < 0) {
+    log::warn(display_ + ": " + tdesc + " has no PNG/JPEG source (e.g. only a KTX2 or WebP one); " + where +
+              " is rendered without it");
+    return texture_of_[texture] = -1;
+  }
+  if (size_t(gt.source) >= m_.images.size())
+    fail(tdesc + " refers to image " + std::to_string(gt.source) + ", which does not exist (the file has " +
+         std::to_string(m_.images.size()) + ")");
+  Texture::Wrap ws = Texture::Wrap::Repeat, wt = Texture::Wrap::Repeat;
+  bool nearest = false;
+  if (gt.sampler >= 0) {
+    if (size_t(gt.sampler) >= m_.samplers.size())
+      fail(tdesc + " refers to sampler " + std::to_string(gt.sampler) + ", which does not exist (the file has " +
+           std::to_string(m_.samplers.size()) + ")");
+    const tinygltf::Sampler& sm = m_.samplers[size_t(gt.sampler)];
+    auto wrap = [&](int mode, const char* name) {
+      switch (mode) {
+        case TINYGLTF_TEXTURE_WRAP_REPEAT: return Texture::Wrap::Repeat;
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return Texture::Wrap::Clamp;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return Texture::Wrap::Mirror;
+        default:
+          log::warn(display_ + ": sampler " + std::to_string(gt.sampler) + " has " + name + " " +
+                    std::to_string(mode) + ", not a glTF wrap mode; using REPEAT");
+          return Texture::Wrap::Repeat;
+      }
+    };
+    ws = wrap(sm.wrapS, "wrapS");
+    wt = wrap(sm.wrapT, "wrapT");
+    nearest = sm.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+  }
+  const auto key = std::make_tuple(gt.source, int(ws), int(wt), nearest);
+  auto shared = textures_.find(key);
+  if (shared != textures_.end()) return texture_of_[texture] = shared->second;
+  const DecodedImage& img = image(gt.source, where);
+  total_texels_ += uint64_t(img.width) * img.height;
+  Texture t;
+  const tinygltf::Image& gi = m_.images[size_t(gt.source)];
+  t.name = !gi.name.empty() ? gi.name : (!gi.uri.empty() && gi.uri.rfind("data:", 0) != 0 ? gi.uri
+                                                                                          : "image " + std::to_string(gt.source));
+  t.width = img.width;
+  t.height = img.height;
+  t.texels = img.texels;
+  t.wrap_s = ws;
+  t.wrap_t = wt;
+  t.nearest = nearest;
+  const int id = int(scene_.textures.size());
+  scene_.textures.push_back(std::move(t));
+  textures_.emplace(key, id);
+  return texture_of_[texture] = id;
+}
+
+// A textureInfo: texture, UV set and KHR_texture_transform (offset, rotation, scale, texCoord
+// override) folded into uv' = T * R * S * (u, v, 1), as the extension defines it.
+TextureRef Converter::texture_ref(int index, int texcoord, const tinygltf::Value* transform,
+                                  const std::string& where) {
+  TextureRef ref;
+  if (index < 0) return ref;
+  double ox = 0, oy = 0, rot = 0, sx = 1, sy = 1;
+  if (transform) {
+    const std::string tw = where + " KHR_texture_transform";
+    if (!transform->IsObject()) fail(tw + " is not an object");
+    auto vec2 = [&](const char* key, double* x, double* y) {
+      if (!transform->Has(key)) return;
+      const tinygltf::Value& v = transform->Get(key);
+      if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+        fail(tw + " " + key + " is not an array of 2 numbers");
+      *x = v.Get(0).GetNumberAsDouble();
+      *y = v.Get(1).GetNumberAsDouble();
+      if (!std::isfinite(*x) || !std::isfinite(*y)) fail(tw + " " + key + " is not finite");
+    };
+    vec2("offset", &ox, &oy);
+    vec2("scale", &sx, &sy);
+    if (transform->Has("rotation")) {
+      const tinygltf::Value& r = transform->Get("rotation");
+      if (!r.IsNumber() || !std::isfinite(r.GetNumberAsDouble())) fail(tw + " rotation is not a finite number");
+      rot = r.GetNumberAsDouble();
+    }
+    if (transform->Has("texCoord")) {
+      const tinygltf::Value& t = transform->Get("texCoord");
+      if (!t.IsInt()) fail(tw + " texCoord is not an integer");
+      texcoord = t.GetNumberAsInt();
+    }
+  }
+  if (texcoord != 0 && texcoord != 1) {
+    const std::string msg = where + " uses texCoord " + std::to_string(texcoord) +
+                            "; clpt reads TEXCOORD_0 and TEXCOORD_1 only";
+    if (!images_.lenient) fail(msg + " (--lenient: use TEXCOORD_0)");
+    log::warn(display_ + ": " + msg + "; using TEXCOORD_0");
+    texcoord = 0;
+  }
+  ref.texture = scene_texture(index, where);
+  if (ref.texture < 0) return TextureRef{};
+  ref.texcoord = uint32_t(texcoord);
+  const double c = std::cos(rot), s = std::sin(rot);
+  // glm::mat3x2: column 0 multiplies u, column 1 v, column 2 is the offset.
+  ref.transform = glm::mat3x2(glm::vec2(float(sx * c), float(-sx * s)), glm::vec2(float(sy * s), float(sy * c)),
+                              glm::vec2(float(ox), float(oy)));
+  return ref;
+}
+
+// A textureInfo inside an extension (a JSON value tinygltf does not interpret).
+TextureRef Converter::texture_info(const tinygltf::Value& info, const std::string& where) {
+  if (!info.IsObject()) fail(where + " is not an object");
+  if (!info.Has("index") || !info.Get("index").IsInt()) fail(where + " has no integer index");
+  const int index = info.Get("index").GetNumberAsInt();
+  int texcoord = 0;
+  if (info.Has("texCoord")) {
+    if (!info.Get("texCoord").IsInt()) fail(where + " texCoord is not an integer");
+    texcoord = info.Get("texCoord").GetNumberAsInt();
+  }
+  const tinygltf::Value* transform = nullptr;
+  if (info.Has("extensions") && info.Get("extensions").IsObject() &&
+      info.Get("extensions").Has("KHR_texture_transform"))
+    transform = &info.Get("extensions").Get("KHR_texture_transform");
+  if (index < 0)
+    fail(where + " refers to texture " + std::to_string(index) + ", which does not exist (the file has " +
+         std::to_string(m_.textures.size()) + ")");
+  return texture_ref(index, texcoord, transform, where);
+}
+
+// ---- materials
+
+namespace {
+const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& ext, const char* name) {
+  auto it = ext.find(name);
+  return it == ext.end() ? nullptr : &it->second;
+}
+}  // namespace
+
+void Converter::convert_materials() {
+  scene_.materials.reserve(m_.materials.size() + 1);
+  size_t occlusion = 0;
+  for (size_t i = 0; i < m_.materials.size(); ++i) {
+    const tinygltf::Material& gm = m_.materials[i];
+    const std::string where = "material " + std::to_string(i);
+    Material mat;
+    mat.name = gm.name;
+    const auto& pbr = gm.pbrMetallicRoughness;
+    auto check = [&](double v, const char* field) {
+      if (!std::isfinite(v)) fail(where + " has a non-finite " + field);
+      return v;
+    };
+    // A textureInfo of the core material.
+    auto core_texture = [&](int index, int texcoord, const tinygltf::ExtensionMap& ext, const char* name) {
+      return texture_ref(index, texcoord, find_extension(ext, "KHR_texture_transform"), where + " " + name);
+    };
+    // The members of an extension object.
+    auto ext_number = [&](const tinygltf::Value& e, const char* ext_name, const char* key, double def) {
+      if (!e.Has(key)) return def;
+      const tinygltf::Value& v = e.Get(key);
+      if (!v.IsNumber()) fail(where + " " + ext_name + " " + key + " is not a number");
+      const double d = v.GetNumberAsDouble();
+      if (!std::isfinite(d)) fail(where + " " + ext_name + " " + key + " is not finite");
+      return d;
+    };
+    auto ext_color = [&](const tinygltf::Value& e, const char* ext_name, const char* key) {
+      glm::vec3 c(1.0f);
+      if (!e.Has(key)) return c;
+      const tinygltf::Value& v = e.Get(key);
+      if (!v.IsArray() || v.ArrayLen() != 3) fail(where + " " + ext_name + " " + key + " is not an array of 3 numbers");
+      for (int k = 0; k < 3; ++k) {
+        if (!v.Get(k).IsNumber() || !std::isfinite(v.Get(k).GetNumberAsDouble()))
+          fail(where + " " + ext_name + " " + key + " is not an array of 3 finite numbers");
+        c[k] = float(std::max(v.Get(k).GetNumberAsDouble(), 0.0));
+      }
+      return c;
+    };
+    auto ext_texture = [&](const tinygltf::Value& e, const char* ext_name, const char* key) {
+      if (!e.Has(key)) return TextureRef{};
+      return texture_info(e.Get(key), where + " " + ext_name + " " + key);
+    };
+    auto extension = [&](const char* name) -> const tinygltf::Value* {
+      const tinygltf::Value* e = find_extension(gm.extensions, name);
+      if (e && !e->IsObject()) fail(where + " " + name + " is not an object");
+      return e;
+    };
+
+    if (pbr.baseColorFactor.size() == 4)
+      for (int c = 0; c < 4; ++c)
+        mat.base_color[c] = float(std::clamp(check(pbr.baseColorFactor[size_t(c)], "baseColorFactor"), 0.0, 1.0));
+    mat.metallic = float(std::clamp(check(pbr.metallicFactor, "metallicFactor"), 0.0, 1.0));
+    mat.roughness = float(std::clamp(check(pbr.roughnessFactor, "roughnessFactor"), 0.0, 1.0));
+    mat.base_color_texture = core_texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                          pbr.baseColorTexture.extensions, "baseColorTexture");
+    mat.metallic_roughness_texture =
+        core_texture(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                     pbr.metallicRoughnessTexture.extensions, "metallicRoughnessTexture");
+    mat.normal_texture = core_texture(gm.normalTexture.index, gm.normalTexture.texCoord,
+                                      gm.normalTexture.extensions, "normalTexture");
+    if (mat.normal_texture.used()) mat.normal_scale = float(check(gm.normalTexture.scale, "normalTexture.scale"));
+    mat.emissive_texture = core_texture(gm.emissiveTexture.index, gm.emissiveTexture.texCoord,
+                                        gm.emissiveTexture.extensions, "emissiveTexture");
+    if (gm.occlusionTexture.index >= 0) ++occlusion;
+
+    double strength = 1.0;
+    if (const tinygltf::Value* e = extension("KHR_materials_emissive_strength")) {
+      strength = ext_number(*e, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
+      if (strength < 0) fail(where + " has a negative emissiveStrength " + number(strength));
+    }
+    if (gm.emissiveFactor.size() == 3)
+      for (int c = 0; c < 3; ++c) {
+        double e = std::max(check(gm.emissiveFactor[size_t(c)], "emissiveFactor"), 0.0) * strength;
+        if (!std::isfinite(float(e))) fail(where + " has an emission too large for a float");
+        mat.emission[c] = float(e);
+      }
+    mat.double_sided = gm.doubleSided;
+
+    if (gm.alphaMode == "MASK") {
+      mat.alpha_mode = Material::AlphaMode::Mask;
+    } else if (gm.alphaMode == "BLEND") {
+      mat.alpha_mode = Material::AlphaMode::Blend;
+    } else if (!gm.alphaMode.empty() && gm.alphaMode != "OPAQUE") {
+      log::warn(display_ + ": " + where + " has alphaMode " + printable(gm.alphaMode) + "; treated as OPAQUE");
+    }
+    mat.alpha_cutoff = float(check(gm.alphaCutoff, "alphaCutoff"));
+
+    if (const tinygltf::Value* e = extension("KHR_materials_transmission")) {
+      const char* n = "KHR_materials_transmission";
+      mat.transmission = float(std::clamp(ext_number(*e, n, "transmissionFactor", 0.0), 0.0, 1.0));
+      mat.transmission_texture = ext_texture(*e, n, "transmissionTexture");
+    }
+    if (const tinygltf::Value* e = extension("KHR_materials_ior")) {
+      const double ior = ext_number(*e, "KHR_materials_ior", "ior", 1.5);
+      // The extension allows 0 ("no refraction"); clpt keeps indices in [1, 10].
+      mat.ior = float(std::clamp(ior, 1.0, 10.0));
+    }
+    if (const tinygltf::Value* e = extension("KHR_materials_specular")) {
+      const char* n = "KHR_materials_specular";
+      mat.specular = float(std::clamp(ext_number(*e, n, "specularFactor", 1.0), 0.0, 1.0));
+      mat.specular_color = ext_color(*e, n, "specularColorFactor");
+      mat.specular_texture = ext_texture(*e, n, "specularTexture");
+      mat.specular_color_texture = ext_texture(*e, n, "specularColorTexture");
+    }
+    if (const tinygltf::Value* e = extension("KHR_materials_volume")) {
+      const char* n = "KHR_materials_volume";
+      const double inf = std::numeric_limits<double>::infinity();
+      double dist = inf;
+      if (e->Has("attenuationDistance")) {
+        dist = ext_number(*e, n, "attenuationDistance", inf);
+        if (!(dist > 0.0)) fail(where + " " + n + " attenuationDistance " + number(dist) + " is not positive");
+      }
+      mat.attenuation_distance = float(dist);
+      mat.attenuation_color = glm::clamp(ext_color(*e, n, "attenuationColor"), 0.0f, 1.0f);
+      mat.volume = std::isfinite(mat.attenuation_distance);
+    }
+    scene_.materials.push_back(std::move(mat));
+  }
+  if (occlusion > 0)
+    log::verbose(display_ + ": " + std::to_string(occlusion) +
+                 " material(s) have an occlusion texture; ignored (a path tracer computes occlusion)");
+}
+
+uint32_t Converter::material_for(int gltf_material, const std::string& where) {
+  if (gltf_material >= 0) {
+    if (size_t(gltf_material) >= m_.materials.size())
+      fail(where + " refers to material " + std::to_string(gltf_material) +
+           ", which does not exist (the file has " + std::to_string(m_.materials.size()) + ")");
+    return uint32_t(gltf_material);
+  }
+  if (default_material_ < 0) {
+    Material def;  // glTF defaults: base colour 1, metallic 1, roughness 1
+    def.name = "default";
+    default_material_ = int(scene_.materials.size());
+    scene_.materials.push_back(def);
+  }
+  return uint32_t(default_material_);
+}
+
+}  // namespace clpt::gltf
