@@ -4,6 +4,7 @@
  * shaded like any other surface. Camera rays that hit nothing give 0 (so objects stand out
  * against the background); occlusion rays that hit nothing count as unoccluded. */
 #include "bsdf/bsdf.cl"
+#include "bvh/intersect.cl"
 #include "camera/pixel_ray.cl"
 #include "core/ray.cl"
 #include "film/film.cl"

@@ -22,7 +22,7 @@
 #include "bsdf/bsdf.cl"
 #include "camera/camera_importance.cl"
 #include "core/ray.cl"
-#include "integrators/russian_roulette.cl"
+#include "integrators/stages/russian_roulette.cl"
 #include "film/splat.cl"
 #include "light/light.cl"
 #include "material/material.cl"

@@ -5,7 +5,7 @@
  *   s = 1   next-event estimation: a fresh light sample,
  *   s >= 2  a connection to light vertex y_(s-1) of the light subpath with the same key,
  * each for paths of at most max_depth bounces (s + t - 2 <= max_depth), weighted by
- * kernels/integrators/bdpt/mis.cl. */
+ * kernels/integrators/stages/vertex_mis.cl. */
 #ifndef CLPT_INTEGRATORS_BDPT_CAMERA_PATH_CL
 #define CLPT_INTEGRATORS_BDPT_CAMERA_PATH_CL
 

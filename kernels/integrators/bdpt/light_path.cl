@@ -1,6 +1,6 @@
 /* BDPT's light subpath (Veach 1997 ch. 10; Georgiev 2012): traced from a light like the
  * light tracer's paths (kernels/integrators/light_trace.cl), with the MIS state of
- * kernels/integrators/bdpt/mis.cl. Each surface vertex y_k with a non-delta BSDF
+ * kernels/integrators/stages/vertex_mis.cl. Each surface vertex y_k with a non-delta BSDF
  *   - connects to the camera (strategy s = k + 1, t = 1) and splats its weighted share, and
  *   - is stored for the camera kernel's connections when k < max_depth (the strategies
  *     s = k + 1, t >= 2 need at most max_depth bounces: s + t - 2 <= max_depth).
@@ -13,7 +13,7 @@
 #ifndef CLPT_INTEGRATORS_BDPT_LIGHT_PATH_CL
 #define CLPT_INTEGRATORS_BDPT_LIGHT_PATH_CL
 
-#include "integrators/bdpt/mis.cl"
+#include "integrators/stages/vertex_mis.cl"
 #include "integrators/light_trace.cl"
 #include "material/volume.cl"
 

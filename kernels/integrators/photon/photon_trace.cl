@@ -14,7 +14,7 @@
 
 #include "integrators/light_trace.cl"
 #include "material/volume.cl"
-#include "photon/glossy.cl"
+#include "integrators/photon/glossy.cl"
 #include "shared/photon_types.h"
 
 inline void photon_store(__global Photon* out, volatile __global u32* count, u32 capacity,

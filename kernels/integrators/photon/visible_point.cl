@@ -20,7 +20,7 @@
 #define CLPT_INTEGRATORS_PHOTON_VISIBLE_POINT_CL
 
 #include "integrators/path_trace.cl"
-#include "photon/glossy.cl"
+#include "integrators/photon/glossy.cl"
 
 typedef struct VisiblePoint {
   SurfaceHit sh;  /* normals oriented to wo */
@@ -52,7 +52,7 @@ inline int photon_visible_point(__constant const RenderParams* p, const SceneVie
     Hit hit;
     ++*rays;
     if (!intersect_closest(s, org, dir, INFINITY, &hit)) {
-      if (add_emission) vp->L += vp->beta * pt_emission_escaped(p, s, dir, last_pdf, last_delta);
+      if (add_emission) vp->L += vp->beta * nee_emission_escaped(p, s, dir, last_pdf, last_delta);
       return 0;
     }
     if (k > 0u || has_prev) vp->beta *= volume_transmittance(s, &prev, dir, hit.t);
@@ -60,14 +60,14 @@ inline int photon_visible_point(__constant const RenderParams* p, const SceneVie
     vp->sh = surface_shade(s, &hit, org, dir);
     vp->wo = -dir;
     if (add_emission)
-      vp->L += vp->beta * pt_emission_by_scattering(p, s, &vp->sh, vp->wo, hit.t, last_pdf, last_delta);
+      vp->L += vp->beta * nee_emission_hit(p, s, &vp->sh, vp->wo, hit.t, last_pdf, last_delta);
     if (depth >= p->max_depth) return 0;
     bsdf_orient(&vp->sh, vp->wo);
     vp->depth = depth;
     const int glossy = photon_glossy(&vp->sh);
     if (bsdf_has_smooth_lobe(&vp->sh) && !glossy) return 1;
     if (glossy && add_emission)
-      vp->L += vp->beta * pt_direct(p, s, sampler, &vp->sh, vp->wo,
+      vp->L += vp->beta * nee_direct(p, s, sampler, &vp->sh, vp->wo,
                                     offset_ray_origin(vp->sh.p, vp->sh.ng), depth, stream, rays);
     const BsdfSample bs = bsdf_sample(
         &vp->sh, vp->wo, sample_2d(sampler, stream_dim(bounce_dim(depth, DIM_BSDF_DIR), stream)),
@@ -96,9 +96,9 @@ inline int photon_visible_point(__constant const RenderParams* p, const SceneVie
 inline float3 photon_direct(__constant const RenderParams* p, const SceneView* s,
                             const Sampler* sampler, const VisiblePoint* vp, u32* rays) {
   const SurfaceHit* sh = &vp->sh;
-  float3 L = pt_direct(p, s, sampler, sh, vp->wo, offset_ray_origin(sh->p, sh->ng), vp->depth,
+  float3 L = nee_direct(p, s, sampler, sh, vp->wo, offset_ray_origin(sh->p, sh->ng), vp->depth,
                        0u, rays);
-  const BsdfSample bs = pt_scatter_sample(
+  const BsdfSample bs = camera_scatter_sample(
       p, s, sh, vp->wo, sample_2d(sampler, bounce_dim(vp->depth, DIM_BSDF_DIR)),
       sample_1d(sampler, bounce_dim(vp->depth, DIM_BSDF_LOBE)));
   if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) return L;
@@ -106,11 +106,11 @@ inline float3 photon_direct(__constant const RenderParams* p, const SceneView* s
   Hit hit;
   ++*rays;
   if (!intersect_closest(s, org, bs.wi, INFINITY, &hit))
-    return L + bs.weight * pt_emission_escaped(p, s, bs.wi, bs.pdf_w, bs.is_delta);
+    return L + bs.weight * nee_emission_escaped(p, s, bs.wi, bs.pdf_w, bs.is_delta);
   const float3 tr = volume_transmittance(s, sh, bs.wi, hit.t);
   const SurfaceHit lh = surface_shade(s, &hit, org, bs.wi);
   return L + bs.weight * tr *
-                 pt_emission_by_scattering(p, s, &lh, -bs.wi, hit.t, bs.pdf_w, bs.is_delta);
+                 nee_emission_hit(p, s, &lh, -bs.wi, hit.t, bs.pdf_w, bs.is_delta);
 }
 
 #endif

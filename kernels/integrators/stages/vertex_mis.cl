@@ -26,8 +26,8 @@
 #define CLPT_INTEGRATORS_BDPT_MIS_CL
 
 #include "bsdf/bsdf.cl"
-#include "integrators/bdpt/path_vertex.cl"
-#include "integrators/russian_roulette.cl"
+#include "integrators/stages/path_vertex.cl"
+#include "integrators/stages/russian_roulette.cl"
 #include "shared/render_types.h"
 
 inline float bdpt_mis(__constant const RenderParams* p, float x) {
