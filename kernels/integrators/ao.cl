@@ -23,7 +23,7 @@ inline float ao_sample(const SceneView* s, __constant const RenderParams* p, con
   return intersect_any(s, offset_ray_origin(sh.p, sh.ng), wi, p->ao_radius) ? 0.0f : 1.0f;
 }
 
-__kernel void ao_render(SCENE_KERNEL_ARGS, __constant const RenderParams* params,
+__kernel void ao_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __global float4* film_sum, __global float4* film_sum_sq,
                         __global u32* ray_counts) {
   const u32 pixel = get_global_id(0);

@@ -57,7 +57,7 @@ inline float3 sppm_gather(__global const Photon* photons, __global const u32* he
 }
 
 /* pixel_count: width x height, or 0 for the host's warm-up launch. */
-__kernel void sppm_pass(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 pixel_count,
+__kernel void sppm_pass(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 pixel_count,
                         u32 sample,
                         __global const Photon* photons, __global const u32* heads,
                         __global const u32* next, float inv_cell, u32 mask,

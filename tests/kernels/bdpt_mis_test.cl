@@ -105,7 +105,7 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
   }
 }
 
-__kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 n,
+__kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 n,
                              __global float* rec_out, __global float* rec_raw_out,
                              __global float* pcam_out,
                              __global float* plight_out, __global int* meta) {
