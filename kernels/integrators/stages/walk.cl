@@ -47,6 +47,9 @@
 #include "sampler/sampler.cl"
 #include "shared/render_types.h"
 
+/* walk_next, walk_sample_bsdf and walk_scatter are always inlined (CLPT_INLINE, from
+ * bvh/intersect.cl): PoCL left them out of line, which kept the PathWalk in memory and cost
+ * pt 2-3 % on the Cornell box (docs/BENCHMARKS.md). */
 #define WALK_RR_PATH 0u
 #define WALK_RR_ALBEDO 1u
 
@@ -116,7 +119,7 @@ inline u32 walk_dim(const PathWalk* w, u32 offset) {
 
 /* Traces the walk's ray. False when it escapes (w->dir is its direction); else w->sh, w->hit
  * and w->wo are the new vertex, the medium's transmittance is in beta and rr_weight. */
-inline bool walk_next(const SceneView* s, PathWalk* w, u32* rays) {
+CLPT_INLINE bool walk_next(const SceneView* s, PathWalk* w, u32* rays) {
   ++*rays;
   if (!intersect_closest(s, w->org, w->dir, INFINITY, &w->hit)) return false;
   if (w->medium != MEDIUM_NONE) {
@@ -131,14 +134,14 @@ inline bool walk_next(const SceneView* s, PathWalk* w, u32* rays) {
 }
 
 /* The BSDF's own sample at the current vertex, in the walk's dimensions and mode. */
-inline BsdfSample walk_sample_bsdf(const Sampler* sampler, const PathWalk* w) {
+CLPT_INLINE BsdfSample walk_sample_bsdf(const Sampler* sampler, const PathWalk* w) {
   return bsdf_sample(&w->sh, w->wo, sample_2d(sampler, walk_dim(w, DIM_BSDF_DIR)),
                      sample_1d(sampler, walk_dim(w, DIM_BSDF_LOBE)), w->mode);
 }
 
 /* Leaves the current vertex along bs (the walk's sample, or another sampler's with the
  * walk's dimensions). Returns 0 when the path ends there: no sample, or the roulette. */
-inline int walk_scatter(__constant const RenderParams* p, const SceneView* s,
+CLPT_INLINE int walk_scatter(__constant const RenderParams* p, const SceneView* s,
                         const Sampler* sampler, PathWalk* w, const BsdfSample* bs) {
   if (!(bs->pdf_w > 0.0f) || is_black(bs->weight)) return 0;
   const float3 weight = w->mode == TRANSPORT_IMPORTANCE
