@@ -70,11 +70,9 @@ struct Parser {
         ->type_name("N")
         ->check(CLI::Range(0u, 1024u).description(""));
     app.add_option("--seed", o.seed, "Random seed [0]")->type_name("N");
-    std::string names;
-    for (const std::string& n : integrator_names())
-      names += (names.empty() ? "" : "|") + n;
     app.add_option("--integrator", o.integrator,
-                   "Integrator: " + names + " (implemented: pt, lt, bdpt, pm, sppm, direct, ao) [pt]")
+                   "Integrator: " + integrator_names_text("|", false) +
+                       " (implemented: " + integrator_names_text(", ", true) + ") [pt]")
         ->type_name("NAME");
     app.add_option("--sampler", o.sampler,
                    "Sampler: independent|stratified|lhs|sobol; stratified and lhs need --spp "
@@ -314,16 +312,18 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--rr " + o.rr + ": expected throughput or fixed:ALPHA with "
                                    "0 <= ALPHA < 1");
   }
-  if (o.integrator == "sppm") {
+  const IntegratorInfo* row = find_integrator(o.integrator);
+  if (!row) throw Error(ExitCode::Usage, "--integrator " + o.integrator + ": unknown integrator");
+  if (row->film == FilmKind::Progressive) {
     // Its pixels are progressive estimates with statistics of their own (radius, photon count).
     if (o.variance)
-      throw Error(ExitCode::Usage, "--variance is not available with --integrator sppm: a "
-                                   "pixel is one progressive estimate, not a mean of samples");
+      throw Error(ExitCode::Usage, "--variance is not available with --integrator " + o.integrator +
+                                       ": a pixel is one progressive estimate, not a mean of samples");
     if (!o.checkpoint.empty() || !o.resume.empty())
       throw Error(ExitCode::Usage, "--checkpoint and --resume are not supported with "
-                                   "--integrator sppm (its pixel statistics are not saved)");
+                                   "--integrator " + o.integrator + " (its pixel statistics are not saved)");
   }
-  if (integrator_splats(o.integrator)) {
+  if (row->film == FilmKind::Splats) {
     // Splatted films: no per-pixel sample variance, and float atomics in no fixed order, so a
     // resumed render could not equal an uninterrupted one bit for bit.
     if (o.variance)
@@ -335,21 +335,21 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
                                    "--integrator " + o.integrator + " (its splatted sums are not "
                                    "reproducible bit for bit)");
   }
-  const bool photon_integrator = o.integrator == "pm" || o.integrator == "sppm";
-  if (!photon_integrator && (o.photons || o.sppm_radius > 0.0f || o.sppm_alpha_set))
+  const auto reads = [&](unsigned group) { return (row->options & group) != 0u; };
+  if (!reads(OPTIONS_PHOTONS) && (o.photons || o.sppm_radius > 0.0f || o.sppm_alpha_set))
     throw Error(ExitCode::Usage, "--photons, --sppm-radius and --sppm-alpha need --integrator pm "
                                  "or sppm");
-  if (o.integrator != "pm" && (o.caustic_photons_set || o.final_gather_set || o.knn_set ||
-                               o.pm_max_radius > 0.0f || o.pm_filter_set))
+  if (!reads(OPTIONS_PM) && (o.caustic_photons_set || o.final_gather_set || o.knn_set ||
+                             o.pm_max_radius > 0.0f || o.pm_filter_set))
     throw Error(ExitCode::Usage, "--caustic-photons, --final-gather, --knn, --pm-max-radius and "
                                  "--pm-filter need --integrator pm");
-  if (o.integrator == "pm" && (o.sppm_radius > 0.0f || o.sppm_alpha_set))
+  if (!reads(OPTIONS_SPPM) && (o.sppm_radius > 0.0f || o.sppm_alpha_set))
     throw Error(ExitCode::Usage, "--sppm-radius and --sppm-alpha need --integrator sppm");
   if (o.pm_filter != "cone" && o.pm_filter != "epanechnikov" && o.pm_filter != "box")
     throw Error(ExitCode::Usage, "--pm-filter " + o.pm_filter + ": expected cone, epanechnikov "
                                  "or box");
   if ((!o.bdpt_strategy.empty() || o.bdpt_unweighted || o.bdpt_mosaic || o.bdpt_lvc) &&
-      o.integrator != "bdpt")
+      !reads(OPTIONS_BDPT))
     throw Error(ExitCode::Usage, "--bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic and "
                                  "--bdpt-lvc need --integrator bdpt");
   if (o.bdpt_unweighted && o.bdpt_strategy.empty() && !o.bdpt_mosaic)

@@ -1,4 +1,4 @@
-// BDPT's recursive MIS weights (kernels/integrators/bdpt/mis.cl; Georgiev 2012 without
+// BDPT's recursive MIS weights (kernels/integrators/stages/vertex_mis.cl; Georgiev 2012 without
 // merging) against the weights written out from whole-path densities, on the PoCL device
 // through tests/kernels/bdpt_mis_test.cl:
 //   BdptMis.RecursiveEqualsExplicit  for random complete paths of 2..6 edges sampled from the

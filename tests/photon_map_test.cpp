@@ -1,5 +1,5 @@
 // Photon maps on the PoCL device, against the host:
-//   PhotonKnn.DeviceEqualsHost       kd_knn (kernels/photon/kdtree.cl) against KdTree::knn
+//   PhotonKnn.DeviceEqualsHost       kd_knn (kernels/spatial/kdtree.cl) against KdTree::knn
 //                                    (host/photon/kdtree.cpp) on the same trees: uniform,
 //                                    clustered, planar, duplicated, coincident and lattice
 //                                    points, 0, 1, 7 and 50 000 of them; queries on, near,
@@ -8,7 +8,7 @@
 //                                    Same count, the same distances (exactly: the same float
 //                                    arithmetic), the same photons but for ties at the k-th
 //                                    distance, and the device's heap a max-heap;
-//   PhotonGrid.GatherEqualsBruteForce  the SPPM hash grid (kernels/photon/hash_grid.cl): every
+//   PhotonGrid.GatherEqualsBruteForce  the SPPM hash grid (kernels/spatial/hash_grid.cl): every
 //                                    photon in exactly one bucket list, and a gather walking
 //                                    the grid as sppm_gather does finds each photon within r
 //                                    (r up to the cell side) exactly once, with buckets that

@@ -19,6 +19,7 @@
 #include "options.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
+#include "integrators/integrator.h"
 #include "shared/photon_types.h"
 #include "stats/image_stats.h"
 #include "util/error.h"
@@ -264,7 +265,8 @@ int run(const Options& opt) {
   log::info((out.interrupted ? "interrupted: " : "") + std::string("rendered ") +
             std::to_string(film.samples_per_pixel) + " spp in " + std::to_string(st.render_seconds) +
             " s (" + std::to_string(paths / secs / 1e6) +
-            (opt.integrator == "lt" ? " M light paths/s)" : " M camera paths/s)") +
+            (integrator_info(opt.integrator).traces_light_paths ? " M light paths/s)"
+                                                                : " M camera paths/s)") +
             (film.samples_per_pixel > 0 ? ", wrote " + opt.output : std::string()));
   if (film.dropped_samples)
     log::warn(std::to_string(film.dropped_samples) + " NaN/Inf samples were dropped");
@@ -290,13 +292,14 @@ int run(const Options& opt) {
     j["spp"] = film.samples_per_pixel;
     j["max_depth"] = opt.max_depth;
     // lt traces spp x width x height light paths: the same count, from the other end.
-    j[opt.integrator == "lt" ? "light_paths_per_second" : "camera_paths_per_second"] =
+    const IntegratorInfo& row = integrator_info(opt.integrator);
+    j[row.traces_light_paths ? "light_paths_per_second" : "camera_paths_per_second"] =
         paths / secs;
-    if (opt.integrator == "bdpt") {
+    if (row.options & OPTIONS_BDPT) {
       j["connections"] = st.connections;
       j["connections_per_second"] = double(st.connections) / secs;
     }
-    if (opt.integrator == "pm" || opt.integrator == "sppm") {
+    if (row.options & OPTIONS_PHOTONS) {
       const PhotonStats& ph = st.photons;
       j["photons"] = {
           {"paths", ph.paths},
@@ -326,8 +329,9 @@ int run(const Options& opt) {
       // Splatted films (lt) have no per-pixel sample variance; use --reference for errors.
       j["mean_variance"] = nullptr;
       j["variance"] = "unavailable: " + opt.integrator +
-                      (opt.integrator == "sppm" ? " pixels are progressive estimates, not sample means"
-                                                : " splats light paths into any pixel");
+                      (row.film == FilmKind::Progressive
+                           ? " pixels are progressive estimates, not sample means"
+                           : " splats light paths into any pixel");
     }
     if (reference && film.samples_per_pixel > 0) {
       const ImageComparison c = compare_images(film.mean, *reference);

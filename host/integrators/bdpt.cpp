@@ -41,7 +41,7 @@ void BidirectionalPathTracer::ensure_buffers(uint32_t capacity, size_t tile) {
   tile_ = tile;
 }
 
-void BidirectionalPathTracer::render_pass(const dev::RenderParams& params, Film& film) {
+dev::RenderParams BidirectionalPathTracer::prepare(const dev::RenderParams& params, Film& film) {
   if (!film.splats()) throw Error(ExitCode::Usage, "bdpt needs a film with splats");
   dev::RenderParams p = params;
   p.light_vertex_capacity = vertex_capacity(p.max_depth);
@@ -54,19 +54,25 @@ void BidirectionalPathTracer::render_pass(const dev::RenderParams& params, Film&
   }
   ensure_buffers(p.light_vertex_capacity, tile_paths(budget_, p.light_vertex_capacity, pixels));
   params_.write(&p, sizeof(p));
-  if (p.samples_per_pass == 0) {
-    // The renderer's warm-up pass: launch both kernels over no paths, so drivers that
-    // compile at the first launch (PoCL) do it now and not in the first timed pass.
-    const uint32_t none = 0;
-    light_kernel_.args(light_arg_, params_, none, none, none, vertices_, vertex_counts_,
-                       pool_count_, film.splat(), film.ray_counts(), connection_counts_);
-    light_kernel_.launch(ctx_, 1);
-    camera_kernel_.args(camera_arg_, params_, none, none, none, vertices_, vertex_counts_,
-                        pool_count_, film.sum(), film.sum_sq(), film.ray_counts(),
-                        connection_counts_);
-    camera_kernel_.launch(ctx_, 1);
-    return;
-  }
+  return p;
+}
+
+void BidirectionalPathTracer::warm_up(const dev::RenderParams& params, Film& film) {
+  prepare(params, film);
+  // Both kernels over no paths.
+  const uint32_t none = 0;
+  light_kernel_.args(light_arg_, params_, none, none, none, vertices_, vertex_counts_,
+                     pool_count_, film.splat(), film.ray_counts(), connection_counts_);
+  light_kernel_.launch(ctx_, 1);
+  camera_kernel_.args(camera_arg_, params_, none, none, none, vertices_, vertex_counts_,
+                      pool_count_, film.sum(), film.sum_sq(), film.ray_counts(),
+                      connection_counts_);
+  camera_kernel_.launch(ctx_, 1);
+}
+
+void BidirectionalPathTracer::render_pass(const dev::RenderParams& params, Film& film) {
+  const dev::RenderParams p = prepare(params, film);
+  const size_t pixels = film.pixels();
   for (uint32_t i = 0; i < p.samples_per_pass; ++i) {
     const uint32_t sample = p.sample_offset + i;
     for (size_t offset = 0; offset < pixels; offset += tile_) {

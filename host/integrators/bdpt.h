@@ -18,6 +18,7 @@ class BidirectionalPathTracer final : public Integrator {
   BidirectionalPathTracer(const cl::Context& ctx, const SceneBuffers& scene, size_t path_memory_bytes);
   const char* name() const override { return "bdpt"; }
   // The film must have been made with splats (Film(..., true)).
+  void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;
   const cl::BuildInfo& build_info() const override { return program_.build_info(); }
   uint64_t connections() const override;
@@ -28,6 +29,8 @@ class BidirectionalPathTracer final : public Integrator {
   static size_t tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels);
 
  private:
+  // The pass's parameters with the light vertex capacity; buffers sized for the film.
+  dev::RenderParams prepare(const dev::RenderParams& params, Film& film);
   void ensure_buffers(uint32_t capacity, size_t tile);
 
   const cl::Context& ctx_;

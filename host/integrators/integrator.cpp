@@ -1,7 +1,5 @@
 #include "integrators/integrator.h"
 
-#include <algorithm>
-
 #include "integrators/bdpt.h"
 #include "integrators/light_tracer.h"
 #include "integrators/megakernel.h"
@@ -10,44 +8,83 @@
 #include "util/error.h"
 
 namespace clpt {
+namespace {
 
-const std::vector<std::string>& integrator_names() {
-  static const std::vector<std::string> names = {"pt",   "lt",  "bdpt", "pm",  "sppm",
-                                                 "vcm",  "mlt", "ic",   "ao",  "direct"};
-  return names;
+using Config = IntegratorConfig;
+
+std::unique_ptr<Integrator> make_pt(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
+  return std::make_unique<MegakernelIntegrator>(ctx, s, "pt", "integrators/pt.cl", "pt_render");
+}
+// `direct` is the path tracer stopped after one bounce (the row's max_depth_cap).
+std::unique_ptr<Integrator> make_direct(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
+  return std::make_unique<MegakernelIntegrator>(ctx, s, "direct", "integrators/pt.cl", "pt_render");
+}
+std::unique_ptr<Integrator> make_ao(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
+  return std::make_unique<MegakernelIntegrator>(ctx, s, "ao", "integrators/ao.cl", "ao_render");
+}
+std::unique_ptr<Integrator> make_lt(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
+  return std::make_unique<LightTracer>(ctx, s);
+}
+std::unique_ptr<Integrator> make_bdpt(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
+  return std::make_unique<BidirectionalPathTracer>(ctx, s, c.path_memory_bytes);
+}
+std::unique_ptr<Integrator> make_pm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
+  return std::make_unique<PhotonMapper>(ctx, s, c.photons, c.caustic_photons);
+}
+std::unique_ptr<Integrator> make_sppm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
+  return std::make_unique<Sppm>(ctx, s, c.photons);
 }
 
-bool integrator_implemented(const std::string& name) {
-  return name == "pt" || name == "lt" || name == "bdpt" || name == "pm" || name == "sppm" ||
-         name == "direct" || name == "ao";
+}  // namespace
+
+const std::vector<IntegratorInfo>& integrator_table() {
+  using F = FilmKind;
+  // name      impl   film            options                          lights persp cap  light  make
+  static const std::vector<IntegratorInfo> table = {
+      {"pt",     true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 0, false, make_pt},
+      {"lt",     true,  F::Splats,      OPTIONS_NONE,                    true,  true,  0, true,  make_lt},
+      {"bdpt",   true,  F::Splats,      OPTIONS_BDPT,                    true,  true,  0, false, make_bdpt},
+      {"pm",     true,  F::SampleSums,  OPTIONS_PHOTONS | OPTIONS_PM,    true,  false, 0, false, make_pm},
+      {"sppm",   true,  F::Progressive, OPTIONS_PHOTONS | OPTIONS_SPPM,  true,  false, 0, false, make_sppm},
+      {"vcm",    false, F::Splats,      OPTIONS_NONE,                    true,  true,  0, false, nullptr},
+      {"mlt",    false, F::Splats,      OPTIONS_NONE,                    true,  false, 0, false, nullptr},
+      {"ic",     false, F::SampleSums,  OPTIONS_NONE,                    true,  false, 0, false, nullptr},
+      {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, make_ao},
+      {"direct", true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 1, false, make_direct},
+  };
+  return table;
 }
 
-bool integrator_splats(const std::string& name) { return name == "lt" || name == "bdpt"; }
+const IntegratorInfo* find_integrator(const std::string& name) {
+  for (const IntegratorInfo& row : integrator_table())
+    if (name == row.name) return &row;
+  return nullptr;
+}
 
-bool integrator_sums_samples(const std::string& name) {
-  return !integrator_splats(name) && name != "sppm";
+const IntegratorInfo& integrator_info(const std::string& name) {
+  const IntegratorInfo* row = find_integrator(name);
+  if (!row) throw Error(ExitCode::Usage, "--integrator " + name + ": unknown integrator");
+  return *row;
+}
+
+std::string integrator_names_text(const char* separator, bool implemented_only) {
+  std::string text;
+  for (const IntegratorInfo& row : integrator_table()) {
+    if (implemented_only && !row.implemented) continue;
+    if (!text.empty()) text += separator;
+    text += row.name;
+  }
+  return text;
 }
 
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::Context& ctx,
                                             const SceneBuffers& scene,
                                             const IntegratorConfig& config) {
-  const auto& names = integrator_names();
-  if (std::find(names.begin(), names.end(), name) == names.end())
-    throw Error(ExitCode::Usage, "--integrator " + name + ": unknown integrator");
-  // `direct` is the path tracer stopped after one bounce (the renderer clamps max depth).
-  if (name == "pt" || name == "direct")
-    return std::make_unique<MegakernelIntegrator>(ctx, scene, name == "pt" ? "pt" : "direct",
-                                                  "integrators/pt.cl", "pt_render");
-  if (name == "lt") return std::make_unique<LightTracer>(ctx, scene);
-  if (name == "bdpt")
-    return std::make_unique<BidirectionalPathTracer>(ctx, scene, config.path_memory_bytes);
-  if (name == "pm")
-    return std::make_unique<PhotonMapper>(ctx, scene, config.photons, config.caustic_photons);
-  if (name == "sppm") return std::make_unique<Sppm>(ctx, scene, config.photons);
-  if (name == "ao")
-    return std::make_unique<MegakernelIntegrator>(ctx, scene, "ao", "integrators/ao.cl", "ao_render");
-  throw Error(ExitCode::Usage,
-              "--integrator " + name + ": not implemented yet (available: pt, lt, bdpt, pm, sppm, direct, ao)");
+  const IntegratorInfo& row = integrator_info(name);
+  if (!row.make)
+    throw Error(ExitCode::Usage, "--integrator " + name + ": not implemented yet (available: " +
+                                     integrator_names_text(", ", true) + ")");
+  return row.make(ctx, scene, config);
 }
 
 }  // namespace clpt

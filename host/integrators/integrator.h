@@ -28,7 +28,11 @@ class Integrator {
  public:
   virtual ~Integrator() = default;
   virtual const char* name() const = 0;
-  // Enqueues one pass; it completes by the next blocking call on the queue (film read, finish).
+  // Launches every kernel once over no work, so drivers that compile at the first launch
+  // (PoCL) do it at start-up and not in the first timed pass. Leaves the film as it was.
+  virtual void warm_up(const dev::RenderParams& params, Film& film) = 0;
+  // Enqueues one pass of params.samples_per_pass (> 0) samples; it completes by the next
+  // blocking call on the queue (film read, finish).
   virtual void render_pass(const dev::RenderParams& params, Film& film) = 0;
   // How its program was obtained (cache or build) and how long that took.
   virtual const cl::BuildInfo& build_info() const = 0;
@@ -44,15 +48,47 @@ struct IntegratorConfig {
   uint64_t caustic_photons = 0;  // pm: caustic map paths
 };
 
-// Names accepted by --integrator, and which of them are implemented.
-const std::vector<std::string>& integrator_names();
-bool integrator_implemented(const std::string& name);
-// Whether it splats (lt, bdpt): its film needs a splat buffer.
-bool integrator_splats(const std::string& name);
-// Whether its film holds sums of independent samples per pixel, so it has a per-pixel
-// variance and can be checkpointed: not lt and bdpt (splats), not sppm (its pixels are
-// progressive estimates with state of their own).
-bool integrator_sums_samples(const std::string& name);
+// What an integrator's film holds, which decides what the film and the command line offer.
+enum class FilmKind {
+  SampleSums,   // sums of independent samples per pixel: per-pixel variance, checkpoints
+  Splats,       // light paths splat into any pixel (lt, bdpt): neither
+  Progressive,  // progressive estimates with per-pixel state (sppm): neither
+};
+
+// Option groups that only some integrators read (--help names them after the integrator).
+enum IntegratorOptions : unsigned {
+  OPTIONS_NONE = 0,
+  OPTIONS_PHOTONS = 1u << 0,  // --photons
+  OPTIONS_PM = 1u << 1,       // --caustic-photons, --final-gather, --knn, --pm-max-radius, --pm-filter
+  OPTIONS_SPPM = 1u << 2,     // --sppm-radius, --sppm-alpha
+  OPTIONS_BDPT = 1u << 3,     // --bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic, --bdpt-lvc, --bdpt-memory
+  OPTIONS_AO = 1u << 4,       // --ao-radius
+};
+
+// One row per integrator --integrator accepts: everything the options, the renderer, the
+// statistics and the checks need to know about it. A new integrator is one row here (and
+// its class and kernels).
+struct IntegratorInfo {
+  const char* name;
+  bool implemented;
+  FilmKind film;
+  unsigned options;              // IntegratorOptions it reads
+  bool needs_lights;             // false: renders without lights (ao)
+  bool needs_perspective_camera; // light paths cannot reach an orthographic camera
+  uint32_t max_depth_cap;        // 0: none; direct: 1
+  bool traces_light_paths;       // its paths per second count light paths (lt), not camera paths
+  std::unique_ptr<Integrator> (*make)(const cl::Context&, const SceneBuffers&,
+                                      const IntegratorConfig&);  // null: not implemented
+};
+
+// Every row, in --help order.
+const std::vector<IntegratorInfo>& integrator_table();
+// The row of `name`, or null when --integrator does not know it.
+const IntegratorInfo* find_integrator(const std::string& name);
+// The row of `name`; throws Error(Usage) for an unknown one.
+const IntegratorInfo& integrator_info(const std::string& name);
+// "pt|lt|..." of every row, and "pt, lt, ..." of the implemented ones.
+std::string integrator_names_text(const char* separator, bool implemented_only);
 
 // Throws Error(Usage) for an unknown or not yet implemented name.
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const cl::Context& ctx,

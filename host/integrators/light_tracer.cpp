@@ -12,6 +12,12 @@ LightTracer::LightTracer(const cl::Context& ctx, const SceneBuffers& scene)
   film_arg_ = scene.bind(kernel_, 0);
 }
 
+void LightTracer::warm_up(const dev::RenderParams& params, Film& film) {
+  dev::RenderParams none = params;
+  none.samples_per_pass = 0;  // every work-item loops over no samples
+  render_pass(none, film);
+}
+
 void LightTracer::render_pass(const dev::RenderParams& params, Film& film) {
   if (!film.splats()) throw Error(ExitCode::Usage, "the light tracer needs a film with splats");
   params_.write(&params, sizeof(params));

@@ -14,6 +14,7 @@ class LightTracer final : public Integrator {
   LightTracer(const cl::Context& ctx, const SceneBuffers& scene);
   const char* name() const override { return "lt"; }
   // The film must have been made with splats (Film(..., true)).
+  void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;
   const cl::BuildInfo& build_info() const override { return program_.build_info(); }
 

@@ -13,6 +13,12 @@ MegakernelIntegrator::MegakernelIntegrator(const cl::Context& ctx, const SceneBu
   film_arg_ = scene.bind(kernel_, 0);
 }
 
+void MegakernelIntegrator::warm_up(const dev::RenderParams& params, Film& film) {
+  dev::RenderParams none = params;
+  none.samples_per_pass = 0;  // every work-item loops over no samples
+  render_pass(none, film);
+}
+
 void MegakernelIntegrator::render_pass(const dev::RenderParams& params, Film& film) {
   params_.write(&params, sizeof(params));
   kernel_.args(film_arg_, params_, film.sum(), film.sum_sq(), film.ray_counts());

@@ -12,6 +12,7 @@ class MegakernelIntegrator final : public Integrator {
   MegakernelIntegrator(const cl::Context& ctx, const SceneBuffers& scene, const char* name,
                        const char* program_file, const char* kernel_name);
   const char* name() const override { return name_; }
+  void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;
   const cl::BuildInfo& build_info() const override { return program_.build_info(); }
 

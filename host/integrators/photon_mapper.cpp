@@ -69,8 +69,16 @@ PhotonMapper::Map PhotonMapper::build_map(const dev::RenderParams& params, uint6
   return map;
 }
 
+void PhotonMapper::warm_up(const dev::RenderParams& params, Film& film) {
+  tracer_.warm_up(global_paths_);
+  tracer_.warm_up(caustic_paths_);
+  dev::RenderParams none = params;
+  none.samples_per_pass = 0;  // every work-item loops over no samples, reading no map
+  launch(none, film);
+}
+
 void PhotonMapper::render_pass(const dev::RenderParams& params, Film& film) {
-  if (!built_ && params.samples_per_pass > 0) {
+  if (!built_) {
     global_ = build_map(params, global_paths_, 0u);
     caustic_ = build_map(params, caustic_paths_, PHOTON_STORE_CAUSTIC_ONLY);
     stats_.rays = tracer_.rays();
@@ -78,10 +86,10 @@ void PhotonMapper::render_pass(const dev::RenderParams& params, Film& film) {
     log::verbose("pm: global map " + std::to_string(global_.count) + " photons, caustic map " +
                  std::to_string(caustic_.count) + " photons");
   }
-  if (params.samples_per_pass == 0) {  // the renderer's warm-up pass
-    tracer_.warm_up(global_paths_);
-    tracer_.warm_up(caustic_paths_);
-  }
+  launch(params, film);
+}
+
+void PhotonMapper::launch(const dev::RenderParams& params, Film& film) {
   params_.write(&params, sizeof(params));
   kernel_.args(first_arg_, params_, global_.nodes, global_.photons, global_.count, caustic_.nodes,
                caustic_.photons, caustic_.count, film.sum(), film.sum_sq(), film.ray_counts());

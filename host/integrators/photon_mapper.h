@@ -17,6 +17,7 @@ class PhotonMapper final : public Integrator {
   PhotonMapper(const cl::Context& ctx, const SceneBuffers& scene, uint64_t global_paths,
                uint64_t caustic_paths);
   const char* name() const override { return "pm"; }
+  void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;
   const cl::BuildInfo& build_info() const override { return program_.build_info(); }
   PhotonStats photon_stats() const override { return stats_; }
@@ -28,6 +29,7 @@ class PhotonMapper final : public Integrator {
   static uint32_t photon_seed(uint32_t seed) { return seed ^ 0x9e3779b9u; }
 
  private:
+  void launch(const dev::RenderParams& params, Film& film);
   struct Map {
     cl::Buffer nodes, photons;
     uint32_t count = 0;

@@ -36,28 +36,32 @@ void Sppm::start(const dev::RenderParams& params, size_t pixels) {
   next_sample_ = 0;
 }
 
-void Sppm::render_pass(const dev::RenderParams& params, Film& film) {
+void Sppm::prepare(const dev::RenderParams& params, Film& film) {
   if (film.sums_samples()) throw Error(ExitCode::Usage, "sppm needs a film without sample sums");
   if (pixel_count_ != film.pixels()) start(params, film.pixels());
   if (paths_per_pass_ == 0) paths_per_pass_ = film.pixels();
   params_.write(&params, sizeof(params));
-  if (params.samples_per_pass == 0) {
-    // The renderer's warm-up: launch every kernel over nothing, so a driver that compiles at
-    // the first launch (PoCL) does it now, over grids the size of a pass's (PoCL compiles
-    // again for a much larger grid; PhotonTracer::warm_up); the grid insertion's is taken
-    // as the pass's path count.
-    tracer_.warm_up(paths_per_pass_);
-    cl::Buffer none(ctx_, sizeof(dev::Photon));
-    cl::Buffer heads(ctx_, sizeof(uint32_t)), next(ctx_, sizeof(uint32_t));
-    const uint32_t zero = 0;
-    const float one = 1.0f;
-    insert_kernel_.args(0, none, zero, one, zero, heads, next);
-    insert_kernel_.launch(ctx_, paths_per_pass_);
-    pass_kernel_.args(pass_arg_, params_, zero, zero, none, heads, next, one, zero, pixels_,
-                      film.sum(), film.ray_counts(), max_radius_);
-    pass_kernel_.launch(ctx_, film.pixels());
-    return;
-  }
+}
+
+void Sppm::warm_up(const dev::RenderParams& params, Film& film) {
+  prepare(params, film);
+  // Every kernel over nothing, over grids the size of a pass's (PoCL compiles
+  // again for a much larger grid; PhotonTracer::warm_up); the grid insertion's is taken
+  // as the pass's path count.
+  tracer_.warm_up(paths_per_pass_);
+  cl::Buffer none(ctx_, sizeof(dev::Photon));
+  cl::Buffer heads(ctx_, sizeof(uint32_t)), next(ctx_, sizeof(uint32_t));
+  const uint32_t zero = 0;
+  const float one = 1.0f;
+  insert_kernel_.args(0, none, zero, one, zero, heads, next);
+  insert_kernel_.launch(ctx_, paths_per_pass_);
+  pass_kernel_.args(pass_arg_, params_, zero, zero, none, heads, next, one, zero, pixels_,
+                    film.sum(), film.ray_counts(), max_radius_);
+  pass_kernel_.launch(ctx_, film.pixels());
+}
+
+void Sppm::render_pass(const dev::RenderParams& params, Film& film) {
+  prepare(params, film);
   if (params.sample_offset != next_sample_)
     throw Error(ExitCode::Usage, "sppm passes must come in order (expected sample " +
                                      std::to_string(next_sample_) + ", got " +

@@ -18,11 +18,14 @@ class Sppm final : public Integrator {
   Sppm(const cl::Context& ctx, const SceneBuffers& scene, uint64_t paths_per_pass);
   const char* name() const override { return "sppm"; }
   // Passes must come in order from sample index 0 (the statistics are progressive).
+  void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;
   const cl::BuildInfo& build_info() const override { return program_.build_info(); }
   PhotonStats photon_stats() const override;
 
  private:
+  // Pixel statistics for the film (started on first use), parameters uploaded.
+  void prepare(const dev::RenderParams& params, Film& film);
   void start(const dev::RenderParams& params, size_t pixels);
   void one_pass(const dev::RenderParams& params, uint32_t sample, Film& film);
 

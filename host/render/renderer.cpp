@@ -46,20 +46,20 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   const FlatScene flat = flatten_scene(scene, bvh, env);
   stats_.emitters = flat.emissive_triangles;
   stats_.lights = static_cast<uint32_t>(flat.lights.size());
-  if (flat.lights.empty() && settings_.integrator != "ao")
+  const IntegratorInfo& row = integrator_info(settings_.integrator);
+  if (flat.lights.empty() && row.needs_lights)
     log::warn("the scene has no lights (emissive surfaces, punctual lights or environment): "
               "the image will be black");
   scene_buffers_ = std::make_unique<SceneBuffers>(ctx_, flat);
-  film_ = std::make_unique<Film>(ctx_, width_, height_, integrator_splats(settings_.integrator),
-                                 integrator_sums_samples(settings_.integrator));
+  film_ = std::make_unique<Film>(ctx_, width_, height_, row.film == FilmKind::Splats,
+                                 row.film == FilmKind::SampleSums);
   stats_.scene_device_bytes = scene_buffers_->device_bytes();
   stats_.film_device_bytes = film_->device_bytes();
   stats_.texture_device_bytes = scene_buffers_->texture_bytes();
 
   params_.camera = camera_data(camera, width_, height_);
   // A light path reaches a camera only through a non-delta direction: not an orthographic one.
-  if ((settings_.integrator == "lt" || settings_.integrator == "bdpt") &&
-      params_.camera.type == dev::CAMERA_ORTHOGRAPHIC)
+  if (row.needs_perspective_camera && params_.camera.type == dev::CAMERA_ORTHOGRAPHIC)
     throw Error(ExitCode::Usage,
                 "--integrator " + settings_.integrator + " needs a perspective camera: light "
                 "paths cannot reach an orthographic camera (its rays all share one direction); "
@@ -79,7 +79,7 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   params_.rr = settings_.rr;
   params_.rr_absorb = settings_.rr_absorb;
   params_.branching = std::max<uint32_t>(1, settings_.branching);
-  if (settings_.integrator == "direct") params_.max_depth = std::min<uint32_t>(params_.max_depth, 1);
+  if (row.max_depth_cap) params_.max_depth = std::min(params_.max_depth, row.max_depth_cap);
   params_.bdpt_s = settings_.bdpt_s;
   params_.bdpt_t = settings_.bdpt_t;
   params_.bdpt_unweighted = settings_.bdpt_unweighted ? 1u : 0u;
@@ -100,16 +100,14 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
                           ? settings_.ao_radius
                           : 0.1f * glm::length(scene.bounds().extent());
 
-  // Program from cache or source, then one empty pass: drivers such as PoCL compile the
+  // Program from cache or source, then a warm-up launch: drivers such as PoCL compile the
   // kernel for its work-group size at the first launch, which belongs to start-up, not to
   // the first pass's timing.
   t0 = Clock::now();
   integrator_ = make_integrator(
       settings_.integrator, ctx_, *scene_buffers_,
       IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons});
-  dev::RenderParams warmup = params_;
-  warmup.samples_per_pass = 0;
-  integrator_->render_pass(warmup, *film_);
+  integrator_->warm_up(params_, *film_);
   ctx_.finish();
   stats_.kernel_seconds = seconds_since(t0);
   stats_.kernel_from_cache = integrator_->build_info().from_cache;

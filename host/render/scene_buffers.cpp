@@ -110,35 +110,37 @@ FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& e
   return flat;
 }
 
+namespace {
+
+template <typename T>
+cl::Buffer upload(const cl::Context& ctx, const std::vector<T>& data, const char* what) {
+  const std::string name = std::string(what) + " buffer";
+  return cl::Buffer::from_vector(ctx, data, CL_MEM_READ_ONLY, name.c_str());
+}
+cl::Buffer upload(const cl::Context& ctx, const dev::SceneInfo& info, const char* what) {
+  return upload(ctx, std::vector<dev::SceneInfo>{info}, what);
+}
+
+}  // namespace
+
+#define CLPT_SCENE_UPLOAD(type, name, what) name##_(upload(ctx, flat.name, what)),
 SceneBuffers::SceneBuffers(const cl::Context& ctx, const FlatScene& flat)
-    : nodes_(cl::Buffer::from_vector(ctx, flat.nodes, CL_MEM_READ_ONLY, "BVH node buffer")),
-      triangles_(cl::Buffer::from_vector(ctx, flat.triangles, CL_MEM_READ_ONLY, "triangle buffer")),
-      vertices_(cl::Buffer::from_vector(ctx, flat.vertices, CL_MEM_READ_ONLY, "vertex buffer")),
-      vertex_extra_(cl::Buffer::from_vector(ctx, flat.vertex_extra, CL_MEM_READ_ONLY,
-                                            "vertex attribute buffer")),
-      materials_(cl::Buffer::from_vector(ctx, flat.materials, CL_MEM_READ_ONLY, "material buffer")),
-      textures_(cl::Buffer::from_vector(ctx, flat.textures, CL_MEM_READ_ONLY, "texture buffer")),
-      texels_(cl::Buffer::from_vector(ctx, flat.texels, CL_MEM_READ_ONLY, "texel buffer")),
-      lights_(cl::Buffer::from_vector(ctx, flat.lights, CL_MEM_READ_ONLY, "light buffer")),
-      triangle_light_(cl::Buffer::from_vector(ctx, flat.triangle_light, CL_MEM_READ_ONLY,
-                                              "triangle light buffer")),
-      env_texels_(cl::Buffer::from_vector(ctx, flat.env_texels, CL_MEM_READ_ONLY,
-                                          "environment map buffer")),
-      env_cdf_(cl::Buffer::from_vector(ctx, flat.env_cdf, CL_MEM_READ_ONLY,
-                                       "environment distribution buffer")),
-      info_(cl::Buffer::from_vector(ctx, std::vector<dev::SceneInfo>{flat.info}, CL_MEM_READ_ONLY,
-                                    "scene info buffer")),
-      num_lights_(static_cast<uint32_t>(flat.lights.size())) {}
+    : SCENE_ARRAYS(CLPT_SCENE_UPLOAD) num_lights_(static_cast<uint32_t>(flat.lights.size())) {}
+#undef CLPT_SCENE_UPLOAD
 
 cl_uint SceneBuffers::bind(cl::Kernel& kernel, cl_uint first) const {
-  return kernel.args(first, nodes_, triangles_, vertices_, vertex_extra_, materials_, textures_,
-                     texels_, lights_, triangle_light_, env_texels_, env_cdf_, info_);
+#define CLPT_SCENE_BIND(type, name, what) kernel.arg(first++, name##_);
+  SCENE_ARRAYS(CLPT_SCENE_BIND)
+#undef CLPT_SCENE_BIND
+  return first;
 }
 
 size_t SceneBuffers::device_bytes() const {
-  return nodes_.size() + triangles_.size() + vertices_.size() + vertex_extra_.size() +
-         materials_.size() + textures_.size() + texels_.size() + lights_.size() +
-         triangle_light_.size() + env_texels_.size() + env_cdf_.size() + info_.size();
+  size_t bytes = 0;
+#define CLPT_SCENE_BYTES(type, name, what) bytes += name##_.size();
+  SCENE_ARRAYS(CLPT_SCENE_BYTES)
+#undef CLPT_SCENE_BYTES
+  return bytes;
 }
 
 }  // namespace clpt

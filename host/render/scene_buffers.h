@@ -10,6 +10,7 @@
 #include "io/image.h"
 #include "render/light_table.h"
 #include "scene/scene.h"
+#include "shared/scene_arrays.h"
 #include "shared/scene_types.h"
 
 namespace clpt {
@@ -42,8 +43,8 @@ class SceneBuffers {
  public:
   SceneBuffers(const cl::Context& ctx, const FlatScene& flat);
 
-  // Binds the scene arguments in the order of SCENE_KERNEL_ARGS in
-  // kernels/core/scene_view.cl, starting at argument `first`; returns the next free index.
+  // Binds the scene arguments in the order of SCENE_ARRAYS (kernels/shared/scene_arrays.h,
+  // the kernels' SCENE_KERNEL_ARGS), starting at argument `first`; returns the next free index.
   cl_uint bind(cl::Kernel& kernel, cl_uint first = 0) const;
 
   uint32_t num_lights() const { return num_lights_; }
@@ -51,8 +52,9 @@ class SceneBuffers {
   size_t texture_bytes() const { return texels_.size() + textures_.size(); }
 
  private:
-  cl::Buffer nodes_, triangles_, vertices_, vertex_extra_, materials_, textures_, texels_, lights_,
-      triangle_light_, env_texels_, env_cdf_, info_;
+#define CLPT_SCENE_BUFFER(type, name, what) cl::Buffer name##_;
+  SCENE_ARRAYS(CLPT_SCENE_BUFFER)
+#undef CLPT_SCENE_BUFFER
   uint32_t num_lights_ = 0;
 };
 

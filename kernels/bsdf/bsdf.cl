@@ -13,7 +13,7 @@
 #define CLPT_BSDF_BSDF_CL
 
 #include "bsdf/gltf_bsdf.cl"
-#include "core/surface.cl"
+#include "geometry/surface.cl"
 
 /* Orients the hit's normals to wo's side (sh->front keeps the side the ray arrived from,
  * sh->flipped whether the normals now face the back). */

@@ -29,6 +29,7 @@
 #ifndef CLPT_BVH_INTERSECT_CL
 #define CLPT_BVH_INTERSECT_CL
 
+#include "core/hit.cl"
 #include "core/scene_view.cl"
 #include "material/alpha.cl"
 #include "shared/bvh_constants.h"
@@ -40,15 +41,6 @@
 #else
 #define CLPT_INLINE inline
 #endif
-
-/* A ray hit. triangle indexes the leaf-order triangle array; b1 and b2 are the barycentric
- * coordinates of its vertices v[1] and v[2] (v[0] has 1 - b1 - b2). */
-typedef struct Hit {
-  float t;
-  float b1;
-  float b2;
-  u32 triangle;
-} Hit;
 
 /* Per-ray constants of the watertight test: the axis kz where the direction is largest, the
  * other two axes (kx, ky) and the shear that maps the direction to (0, 0, 1). */

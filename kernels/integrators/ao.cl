@@ -4,6 +4,7 @@
  * shaded like any other surface. Camera rays that hit nothing give 0 (so objects stand out
  * against the background); occlusion rays that hit nothing count as unoccluded. */
 #include "bsdf/bsdf.cl"
+#include "bvh/intersect.cl"
 #include "camera/pixel_ray.cl"
 #include "core/ray.cl"
 #include "film/film.cl"
@@ -22,7 +23,7 @@ inline float ao_sample(const SceneView* s, __constant const RenderParams* p, con
   return intersect_any(s, offset_ray_origin(sh.p, sh.ng), wi, p->ao_radius) ? 0.0f : 1.0f;
 }
 
-__kernel void ao_render(SCENE_KERNEL_ARGS, __constant const RenderParams* params,
+__kernel void ao_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __global float4* film_sum, __global float4* film_sum_sq,
                         __global u32* ray_counts) {
   const u32 pixel = get_global_id(0);

@@ -9,9 +9,10 @@
  * index they add the rays they trace to ray_counts and the shadow rays of strategies
  * (connections: s = 1, t = 1 and inner ones) to connection_counts. */
 #include "integrators/bdpt/camera_path.cl"
+#include "integrators/bdpt/light_path.cl"
 #include "film/film.cl"
 
-__kernel void bdpt_light(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 sample_index,
+__kernel void bdpt_light(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 sample_index,
                          u32 path_offset, u32 path_count, __global PathVertex* vertices,
                          __global u32* vertex_counts, volatile __global u32* pool_count,
                          __global float4* splat,
@@ -29,7 +30,7 @@ __kernel void bdpt_light(SCENE_KERNEL_ARGS, __constant const RenderParams* param
   connection_counts[path] += connections;
 }
 
-__kernel void bdpt_camera(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 sample_index,
+__kernel void bdpt_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 sample_index,
                           u32 path_offset, u32 path_count, __global const PathVertex* vertices,
                           __global const u32* vertex_counts, __global const u32* pool_count,
                           __global float4* film_sum,

@@ -19,31 +19,10 @@
 #ifndef CLPT_INTEGRATORS_LIGHT_TRACE_CL
 #define CLPT_INTEGRATORS_LIGHT_TRACE_CL
 
-#include "bsdf/bsdf.cl"
 #include "camera/camera_importance.cl"
-#include "core/ray.cl"
-#include "integrators/russian_roulette.cl"
-#include "film/splat.cl"
+#include "integrators/stages/camera_splat.cl"
+#include "integrators/stages/walk.cl"
 #include "light/light.cl"
-#include "material/material.cl"
-#include "material/volume.cl"
-#include "sampler/sampler.cl"
-#include "shared/render_types.h"
-
-/* Veach's correction for shading normals on light paths, with the normal the BSDF shades
- * with (bsdf_frame: the shading normal, or the geometric one where wo is below it). */
-inline float lt_shading_correction(const SurfaceHit* sh, float3 wo, float3 wi) {
-  const BsdfFrame f = bsdf_frame(sh, wo);
-  const float den = fabs(dot(wo, sh->ng)) * fabs(dot(wi, f.n));
-  if (!(den > 0.0f)) return 0.0f;
-  return fabs(dot(wo, f.n)) * fabs(dot(wi, sh->ng)) / den;
-}
-
-/* The pixel a camera connection lands in. */
-inline u32 lt_pixel(__constant const RenderParams* p, const CameraConnection* c) {
-  const u32 x = min((u32)c->raster.x, p->width - 1u), y = min((u32)c->raster.y, p->height - 1u);
-  return y * p->width + x;
-}
 
 /* Connects surface vertex sh (oriented to wo, towards the light) to the camera and splats
  * beta * f * weight. */
@@ -53,12 +32,12 @@ inline void lt_connect_surface(__constant const RenderParams* p, const SceneView
   const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
   if (!c.valid) return;
   const float3 wi = c.wi; /* from the vertex towards the camera */
-  const float3 f = bsdf_eval_cos(sh, wo, wi, TRANSPORT_IMPORTANCE) * lt_shading_correction(sh, wo, wi);
+  const float3 f = bsdf_eval_cos(sh, wo, wi, TRANSPORT_IMPORTANCE) * shading_correction(sh, wo, wi);
   if (is_black(f)) return;
   ++*rays;
   const float3 org = offset_ray_origin_towards(sh->p, sh->ng, wi);
   if (intersect_any(s, org, wi, c.dist * (1.0f - 1e-4f))) return;
-  film_splat(splat, lt_pixel(p, &c), beta * f * c.weight);
+  film_splat(splat, splat_pixel(p, &c), beta * f * c.weight);
 }
 
 /* One light path. */
@@ -84,44 +63,23 @@ inline void lt_trace(__constant const RenderParams* p, const SceneView* s, const
       ++*rays;
       if (!intersect_any(s, offset_ray_origin_towards(e.p, ng, to_cam), to_cam,
                          c.dist * (1.0f - 1e-4f)))
-        film_splat(splat, lt_pixel(p, &c),
+        film_splat(splat, splat_pixel(p, &c),
                    e.Le * (fabs(dot(ng, to_cam)) * c.weight / (e.pdf_select * e.pdf_a)));
     }
     org = offset_ray_origin_towards(e.p, ng, e.dir);
   }
   if (p->max_depth == 0u) return;
-  /* The emitted flux of the path, then the BSDF weights (beta, which Russian roulette looks
-   * at like pt's throughput). */
+  /* The emitted flux of the path; the walk's beta holds the BSDF weights (which Russian
+   * roulette looks at like pt's throughput). */
   const float3 emitted = e.Le * (e.cos_light / (e.pdf_select * e.pdf_a * e.pdf_w));
-  float3 beta = (float3)(1.0f), dir = e.dir;
-  SurfaceHit prev; /* the vertex the ray left, for absorption inside a volume */
-  for (u32 depth = 1u;; ++depth) {
-    Hit hit;
-    ++*rays;
-    if (!intersect_closest(s, org, dir, INFINITY, &hit)) break;
-    /* Inside a KHR_materials_volume, as pt, bdpt and the photon tracer (lights are taken to
-     * lie outside every volume, so the first segment is not absorbed). */
-    if (depth > 1u) beta *= volume_transmittance(s, &prev, dir, hit.t);
-    SurfaceHit sh = surface_shade(s, &hit, org, dir);
-    const float3 wo = -dir;
-    bsdf_orient(&sh, wo);
-    if (bsdf_has_smooth_lobe(&sh))
-      lt_connect_surface(p, s, &sh, wo, emitted * beta,
-                         sample_2d(sampler, bounce_dim(depth, DIM_LT_LENS)), splat, rays);
-    if (depth >= p->max_depth) break;
-    const BsdfSample bs =
-        bsdf_sample(&sh, wo, sample_2d(sampler, bounce_dim(depth, DIM_BSDF_DIR)),
-                    sample_1d(sampler, bounce_dim(depth, DIM_BSDF_LOBE)), TRANSPORT_IMPORTANCE);
-    if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
-    beta *= bs.weight * lt_shading_correction(&sh, wo, bs.wi);
-    if (depth + 1u >= p->rr_depth) {
-      const float survive = rr_survival(p, beta);
-      if (!(sample_1d(sampler, bounce_dim(depth, DIM_RR)) < survive)) break;
-      beta /= survive;
-    }
-    prev = sh;
-    org = offset_ray_origin_towards(sh.p, sh.ng, bs.wi);
-    dir = bs.wi;
+  PathWalk w = walk_from_light(e.p, org, e.dir, (float3)(1.0f), 0u, WALK_RR_PATH);
+  while (walk_next(s, &w, rays)) {
+    if (bsdf_has_smooth_lobe(&w.sh))
+      lt_connect_surface(p, s, &w.sh, w.wo, emitted * w.beta,
+                         sample_2d(sampler, walk_dim(&w, DIM_LT_LENS)), splat, rays);
+    if (w.depth >= p->max_depth) break;
+    const BsdfSample bs = walk_sample_bsdf(sampler, &w);
+    if (!walk_scatter(p, s, sampler, &w, &bs)) break;
   }
 }
 

@@ -5,7 +5,7 @@
  * (film/splat.cl); ray counts stay with the work-item's virtual pixel. */
 #include "integrators/light_trace.cl"
 
-__kernel void lt_render(SCENE_KERNEL_ARGS, __constant const RenderParams* params,
+__kernel void lt_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __global float4* splat, __global u32* ray_counts) {
   const u32 path = get_global_id(0);
   if (path >= params->width * params->height) return;

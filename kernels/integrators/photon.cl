@@ -6,7 +6,7 @@
  * sample index params->sample_offset (one per photon pass). */
 #include "integrators/photon/photon_trace.cl"
 
-__kernel void photon_emit(SCENE_KERNEL_ARGS, __constant const RenderParams* params,
+__kernel void photon_emit(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                           u32 first_path, u32 path_count, float inv_paths, u32 store,
                           __global Photon* photons, u32 offset, volatile __global u32* count,
                           u32 capacity, volatile __global u32* ray_count) {

@@ -5,7 +5,7 @@
 #include "film/film.cl"
 #include "integrators/photon/pm_radiance.cl"
 
-__kernel void pm_render(SCENE_KERNEL_ARGS, __constant const RenderParams* params,
+__kernel void pm_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __global const KdNode* global_nodes, __global const Photon* global_photons,
                         u32 global_count, __global const KdNode* caustic_nodes,
                         __global const Photon* caustic_photons, u32 caustic_count,

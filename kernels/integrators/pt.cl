@@ -3,7 +3,7 @@
 #include "film/film.cl"
 #include "integrators/path_trace.cl"
 
-__kernel void pt_render(SCENE_KERNEL_ARGS, __constant const RenderParams* params,
+__kernel void pt_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __global float4* film_sum, __global float4* film_sum_sq,
                         __global u32* ray_counts) {
   const u32 pixel = get_global_id(0);

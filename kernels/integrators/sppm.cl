@@ -1,6 +1,6 @@
 /* Stochastic progressive photon mapping (Hachisuka and Jensen 2009), --integrator sppm.
  * One pass per sample index: the host emits the pass's photons (photon.cl, first hits not
- * stored: direct light is NEE's), sppm_grid_insert hashes them (kernels/photon/hash_grid.cl),
+ * stored: direct light is NEE's), sppm_grid_insert hashes them (kernels/spatial/hash_grid.cl),
  * then sppm_pass traces each pixel's camera ray to its visible point (through delta
  * scatterings, kernels/integrators/photon/visible_point.cl), adds emission and direct light
  * to the pixel's sum, and gathers the photons within the pixel's radius R:
@@ -12,8 +12,8 @@
  * K times that into the film's sum, so the film resolves it like any other. */
 #include "camera/pixel_ray.cl"
 #include "integrators/photon/visible_point.cl"
-#include "photon/density.cl"
-#include "photon/hash_grid.cl"
+#include "integrators/photon/density.cl"
+#include "spatial/hash_grid.cl"
 
 __kernel void sppm_grid_insert(__global const Photon* photons, u32 count, float inv_cell, u32 mask,
                                volatile __global u32* heads, __global u32* next) {
@@ -57,7 +57,7 @@ inline float3 sppm_gather(__global const Photon* photons, __global const u32* he
 }
 
 /* pixel_count: width x height, or 0 for the host's warm-up launch. */
-__kernel void sppm_pass(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 pixel_count,
+__kernel void sppm_pass(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 pixel_count,
                         u32 sample,
                         __global const Photon* photons, __global const u32* heads,
                         __global const u32* next, float inv_cell, u32 mask,

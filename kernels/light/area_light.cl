@@ -4,7 +4,7 @@
 #ifndef CLPT_LIGHT_AREA_LIGHT_CL
 #define CLPT_LIGHT_AREA_LIGHT_CL
 
-#include "core/surface.cl"
+#include "geometry/surface.cl"
 #include "core/warp.cl"
 #include "light/light_types.cl"
 #include "material/material.cl"
@@ -21,10 +21,13 @@ inline bool area_light_faces(const SceneView* s, u32 material, float3 ng, float3
   return (s->materials[material].flags & MATERIAL_DOUBLE_SIDED) || dot(ng, w) > 0.0f;
 }
 
-/* Radiance a ray sees when it hits the surface sh, leaving towards wo (sh->emission is
- * resolved at the hit point, textures included). */
+/* Radiance a ray sees when it hits the surface sh, leaving towards wo = the ray's -dir
+ * (sh->emission is resolved at the hit point, textures included). The side is the one the
+ * ray arrived on (sh->front, from surface_at), so the answer does not depend on whether
+ * bsdf_orient has turned the normals to wo yet: dot(ng, wo) > 0 is sh->front exactly. */
 inline float3 area_light_radiance(const SceneView* s, const SurfaceHit* sh, float3 wo) {
-  if (is_black(sh->emission) || !area_light_faces(s, sh->material, sh->ng, wo)) return (float3)(0.0f);
+  if (is_black(sh->emission)) return (float3)(0.0f);
+  if (!sh->front && !(s->materials[sh->material].flags & MATERIAL_DOUBLE_SIDED)) return (float3)(0.0f);
   return sh->emission;
 }
 

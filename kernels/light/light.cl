@@ -13,6 +13,7 @@
 #ifndef CLPT_LIGHT_LIGHT_CL
 #define CLPT_LIGHT_LIGHT_CL
 
+#include "bvh/intersect.cl"
 #include "core/ray.cl"
 #include "light/area_light.cl"
 #include "light/environment.cl"

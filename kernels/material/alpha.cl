@@ -8,7 +8,7 @@
 #ifndef CLPT_MATERIAL_ALPHA_CL
 #define CLPT_MATERIAL_ALPHA_CL
 
-#include "core/vertex_attributes.cl"
+#include "geometry/vertex_attributes.cl"
 #include "texture/texture.cl"
 
 /* The material alpha at a point of a triangle. */

@@ -4,8 +4,8 @@
 #ifndef CLPT_MATERIAL_MATERIAL_CL
 #define CLPT_MATERIAL_MATERIAL_CL
 
-#include "core/surface.cl"
-#include "core/vertex_attributes.cl"
+#include "geometry/surface.cl"
+#include "geometry/vertex_attributes.cl"
 #include "texture/texture.cl"
 
 /* Emitted radiance of material m at the given UVs (front side): emissiveFactor x

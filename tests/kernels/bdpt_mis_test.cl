@@ -1,5 +1,5 @@
 /* Kernels for tests/bdpt_mis_test.cpp: BDPT's recursive MIS weights
- * (kernels/integrators/bdpt/mis.cl) against the weights computed from whole-path densities.
+ * (kernels/integrators/stages/vertex_mis.cl) against the weights computed from whole-path densities.
  *
  * Each work-item samples one complete path x0 ... xm by BSDF sampling from the camera
  * (x0 the pinhole, xm the first front-face emitter hit, every vertex with a non-delta lobe,
@@ -26,7 +26,7 @@
 #include "bsdf/bsdf.cl"
 #include "camera/camera_importance.cl"
 #include "core/ray.cl"
-#include "integrators/bdpt/mis.cl"
+#include "integrators/stages/vertex_mis.cl"
 #include "light/light.cl"
 #include "material/material.cl"
 #include "sampler/sampler.cl"
@@ -105,7 +105,7 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
   }
 }
 
-__kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS, __constant const RenderParams* params, u32 n,
+__kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 n,
                              __global float* rec_out, __global float* rec_raw_out,
                              __global float* pcam_out,
                              __global float* plight_out, __global int* meta) {

@@ -14,7 +14,7 @@ __kernel void bvh_closest(__global const BvhNode* nodes, __global const Triangle
                           __global const float4* ray_dir, __global float4* out, u32 n) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
-  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0);
+  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
   const float4 d = ray_dir[i];
   Hit h;
   const bool found = intersect_closest(&s, ray_org[i].xyz, d.xyz, d.w, &h);
@@ -26,7 +26,7 @@ __kernel void bvh_any(__global const BvhNode* nodes, __global const Triangle* tr
                       __global const float4* ray_dir, __global int* out, u32 n) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
-  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0);
+  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
   const float4 d = ray_dir[i];
   out[i] = intersect_any(&s, ray_org[i].xyz, d.xyz, d.w) ? 1 : 0;
 }
@@ -38,7 +38,7 @@ __kernel void brute_closest(__global const BvhNode* nodes, __global const Triang
                             u32 num_triangles) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
-  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0);
+  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
   const float4 d = ray_dir[i];
   const TriangleRay r = triangle_ray(ray_org[i].xyz, d.xyz);
   Hit h;
@@ -66,7 +66,7 @@ __kernel void spawn_and_trace(__global const BvhNode* nodes, __global const Tria
                               __global const float4* sample, __global float4* out, u32 n) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
-  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0);
+  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
   const Triangle T = triangles[tri[i]];
   const float3 p0 = vertex_position(&s, T.v[0]), p1 = vertex_position(&s, T.v[1]),
                p2 = vertex_position(&s, T.v[2]);

@@ -29,7 +29,7 @@ inline float pdf_by_tracing(const SceneView* s, float3 p, float3 w) {
  * out_check.x = the same light's density for wi found independently (light_pdf_w after a
  * traced hit of that light's triangle, light_env_pdf_w for the environment; -1 for delta
  * lights and for a triangle sample whose ray hits another triangle first). */
-__kernel void light_illuminate_samples(SCENE_KERNEL_ARGS, float4 p4, uint seed,
+__kernel void light_illuminate_samples(SCENE_KERNEL_ARGS float4 p4, uint seed,
                                        __global float4* out_dir, __global float4* out_le,
                                        __global float* out_check, uint n) {
   const uint i = get_global_id(0);
@@ -59,7 +59,7 @@ __kernel void light_illuminate_samples(SCENE_KERNEL_ARGS, float4 p4, uint seed,
 }
 
 /* The density of light_illuminate from p at each direction (for the chi-square grid). */
-__kernel void light_pdf_at(SCENE_KERNEL_ARGS, float4 p4, __global const float4* dirs,
+__kernel void light_pdf_at(SCENE_KERNEL_ARGS float4 p4, __global const float4* dirs,
                            __global float* out, uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;
@@ -69,7 +69,7 @@ __kernel void light_pdf_at(SCENE_KERNEL_ARGS, float4 p4, __global const float4* 
 
 /* Emitted rays: out = (Le * cos_light / (pdf_a * pdf_w * pdf_select) as RGB, light index),
  * whose mean over the samples of light i is light i's radiant power. out_ray = (dir, 0). */
-__kernel void light_emit_samples(SCENE_KERNEL_ARGS, uint seed, __global float4* out,
+__kernel void light_emit_samples(SCENE_KERNEL_ARGS uint seed, __global float4* out,
                                  __global float4* out_dir, uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;
@@ -85,7 +85,7 @@ __kernel void light_emit_samples(SCENE_KERNEL_ARGS, uint seed, __global float4* 
 }
 
 /* env_radiance for a batch of directions (tests of the mapping). */
-__kernel void env_radiance_at(SCENE_KERNEL_ARGS, __global const float4* dirs,
+__kernel void env_radiance_at(SCENE_KERNEL_ARGS __global const float4* dirs,
                               __global float4* out, uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;

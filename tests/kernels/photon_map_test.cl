@@ -1,7 +1,7 @@
 /* Kernels for tests/photon_map_test.cpp: the photon kd-tree's kNN search
- * (kernels/photon/kdtree.cl) and the SPPM hash grid (kernels/photon/hash_grid.cl). */
-#include "photon/hash_grid.cl"
-#include "photon/kdtree.cl"
+ * (kernels/spatial/kdtree.cl) and the SPPM hash grid (kernels/spatial/hash_grid.cl). */
+#include "spatial/hash_grid.cl"
+#include "spatial/kdtree.cl"
 #include "shared/render_types.h"
 
 /* kd_knn for query point queries[i].xyz with max_r2 = queries[i].w; its heap (in heap

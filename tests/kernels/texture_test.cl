@@ -1,10 +1,11 @@
 /* Thin wrappers around texture/texture.cl, material/material.cl and the alpha test of
  * bvh/intersect.cl for tests/texture_test.cpp and tests/material_test.cpp. Every kernel takes
  * the scene arguments first (SceneBuffers::bind). */
+#include "bvh/intersect.cl"
 #include "material/material.cl"
 
 /* out[i] = texture_sample(texture, uv[i]) (srgb: decoded). */
-__kernel void texture_lookup(SCENE_KERNEL_ARGS, int texture, u32 srgb, __global const float2* uv,
+__kernel void texture_lookup(SCENE_KERNEL_ARGS int texture, u32 srgb, __global const float2* uv,
                              __global float4* out, u32 n) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
@@ -20,7 +21,7 @@ __kernel void srgb_formula(__global const float* in, __global float* out, u32 n)
 }
 
 /* out[i] = the UV that slot `slot` of material `material` reads for (uv0[i], uv1[i]). */
-__kernel void slot_uv(SCENE_KERNEL_ARGS, u32 material, u32 slot, __global const float4* uvs,
+__kernel void slot_uv(SCENE_KERNEL_ARGS u32 material, u32 slot, __global const float4* uvs,
                       __global float2* out, u32 n) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
@@ -30,7 +31,7 @@ __kernel void slot_uv(SCENE_KERNEL_ARGS, u32 material, u32 slot, __global const 
 
 /* Traces ray i (origin, direction) and resolves its material. Per ray, 5 float4s out:
  * (hit, t, uv1), base colour + alpha-free, shading normal, emission, material_emission_at. */
-__kernel void resolve_rays(SCENE_KERNEL_ARGS, __global const float4* org, __global const float4* dir,
+__kernel void resolve_rays(SCENE_KERNEL_ARGS __global const float4* org, __global const float4* dir,
                            __global float4* out, u32 n) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
@@ -50,7 +51,7 @@ __kernel void resolve_rays(SCENE_KERNEL_ARGS, __global const float4* org, __glob
 }
 
 /* Closest-hit and any-hit answers for ray i: out[2i] = closest hit?, out[2i+1] = any hit?. */
-__kernel void alpha_rays(SCENE_KERNEL_ARGS, __global const float4* org, __global const float4* dir,
+__kernel void alpha_rays(SCENE_KERNEL_ARGS __global const float4* org, __global const float4* dir,
                          __global int* out, u32 n) {
   const u32 i = get_global_id(0);
   if (i >= n) return;

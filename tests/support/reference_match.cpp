@@ -20,7 +20,7 @@ std::vector<Image> render_batches(const Scene& scene, RenderSettings settings, u
     const FilmResult f = Renderer(device_context(), scene, settings).render().film;
     EXPECT_EQ(f.samples_per_pixel, settings.spp) << "seed " << settings.seed;
     EXPECT_EQ(f.dropped_samples, 0u) << "seed " << settings.seed;
-    EXPECT_EQ(f.variance_available, integrator_sums_samples(settings.integrator));
+    EXPECT_EQ(f.variance_available, integrator_info(settings.integrator).film == FilmKind::SampleSums);
     batches.push_back(f.mean);
   }
   return batches;

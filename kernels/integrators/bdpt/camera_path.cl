@@ -5,12 +5,17 @@
  *   s = 1   next-event estimation: a fresh light sample,
  *   s >= 2  a connection to light vertex y_(s-1) of the light subpath with the same key,
  * each for paths of at most max_depth bounces (s + t - 2 <= max_depth), weighted by
- * kernels/integrators/bdpt/mis.cl. */
+ * kernels/integrators/stages/vertex_mis.cl. */
 #ifndef CLPT_INTEGRATORS_BDPT_CAMERA_PATH_CL
 #define CLPT_INTEGRATORS_BDPT_CAMERA_PATH_CL
 
+#include "camera/camera_importance.cl"
 #include "camera/pixel_ray.cl"
-#include "integrators/bdpt/light_path.cl"
+#include "integrators/stages/path_vertex.cl"
+#include "integrators/stages/shading_correction.cl"
+#include "integrators/stages/vertex_mis.cl"
+#include "integrators/stages/walk.cl"
+#include "light/light.cl"
 
 /* s = 1 at camera vertex sh (oriented to wo), k = its index. */
 inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, const Sampler* sampler,
@@ -52,7 +57,7 @@ inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s,
   const float3 f_cam = bsdf_eval_cos(sh, wo, dir, TRANSPORT_RADIANCE);
   if (is_black(f_cam)) return (float3)(0.0f);
   const float3 f_light =
-      bsdf_eval_cos(&y, y_wo, -dir, TRANSPORT_IMPORTANCE) * lt_shading_correction(&y, y_wo, -dir);
+      bsdf_eval_cos(&y, y_wo, -dir, TRANSPORT_IMPORTANCE) * shading_correction(&y, y_wo, -dir);
   if (is_black(f_light)) return (float3)(0.0f);
   SubpathState ls;
   ls.beta = vload3(0, v->beta);
@@ -87,70 +92,58 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
                                u32* connections) {
   float3 org, dir;
   pixel_ray(p, sampler, x, y, &org, &dir);
-  float3 from = org;
   SubpathState st;
   st.beta = (float3)(1.0f);
   st.dvcm = bdpt_mis(p, 1.0f / camera_ray_pdf_w(&p->camera, dir));
   st.dvc = 0.0f;
   st.dvm = 0.0f;
   float3 L = (float3)(0.0f);
-  float3 walk = (float3)(1.0f); /* BSDF weights alone, for Russian roulette as in pt */
-  SurfaceHit prev;
-  for (u32 k = 1u;; ++k) {
-    Hit hit;
-    ++*rays;
-    if (!intersect_closest(s, org, dir, INFINITY, &hit)) {
+  PathWalk w = walk_from_camera(org, dir, 0u, 0u);
+  for (;;) {
+    const u32 k = w.depth + 1u; /* the vertex's index on the camera subpath */
+    if (!walk_next(s, &w, rays)) {
       /* s = 0 through the environment; seen directly it has no other strategy. */
       if (env_present(s)) {
-        const LightPdfs q = light_pdfs_env(s, dir);
-        const float w = k == 1u ? 1.0f : bdpt_weight_hit_light(p, &st, q.direct, q.emit_w);
-        L += st.beta * env_radiance(s, dir) * bdpt_strategy_weight(p, 0u, k + 1u, w);
+        const LightPdfs q = light_pdfs_env(s, w.dir);
+        const float w_env = k == 1u ? 1.0f : bdpt_weight_hit_light(p, &st, q.direct, q.emit_w);
+        L += w.beta * env_radiance(s, w.dir) * bdpt_strategy_weight(p, 0u, k + 1u, w_env);
       }
       break;
     }
-    if (k > 1u) st.beta *= volume_transmittance(s, &prev, dir, hit.t);
-    SurfaceHit sh = surface_shade(s, &hit, org, dir);
-    const float3 wo = -dir;
-    const float cos_in = fabs(dot(sh.ng, wo));
-    bdpt_mis_arrive(p, &st, distance(sh.p, from), cos_in, 1); /* vertex to vertex */
+    st.beta = w.beta;
+    const SurfaceHit* sh = &w.sh;
+    const float3 wo = w.wo;
+    const float cos_in = fabs(dot(sh->ng, wo));
+    bdpt_mis_arrive(p, &st, distance(sh->p, w.from), cos_in, 1); /* vertex to vertex */
     /* s = 0: an emitter hit; seen directly (k = 1) it has weight 1 (s = 1, t = 1 is left out). */
-    const float3 Le = light_radiance(s, &sh, wo);
+    const float3 Le = light_radiance(s, sh, wo);
     if (!is_black(Le)) {
-      float w = 1.0f;
+      float w_hit = 1.0f;
       if (k > 1u) {
-        const LightPdfs q = light_pdfs_area(s, sh.triangle, cos_in);
-        w = bdpt_weight_hit_light(p, &st, q.direct, q.emit_w);
+        const LightPdfs q = light_pdfs_area(s, sh->triangle, cos_in);
+        w_hit = bdpt_weight_hit_light(p, &st, q.direct, q.emit_w);
       }
-      L += st.beta * Le * bdpt_strategy_weight(p, 0u, k + 1u, w);
+      L += st.beta * Le * bdpt_strategy_weight(p, 0u, k + 1u, w_hit);
     }
     if (k > p->max_depth) break;
-    bsdf_orient(&sh, wo);
-    if (bsdf_has_smooth_lobe(&sh)) {
-      L += st.beta * bdpt_nee(p, s, sampler, &sh, wo, &st, k, rays, connections);
+    if (bsdf_has_smooth_lobe(sh)) {
+      L += st.beta * bdpt_nee(p, s, sampler, sh, wo, &st, k, rays, connections);
       if (p->bdpt_lvc == 0u) {
         for (u32 i = 0u; i < count; ++i)
-          L += st.beta * bdpt_connect(p, s, &sh, wo, &st, k, lv + i, rays, connections);
+          L += st.beta * bdpt_connect(p, s, sh, wo, &st, k, lv + i, rays, connections);
       } else if (count > 0u) {
         float3 cached = (float3)(0.0f);
         for (u32 m = 0u; m < p->bdpt_lvc; ++m) {
           const float u = sample_1d(sampler, stream_dim(bounce_dim(k - 1u, DIM_LVC_PICK), m));
           const u32 i = min((u32)(u * (float)count), count - 1u);
-          cached += bdpt_connect(p, s, &sh, wo, &st, k, lv + i, rays, connections);
+          cached += bdpt_connect(p, s, sh, wo, &st, k, lv + i, rays, connections);
         }
         L += st.beta * cached * ((float)count / ((float)p->bdpt_lvc * (float)paths));
       }
     }
-    const BsdfSample bs =
-        bsdf_sample(&sh, wo, sample_2d(sampler, bounce_dim(k - 1u, DIM_BSDF_DIR)),
-                    sample_1d(sampler, bounce_dim(k - 1u, DIM_BSDF_LOBE)), TRANSPORT_RADIANCE);
-    if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
-    if (!bdpt_scatter(p, &st, &walk, &sh, wo, &bs, bs.weight, k >= p->rr_depth,
-                      sample_1d(sampler, bounce_dim(k - 1u, DIM_RR))))
-      break;
-    prev = sh;
-    from = sh.p;
-    org = offset_ray_origin_towards(sh.p, sh.ng, bs.wi);
-    dir = bs.wi;
+    const BsdfSample bs = walk_sample_bsdf(sampler, &w);
+    if (!walk_scatter(p, s, sampler, &w, &bs)) break;
+    bdpt_mis_scatter_sample(p, &st, &w.sh, w.wo, &bs);
   }
   return L;
 }

@@ -1,6 +1,6 @@
 /* BDPT's light subpath (Veach 1997 ch. 10; Georgiev 2012): traced from a light like the
  * light tracer's paths (kernels/integrators/light_trace.cl), with the MIS state of
- * kernels/integrators/bdpt/mis.cl. Each surface vertex y_k with a non-delta BSDF
+ * kernels/integrators/stages/vertex_mis.cl. Each surface vertex y_k with a non-delta BSDF
  *   - connects to the camera (strategy s = k + 1, t = 1) and splats its weighted share, and
  *   - is stored for the camera kernel's connections when k < max_depth (the strategies
  *     s = k + 1, t >= 2 need at most max_depth bounces: s + t - 2 <= max_depth).
@@ -13,9 +13,12 @@
 #ifndef CLPT_INTEGRATORS_BDPT_LIGHT_PATH_CL
 #define CLPT_INTEGRATORS_BDPT_LIGHT_PATH_CL
 
-#include "integrators/bdpt/mis.cl"
-#include "integrators/light_trace.cl"
-#include "material/volume.cl"
+#include "camera/camera_importance.cl"
+#include "integrators/stages/camera_splat.cl"
+#include "integrators/stages/path_vertex.cl"
+#include "integrators/stages/vertex_mis.cl"
+#include "integrators/stages/walk.cl"
+#include "light/light.cl"
 
 inline float bdpt_light_sample_1d(const Sampler* sampler, u32 dim) {
   return sample_1d(sampler, stream_dim(dim, DIM_BDPT_LIGHT_STREAM));
@@ -33,7 +36,7 @@ inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneVie
   if (strategy == 0.0f) return;
   const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
   if (!c.valid) return;
-  const float3 f = bsdf_eval_cos(sh, wo, c.wi, TRANSPORT_IMPORTANCE) * lt_shading_correction(sh, wo, c.wi);
+  const float3 f = bsdf_eval_cos(sh, wo, c.wi, TRANSPORT_IMPORTANCE) * shading_correction(sh, wo, c.wi);
   if (is_black(f)) return;
   const float camera_pdf_a = c.pdf_w * fabs(dot(sh->ng, c.wi)) / (c.dist * c.dist);
   const float rev = bsdf_pdf_w(sh, c.wi, wo);
@@ -42,7 +45,7 @@ inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneVie
   ++*connections;
   const float3 org = offset_ray_origin_towards(sh->p, sh->ng, c.wi);
   if (intersect_any(s, org, c.wi, c.dist * (1.0f - 1e-4f))) return;
-  film_splat(splat, lt_pixel(p, &c), st->beta * f * (c.weight * w));
+  film_splat(splat, splat_pixel(p, &c), st->beta * f * (c.weight * w));
 }
 
 /* Traces one light subpath and stores its connectable vertices: in `out` (capacity
@@ -65,44 +68,28 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
   st.dvc = (e.is_delta_pos || e.is_delta_dir) ? 0.0f : bdpt_mis(p, q.cos_light / q.emit_w);
   st.dvm = 0.0f;
 
-  float3 org = light_emission_origin(s, &e), dir = e.dir, from = e.p;
+  PathWalk w = walk_from_light(e.p, light_emission_origin(s, &e), e.dir, st.beta,
+                               DIM_BDPT_LIGHT_STREAM, WALK_RR_PATH);
   u32 stored = 0u;
-  float3 walk = (float3)(1.0f); /* the BSDF weights alone, which Russian roulette looks at */
-  SurfaceHit prev;
-  for (u32 depth = 1u; depth <= p->max_depth; ++depth) {
-    Hit hit;
-    ++*rays;
-    if (!intersect_closest(s, org, dir, INFINITY, &hit)) break;
-    if (depth > 1u) st.beta *= volume_transmittance(s, &prev, dir, hit.t);
-    SurfaceHit sh = surface_shade(s, &hit, org, dir);
-    const float3 wo = -dir;
+  while (w.depth <= p->max_depth && walk_next(s, &w, rays)) {
+    const u32 depth = w.depth;
+    st.beta = w.beta;
     /* Distances between the vertices, not the ray's t from its offset origin: the
      * connection weights measure edges between vertices too (tests/bdpt_mis_test.cpp). */
-    bdpt_mis_arrive(p, &st, distance(sh.p, from), fabs(dot(sh.ng, wo)), depth > 1u || q.finite);
-    bsdf_orient(&sh, wo);
-    if (bsdf_has_smooth_lobe(&sh)) {
+    bdpt_mis_arrive(p, &st, distance(w.sh.p, w.from), fabs(dot(w.sh.ng, w.wo)), depth > 1u || q.finite);
+    if (bsdf_has_smooth_lobe(&w.sh)) {
       if (depth < p->max_depth && stored < p->light_vertex_capacity) {
         ++stored;
-        if (p->bdpt_lvc) path_vertex_store(pool + atomic_inc(pool_count), &sh, wo, &st, depth);
-        else path_vertex_store(out + stored - 1u, &sh, wo, &st, depth);
+        if (p->bdpt_lvc) path_vertex_store(pool + atomic_inc(pool_count), &w.sh, w.wo, &st, depth);
+        else path_vertex_store(out + stored - 1u, &w.sh, w.wo, &st, depth);
       }
-      bdpt_connect_camera(p, s, &sh, wo, &st, depth,
-                          bdpt_light_sample_2d(sampler, bounce_dim(depth, DIM_LT_LENS)), splat, rays,
-                          connections);
+      bdpt_connect_camera(p, s, &w.sh, w.wo, &st, depth,
+                          sample_2d(sampler, walk_dim(&w, DIM_LT_LENS)), splat, rays, connections);
     }
     if (depth >= p->max_depth) break;
-    const BsdfSample bs =
-        bsdf_sample(&sh, wo, bdpt_light_sample_2d(sampler, bounce_dim(depth, DIM_BSDF_DIR)),
-                    bdpt_light_sample_1d(sampler, bounce_dim(depth, DIM_BSDF_LOBE)), TRANSPORT_IMPORTANCE);
-    if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) break;
-    if (!bdpt_scatter(p, &st, &walk, &sh, wo, &bs, bs.weight * lt_shading_correction(&sh, wo, bs.wi),
-                      depth + 1u >= p->rr_depth,
-                      bdpt_light_sample_1d(sampler, bounce_dim(depth, DIM_RR))))
-      break;
-    prev = sh;
-    from = sh.p;
-    org = offset_ray_origin_towards(sh.p, sh.ng, bs.wi);
-    dir = bs.wi;
+    const BsdfSample bs = walk_sample_bsdf(sampler, &w);
+    if (!walk_scatter(p, s, sampler, &w, &bs)) break;
+    bdpt_mis_scatter_sample(p, &st, &w.sh, w.wo, &bs);
   }
   return stored;
 }

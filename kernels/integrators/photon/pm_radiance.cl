@@ -9,7 +9,7 @@
  *                   with --final-gather 0, the global map's photons at x itself that are not
  *                   direct (bounce >= 2) and not caustic.
  * Each photon path class is counted once. The estimates are k-nearest-neighbour ones
- * (kernels/photon/kdtree.cl, --knn, --pm-max-radius) with the --pm-filter kernel. A vertex
+ * (kernels/spatial/kdtree.cl, --knn, --pm-max-radius) with the --pm-filter kernel. A vertex
  * with both delta and non-delta lobes (a roughness-0 coat on a diffuse base) reflects only
  * emitters through its delta lobe: gather rays that pick it are dropped (they would need
  * a second visible point). */
@@ -17,8 +17,8 @@
 #define CLPT_INTEGRATORS_PHOTON_PM_RADIANCE_CL
 
 #include "integrators/photon/visible_point.cl"
-#include "photon/density.cl"
-#include "photon/kdtree.cl"
+#include "integrators/photon/density.cl"
+#include "spatial/kdtree.cl"
 
 typedef struct PhotonMap {
   __global const KdNode* nodes; /* heap-ordered kd-tree over photons */

@@ -19,15 +19,15 @@
 #ifndef CLPT_INTEGRATORS_PHOTON_VISIBLE_POINT_CL
 #define CLPT_INTEGRATORS_PHOTON_VISIBLE_POINT_CL
 
-#include "integrators/path_trace.cl"
-#include "photon/glossy.cl"
+#include "integrators/photon/glossy.cl"
+#include "integrators/stages/direct_light.cl"
+#include "integrators/stages/walk.cl"
 
 typedef struct VisiblePoint {
   SurfaceHit sh;  /* normals oriented to wo */
   float3 wo;
   float3 beta;     /* throughput from the ray's origin to here */
   float3 L;        /* emission found on the way, weighted by the throughput */
-  float distance;  /* length of the path from the ray's origin */
   u32 depth;       /* bounces before this vertex */
 } VisiblePoint;
 
@@ -41,51 +41,30 @@ inline int photon_visible_point(__constant const RenderParams* p, const SceneVie
                                 VisiblePoint* vp) {
   vp->beta = (float3)(1.0f);
   vp->L = (float3)(0.0f);
-  vp->distance = 0.0f;
-  SurfaceHit prev;
-  const int has_prev = from != 0;
-  if (has_prev) prev = *from;
-  /* The last scattering's density and whether it was a delta one (emission weights). */
-  float last_pdf = 1.0f;
-  int last_delta = 1;
-  for (u32 k = 0;; ++k) {
-    Hit hit;
-    ++*rays;
-    if (!intersect_closest(s, org, dir, INFINITY, &hit)) {
-      if (add_emission) vp->L += vp->beta * pt_emission_escaped(p, s, dir, last_pdf, last_delta);
+  PathWalk w = walk_from_ray(from ? from->p : org, org, dir, (float3)(1.0f),
+                             from ? volume_medium(s, from, dir) : MEDIUM_NONE, depth, stream,
+                             TRANSPORT_RADIANCE, WALK_RR_PATH);
+  for (;;) {
+    if (!walk_next(s, &w, rays)) {
+      if (add_emission) vp->L += w.beta * nee_emission_escaped(p, s, w.dir, w.pdf_w, w.delta);
       return 0;
     }
-    if (k > 0u || has_prev) vp->beta *= volume_transmittance(s, &prev, dir, hit.t);
-    vp->distance += hit.t;
-    vp->sh = surface_shade(s, &hit, org, dir);
-    vp->wo = -dir;
     if (add_emission)
-      vp->L += vp->beta * pt_emission_by_scattering(p, s, &vp->sh, vp->wo, hit.t, last_pdf, last_delta);
-    if (depth >= p->max_depth) return 0;
-    bsdf_orient(&vp->sh, vp->wo);
-    vp->depth = depth;
-    const int glossy = photon_glossy(&vp->sh);
-    if (bsdf_has_smooth_lobe(&vp->sh) && !glossy) return 1;
-    if (glossy && add_emission)
-      vp->L += vp->beta * pt_direct(p, s, sampler, &vp->sh, vp->wo,
-                                    offset_ray_origin(vp->sh.p, vp->sh.ng), depth, stream, rays);
-    const BsdfSample bs = bsdf_sample(
-        &vp->sh, vp->wo, sample_2d(sampler, stream_dim(bounce_dim(depth, DIM_BSDF_DIR), stream)),
-        sample_1d(sampler, stream_dim(bounce_dim(depth, DIM_BSDF_LOBE), stream)),
-        TRANSPORT_RADIANCE);
-    if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) return 0;
-    vp->beta *= bs.weight;
-    last_pdf = bs.pdf_w;
-    last_delta = bs.is_delta;
-    if (depth + 1u >= p->rr_depth) {
-      const float survive = rr_survival(p, vp->beta);
-      if (!(sample_1d(sampler, stream_dim(bounce_dim(depth, DIM_RR), stream)) < survive)) return 0;
-      vp->beta /= survive;
+      vp->L += w.beta * nee_emission_hit(p, s, &w.sh, w.wo, w.hit.t, w.pdf_w, w.delta);
+    if (w.depth >= p->max_depth) return 0;
+    const int glossy = photon_glossy(&w.sh);
+    if (bsdf_has_smooth_lobe(&w.sh) && !glossy) {
+      vp->sh = w.sh;
+      vp->wo = w.wo;
+      vp->beta = w.beta;
+      vp->depth = w.depth;
+      return 1;
     }
-    prev = vp->sh;
-    org = offset_ray_origin_towards(vp->sh.p, vp->sh.ng, bs.wi);
-    dir = bs.wi;
-    ++depth;
+    if (glossy && add_emission)
+      vp->L += w.beta * nee_direct(p, s, sampler, &w.sh, w.wo, offset_ray_origin(w.sh.p, w.sh.ng),
+                                   w.depth, w.stream, rays);
+    const BsdfSample bs = walk_sample_bsdf(sampler, &w);
+    if (!walk_scatter(p, s, sampler, &w, &bs)) return 0;
   }
 }
 
@@ -96,9 +75,9 @@ inline int photon_visible_point(__constant const RenderParams* p, const SceneVie
 inline float3 photon_direct(__constant const RenderParams* p, const SceneView* s,
                             const Sampler* sampler, const VisiblePoint* vp, u32* rays) {
   const SurfaceHit* sh = &vp->sh;
-  float3 L = pt_direct(p, s, sampler, sh, vp->wo, offset_ray_origin(sh->p, sh->ng), vp->depth,
+  float3 L = nee_direct(p, s, sampler, sh, vp->wo, offset_ray_origin(sh->p, sh->ng), vp->depth,
                        0u, rays);
-  const BsdfSample bs = pt_scatter_sample(
+  const BsdfSample bs = camera_scatter_sample(
       p, s, sh, vp->wo, sample_2d(sampler, bounce_dim(vp->depth, DIM_BSDF_DIR)),
       sample_1d(sampler, bounce_dim(vp->depth, DIM_BSDF_LOBE)));
   if (!(bs.pdf_w > 0.0f) || is_black(bs.weight)) return L;
@@ -106,11 +85,11 @@ inline float3 photon_direct(__constant const RenderParams* p, const SceneView* s
   Hit hit;
   ++*rays;
   if (!intersect_closest(s, org, bs.wi, INFINITY, &hit))
-    return L + bs.weight * pt_emission_escaped(p, s, bs.wi, bs.pdf_w, bs.is_delta);
+    return L + bs.weight * nee_emission_escaped(p, s, bs.wi, bs.pdf_w, bs.is_delta);
   const float3 tr = volume_transmittance(s, sh, bs.wi, hit.t);
   const SurfaceHit lh = surface_shade(s, &hit, org, bs.wi);
   return L + bs.weight * tr *
-                 pt_emission_by_scattering(p, s, &lh, -bs.wi, hit.t, bs.pdf_w, bs.is_delta);
+                 nee_emission_hit(p, s, &lh, -bs.wi, hit.t, bs.pdf_w, bs.is_delta);
 }
 
 #endif

@@ -2,10 +2,10 @@
 #ifndef CLPT_CORE_SURFACE_CL
 #define CLPT_CORE_SURFACE_CL
 
-#include "bvh/intersect.cl"
+#include "core/hit.cl"
 #include "core/math.cl"
 #include "core/scene_view.cl"
-#include "core/vertex_attributes.cl"
+#include "geometry/vertex_attributes.cl"
 #include "bsdf/bsdf_params.h"
 
 typedef struct SurfaceHit {

@@ -3,7 +3,7 @@
 #ifndef CLPT_INTEGRATORS_BDPT_PATH_VERTEX_CL
 #define CLPT_INTEGRATORS_BDPT_PATH_VERTEX_CL
 
-#include "core/surface.cl"
+#include "geometry/surface.cl"
 #include "shared/bdpt_types.h"
 
 /* The state of a subpath being traced (Georgiev 2012, SmallVCM's SubPathState). */

@@ -26,8 +26,7 @@
 #define CLPT_INTEGRATORS_BDPT_MIS_CL
 
 #include "bsdf/bsdf.cl"
-#include "integrators/bdpt/path_vertex.cl"
-#include "integrators/russian_roulette.cl"
+#include "integrators/stages/path_vertex.cl"
 #include "shared/render_types.h"
 
 inline float bdpt_mis(__constant const RenderParams* p, float x) {
@@ -60,23 +59,12 @@ inline void bdpt_mis_scatter(__constant const RenderParams* p, SubpathState* st,
   st->dvcm = bdpt_mis(p, 1.0f / fwd);
 }
 
-/* One scattering of a subpath at vertex sh (oriented to wo) into bs: the MIS update, the
- * throughput times `weight` (bs's, with the shading-normal correction on light subpaths),
- * and with `roulette` Russian roulette on u. *walk is the product of the weights alone,
- * which the roulette looks at as pt's does. Returns 0 when the path ends. */
-inline int bdpt_scatter(__constant const RenderParams* p, SubpathState* st, float3* walk,
-                        const SurfaceHit* sh, float3 wo, const BsdfSample* bs, float3 weight,
-                        int roulette, float u) {
+/* The MIS update of a subpath scattering at vertex sh (oriented to wo) into bs; the walk
+ * (stages/walk.cl) does the rest of the scattering. */
+inline void bdpt_mis_scatter_sample(__constant const RenderParams* p, SubpathState* st,
+                                    const SurfaceHit* sh, float3 wo, const BsdfSample* bs) {
   bdpt_mis_scatter(p, st, bs->pdf_w, bs->is_delta ? bs->pdf_w : bsdf_pdf_w(sh, bs->wi, wo),
                    fabs(dot(sh->ng, bs->wi)), bs->is_delta);
-  st->beta *= weight;
-  *walk *= weight;
-  if (!roulette) return 1;
-  const float survive = rr_survival(p, *walk);
-  if (!(u < survive)) return 0;
-  st->beta /= survive;
-  *walk /= survive;
-  return 1;
 }
 
 /* s = 0: the camera subpath (state cam, after arriving) hit a light. q: the light's densities

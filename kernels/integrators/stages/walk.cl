@@ -1,0 +1,174 @@
+/* The random walk: the one loop every integrator that follows a path runs, camera side
+ * (radiance) or light side (importance), with the rules written once:
+ *   trace    walk_next: closest hit; the medium's transmittance; shade; normals to wo;
+ *   scatter  walk_scatter: a BSDF sample taken with the walk's dimensions, its weight (times
+ *            Veach's shading correction on the light side), Russian roulette, the next ray's
+ *            offset origin and the medium it enters.
+ * An integrator is an iterator over the vertices (as pbrt-v4's RandomWalk and SmallVCM's
+ * single loop): it asks for the next vertex, does its own work there (emission and NEE,
+ * camera connections, photon deposits, visible points, light vertices), and asks the walk to
+ * scatter. Its own quantities (MIS state, flux scale) stay in the integrator.
+ *
+ *   PathWalk w = walk_from_camera(org, dir, 0u, stream);      (or walk_from_light, ...)
+ *   while (walk_next(s, &w, rays)) {
+ *     ... the vertex w.sh, w.wo (bounce w.depth) ...
+ *     const BsdfSample bs = walk_sample_bsdf(sampler, &w);
+ *     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
+ *   }
+ *
+ * Throughput: `beta` starts at the integrator's value (1 for a camera path, a photon's
+ * power, bdpt's Le / pdf) and takes every factor of the walk; `rr_weight` takes the same
+ * factors from 1, and is what the roulette reads, so a path's start value never decides its
+ * survival.
+ *
+ * Roulette (stages/russian_roulette.cl): WALK_RR_PATH is --rr / --rr-depth, applied when
+ * leaving a vertex of bounce d with d + 1 >= rr_depth, survival from rr_weight (pt, lt, bdpt,
+ * the camera side of pm and sppm); WALK_RR_ALBEDO is the photon tracer's, at every vertex with
+ * the survival of that one scattering's weight (Jensen 2001: a white diffuse surface passes a
+ * photon on unchanged).
+ *
+ * Volumes (material/volume.cl): the medium is decided when the ray leaves a surface and its
+ * transmittance applied when the ray lands; a walk started from a camera or a light starts
+ * outside every volume.
+ *
+ * Dimensions (sampler/dimensions.h): vertex d of a walk draws bounce d of stream `stream`.
+ * Camera walks number their first hit 0; light walks number it 1, since the light point
+ * itself takes bounce 0's dimensions. */
+#ifndef CLPT_INTEGRATORS_STAGES_WALK_CL
+#define CLPT_INTEGRATORS_STAGES_WALK_CL
+
+#include "bsdf/bsdf.cl"
+#include "bvh/intersect.cl"
+#include "core/ray.cl"
+#include "integrators/stages/russian_roulette.cl"
+#include "integrators/stages/shading_correction.cl"
+#include "material/material.cl"
+#include "material/volume.cl"
+#include "sampler/sampler.cl"
+#include "shared/render_types.h"
+
+/* walk_next, walk_sample_bsdf and walk_scatter are always inlined (CLPT_INLINE, from
+ * bvh/intersect.cl): PoCL left them out of line, which kept the PathWalk in memory and cost
+ * pt 2-3 % on the Cornell box (docs/BENCHMARKS.md). */
+#define WALK_RR_PATH 0u
+#define WALK_RR_ALBEDO 1u
+
+typedef struct PathWalk {
+  SurfaceHit sh;    /* the vertex walk_next reached, normals oriented to wo */
+  Hit hit;          /* ... and its ray hit (t from the ray's offset origin) */
+  float3 wo;        /* towards where the walk came from */
+  float3 org, dir;  /* the ray to the next vertex */
+  float3 from;      /* the vertex that ray left (the camera or light point at the start) */
+  float3 beta;      /* the integrator's throughput */
+  float3 rr_weight; /* the walk's factors alone, for the roulette */
+  float pdf_w;      /* the last scattering's density (1 before any) ... */
+  int delta;        /* ... and whether it was a delta one (1 before any: a camera ray) */
+  u32 medium;       /* what the ray travels in (MEDIUM_NONE: no volume) */
+  u32 depth;        /* the bounce of the vertex reached (dimension layout) */
+  u32 stream;       /* the dimension stream */
+  u32 mode;         /* TRANSPORT_RADIANCE (camera side) or TRANSPORT_IMPORTANCE (light side) */
+  u32 roulette;     /* WALK_RR_PATH or WALK_RR_ALBEDO */
+} PathWalk;
+
+/* A walk whose next ray is org, dir, towards its vertex of bounce `depth`, in `medium`. */
+inline PathWalk walk_from_ray(float3 from, float3 org, float3 dir, float3 beta, u32 medium,
+                              u32 depth, u32 stream, u32 mode, u32 roulette) {
+  PathWalk w;
+  w.org = org;
+  w.dir = dir;
+  w.from = from;
+  w.beta = beta;
+  w.rr_weight = (float3)(1.0f);
+  w.pdf_w = 1.0f;
+  w.delta = 1;
+  w.medium = medium;
+  w.depth = depth;
+  w.stream = stream;
+  w.mode = mode;
+  w.roulette = roulette;
+  return w;
+}
+
+/* A camera-side walk from a camera ray (its first hit is bounce `depth`, 0 for a pixel). */
+inline PathWalk walk_from_camera(float3 org, float3 dir, u32 depth, u32 stream) {
+  return walk_from_ray(org, org, dir, (float3)(1.0f), MEDIUM_NONE, depth, stream,
+                       TRANSPORT_RADIANCE, WALK_RR_PATH);
+}
+
+/* A light-side walk from a ray emitted at `from` (its first hit is bounce 1) carrying beta. */
+inline PathWalk walk_from_light(float3 from, float3 org, float3 dir, float3 beta, u32 stream,
+                                u32 roulette) {
+  return walk_from_ray(from, org, dir, beta, MEDIUM_NONE, 1u, stream, TRANSPORT_IMPORTANCE,
+                       roulette);
+}
+
+/* A camera-side walk standing at vertex sh (normals oriented to wo, bounce depth), to be
+ * scattered first: pt's continuation from its first hit, one per branch. */
+inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth, u32 stream) {
+  PathWalk w = walk_from_ray(sh->p, sh->p, -wo, (float3)(1.0f), MEDIUM_NONE, depth, stream,
+                             TRANSPORT_RADIANCE, WALK_RR_PATH);
+  w.sh = *sh;
+  w.wo = wo;
+  return w;
+}
+
+/* The dimension of `offset` (sampler/dimensions.h) at the walk's current vertex. */
+inline u32 walk_dim(const PathWalk* w, u32 offset) {
+  return stream_dim(bounce_dim(w->depth, offset), w->stream);
+}
+
+/* Traces the walk's ray. False when it escapes (w->dir is its direction); else w->sh, w->hit
+ * and w->wo are the new vertex, the medium's transmittance is in beta and rr_weight. */
+CLPT_INLINE bool walk_next(const SceneView* s, PathWalk* w, u32* rays) {
+  ++*rays;
+  if (!intersect_closest(s, w->org, w->dir, INFINITY, &w->hit)) return false;
+  if (w->medium != MEDIUM_NONE) {
+    const float3 tr = medium_transmittance(s, w->medium, w->hit.t);
+    w->beta *= tr;
+    w->rr_weight *= tr;
+  }
+  w->sh = surface_shade(s, &w->hit, w->org, w->dir);
+  w->wo = -w->dir;
+  bsdf_orient(&w->sh, w->wo);
+  return true;
+}
+
+/* The BSDF's own sample at the current vertex, in the walk's dimensions and mode. */
+CLPT_INLINE BsdfSample walk_sample_bsdf(const Sampler* sampler, const PathWalk* w) {
+  return bsdf_sample(&w->sh, w->wo, sample_2d(sampler, walk_dim(w, DIM_BSDF_DIR)),
+                     sample_1d(sampler, walk_dim(w, DIM_BSDF_LOBE)), w->mode);
+}
+
+/* Leaves the current vertex along bs (the walk's sample, or another sampler's with the
+ * walk's dimensions). Returns 0 when the path ends there: no sample, or the roulette. */
+CLPT_INLINE int walk_scatter(__constant const RenderParams* p, const SceneView* s,
+                        const Sampler* sampler, PathWalk* w, const BsdfSample* bs) {
+  if (!(bs->pdf_w > 0.0f) || is_black(bs->weight)) return 0;
+  const float3 weight = w->mode == TRANSPORT_IMPORTANCE
+                            ? bs->weight * shading_correction(&w->sh, w->wo, bs->wi)
+                            : bs->weight;
+  if (w->roulette == WALK_RR_ALBEDO) {
+    const float survive = fmin(1.0f, max_component(weight));
+    if (!(sample_1d(sampler, walk_dim(w, DIM_RR)) < survive)) return 0;
+    w->beta *= weight / survive;
+  } else {
+    w->beta *= weight;
+    w->rr_weight *= weight;
+    if (w->depth + 1u >= p->rr_depth) {
+      const float survive = rr_survival(p, w->rr_weight);
+      if (!(sample_1d(sampler, walk_dim(w, DIM_RR)) < survive)) return 0;
+      w->beta /= survive;
+      w->rr_weight /= survive;
+    }
+  }
+  w->pdf_w = bs->pdf_w;
+  w->delta = bs->is_delta;
+  w->medium = volume_medium(s, &w->sh, bs->wi);
+  w->from = w->sh.p;
+  w->org = offset_ray_origin_towards(w->sh.p, w->sh.ng, bs->wi); /* transmission goes through */
+  w->dir = bs->wi;
+  ++w->depth;
+  return 1;
+}
+
+#endif
