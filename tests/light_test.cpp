@@ -420,7 +420,7 @@ TEST(LightSampling, EmittedPowerMatchesClosedForm) {
   }
 }
 
-// An emissive texture shapes the triangles' selection weights (host/render/scene_buffers.cpp):
+// An emissive texture shapes the triangles' selection weights (host/render/light_table.cpp):
 // a texture black on its left half and white on its right; triangle A maps into the black
 // half, B into the white one. Texture mean luminance 0.5, so A's weight is 0 + 0.05 * 0.5 and
 // B's 1 + 0.05 * 0.5 (corners and centroid sampled): A keeps a small probability (it could

@@ -631,7 +631,7 @@ TEST(ScaleInvariance, SmallScenesAreLitLikeUnitScenes) {
   expect_same_as_unit_scale({0.2f, 0.01f, 1e-3f});
 }
 
-// Emitters of extreme area are kept: build_lights (host/render/scene_buffers.cpp) takes a
+// Emitters of extreme area are kept: build_lights (host/render/light_table.cpp) takes a
 // triangle's area in double. With glm::length of the float cross product it overflowed above
 // ~1e19 m^2 and underflowed below ~1e-22 m^2, and those emitters were silently dropped.
 TEST(ScaleInvariance, EmittersAreKeptAtExtremeAreas) {
