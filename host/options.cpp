@@ -345,6 +345,8 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
                                  "--pm-filter need --integrator pm");
   if (!reads(OPTIONS_SPPM) && (o.sppm_radius > 0.0f || o.sppm_alpha_set))
     throw Error(ExitCode::Usage, "--sppm-radius and --sppm-alpha need --integrator sppm");
+  if (!reads(OPTIONS_AO) && o.ao_radius > 0.0f)
+    throw Error(ExitCode::Usage, "--ao-radius needs --integrator ao");
   if (o.pm_filter != "cone" && o.pm_filter != "epanechnikov" && o.pm_filter != "box")
     throw Error(ExitCode::Usage, "--pm-filter " + o.pm_filter + ": expected cone, epanechnikov "
                                  "or box");
