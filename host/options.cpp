@@ -312,9 +312,8 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--rr " + o.rr + ": expected throughput or fixed:ALPHA with "
                                    "0 <= ALPHA < 1");
   }
-  const IntegratorInfo* row = find_integrator(o.integrator);
-  if (!row) throw Error(ExitCode::Usage, "--integrator " + o.integrator + ": unknown integrator");
-  if (row->film == FilmKind::Progressive) {
+  const IntegratorInfo& row = integrator_info(o.integrator);  // throws for an unknown name
+  if (row.film == FilmKind::Progressive) {
     // Its pixels are progressive estimates with statistics of their own (radius, photon count).
     if (o.variance)
       throw Error(ExitCode::Usage, "--variance is not available with --integrator " + o.integrator +
@@ -323,7 +322,7 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--checkpoint and --resume are not supported with "
                                    "--integrator " + o.integrator + " (its pixel statistics are not saved)");
   }
-  if (row->film == FilmKind::Splats) {
+  if (row.film == FilmKind::Splats) {
     // Splatted films: no per-pixel sample variance, and float atomics in no fixed order, so a
     // resumed render could not equal an uninterrupted one bit for bit.
     if (o.variance)
@@ -335,7 +334,7 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
                                    "--integrator " + o.integrator + " (its splatted sums are not "
                                    "reproducible bit for bit)");
   }
-  const auto reads = [&](unsigned group) { return (row->options & group) != 0u; };
+  const auto reads = [&](unsigned group) { return (row.options & group) != 0u; };
   if (!reads(OPTIONS_PHOTONS) && (o.photons || o.sppm_radius > 0.0f || o.sppm_alpha_set))
     throw Error(ExitCode::Usage, "--photons, --sppm-radius and --sppm-alpha need --integrator pm "
                                  "or sppm");

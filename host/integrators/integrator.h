@@ -41,6 +41,14 @@ class Integrator {
   virtual PhotonStats photon_stats() const { return {}; }
 };
 
+// params with no samples per pass: a launch where every work-item loops over nothing, which
+// is how the one-kernel integrators warm up.
+inline dev::RenderParams without_samples(const dev::RenderParams& params) {
+  dev::RenderParams none = params;
+  none.samples_per_pass = 0;
+  return none;
+}
+
 // Construction-time settings some integrators take.
 struct IntegratorConfig {
   size_t path_memory_bytes = size_t(256) << 20;  // bdpt: light vertex buffer budget

@@ -13,9 +13,7 @@ LightTracer::LightTracer(const cl::Context& ctx, const SceneBuffers& scene)
 }
 
 void LightTracer::warm_up(const dev::RenderParams& params, Film& film) {
-  dev::RenderParams none = params;
-  none.samples_per_pass = 0;  // every work-item loops over no samples
-  render_pass(none, film);
+  render_pass(without_samples(params), film);
 }
 
 void LightTracer::render_pass(const dev::RenderParams& params, Film& film) {

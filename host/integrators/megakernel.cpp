@@ -14,9 +14,7 @@ MegakernelIntegrator::MegakernelIntegrator(const cl::Context& ctx, const SceneBu
 }
 
 void MegakernelIntegrator::warm_up(const dev::RenderParams& params, Film& film) {
-  dev::RenderParams none = params;
-  none.samples_per_pass = 0;  // every work-item loops over no samples
-  render_pass(none, film);
+  render_pass(without_samples(params), film);
 }
 
 void MegakernelIntegrator::render_pass(const dev::RenderParams& params, Film& film) {

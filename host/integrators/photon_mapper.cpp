@@ -72,9 +72,7 @@ PhotonMapper::Map PhotonMapper::build_map(const dev::RenderParams& params, uint6
 void PhotonMapper::warm_up(const dev::RenderParams& params, Film& film) {
   tracer_.warm_up(global_paths_);
   tracer_.warm_up(caustic_paths_);
-  dev::RenderParams none = params;
-  none.samples_per_pass = 0;  // every work-item loops over no samples, reading no map
-  launch(none, film);
+  launch(without_samples(params), film);  // reads no map
 }
 
 void PhotonMapper::render_pass(const dev::RenderParams& params, Film& film) {
