@@ -64,28 +64,21 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
       lp.normals[i] = finite(q) ? glm::vec3(q) : glm::vec3(0.0f);
     }
   }
-  auto uv_it = p.attributes.find("TEXCOORD_0");
-  if (uv_it != p.attributes.end()) {
-    std::vector<float> v =
-        read_values(uv_it->second, "TEXCOORD_0 of " + where, TINYGLTF_TYPE_VEC2, Components::FloatOrUNorm);
-    check_count("TEXCOORD_0", v.size() / 2);
-    lp.uvs.resize(nverts);
+  // A UV set, when the primitive has it: non-finite coordinates become (0, 0).
+  const auto read_uv_set = [&](const char* name, std::vector<glm::vec2>& out) {
+    auto it = p.attributes.find(name);
+    if (it == p.attributes.end()) return;
+    std::vector<float> v = read_values(it->second, std::string(name) + " of " + where,
+                                       TINYGLTF_TYPE_VEC2, Components::FloatOrUNorm);
+    check_count(name, v.size() / 2);
+    out.resize(nverts);
     for (size_t i = 0; i < nverts; ++i) {
       glm::dvec2 q(v[2 * i], v[2 * i + 1]);
-      lp.uvs[i] = std::isfinite(q.x) && std::isfinite(q.y) ? glm::vec2(q) : glm::vec2(0.0f);
+      out[i] = std::isfinite(q.x) && std::isfinite(q.y) ? glm::vec2(q) : glm::vec2(0.0f);
     }
-  }
-  auto uv1_it = p.attributes.find("TEXCOORD_1");
-  if (uv1_it != p.attributes.end()) {
-    std::vector<float> v =
-        read_values(uv1_it->second, "TEXCOORD_1 of " + where, TINYGLTF_TYPE_VEC2, Components::FloatOrUNorm);
-    check_count("TEXCOORD_1", v.size() / 2);
-    lp.uvs1.resize(nverts);
-    for (size_t i = 0; i < nverts; ++i) {
-      glm::dvec2 q(v[2 * i], v[2 * i + 1]);
-      lp.uvs1[i] = std::isfinite(q.x) && std::isfinite(q.y) ? glm::vec2(q) : glm::vec2(0.0f);
-    }
-  }
+  };
+  read_uv_set("TEXCOORD_0", lp.uvs);
+  read_uv_set("TEXCOORD_1", lp.uvs1);
   auto tan_it = p.attributes.find("TANGENT");
   if (tan_it != p.attributes.end()) {
     std::vector<float> v = read_values(tan_it->second, "TANGENT of " + where, TINYGLTF_TYPE_VEC4, Components::Float);
