@@ -154,6 +154,28 @@ struct Parser {
                    "sppm: fraction of each pass's photons kept as the radius shrinks [0.667]")
         ->type_name("A")
         ->check(CLI::Range(0.01f, 1.0f).description(""));
+    app.add_option("--mlt-mode", o.mlt_mode,
+                   "mlt: pssmlt (Kelemen's primary sample space over pt); mmlt (multiplexed, "
+                   "over bdpt's strategies) is not implemented yet [pssmlt]")
+        ->type_name("MODE");
+    app.add_option("--mlt-large-step", o.mlt_large_step,
+                   "mlt: probability that a mutation is a large step (a fresh path) [0.3]")
+        ->type_name("P")
+        ->check(CLI::Range(0.0f, 1.0f).description(""));
+    app.add_option("--mlt-sigma", o.mlt_sigma,
+                   "mlt: standard deviation of a small step in primary sample space [0.01]")
+        ->type_name("S")
+        ->check(CLI::Range(1e-7f, 1.0f).description(""));
+    app.add_option("--mlt-bootstrap", o.mlt_bootstrap,
+                   "mlt: independent paths that estimate the image's brightness and choose the "
+                   "chains' start states [100000]")
+        ->type_name("N")
+        ->check(CLI::Range(1u, 1u << 26).description(""));
+    app.add_option("--mlt-chains", o.mlt_chains,
+                   "mlt: Markov chains run in parallel; --spp counts mutations per pixel "
+                   "[one per pixel, at most 65536]")
+        ->type_name("N")
+        ->check(CLI::Range(1u, 1u << 24).description(""));
     stats_opt = app.add_option("--stats", stats_value,
                                "Write render statistics as JSON to FILE, or stdout when no FILE")
                     ->expected(0, 1)
@@ -282,6 +304,9 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
   o.knn_set = p.app.count("--knn") > 0;
   o.pm_filter_set = p.app.count("--pm-filter") > 0;
   o.sppm_alpha_set = p.app.count("--sppm-alpha") > 0;
+  for (const char* name : {"--mlt-mode", "--mlt-large-step", "--mlt-sigma", "--mlt-bootstrap",
+                           "--mlt-chains"})
+    o.mlt_set = o.mlt_set || p.app.count(name) > 0;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
   auto one_of = [](const char* option, const std::string& value,
                    std::initializer_list<const char*> names) {
@@ -346,6 +371,22 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
     throw Error(ExitCode::Usage, "--sppm-radius and --sppm-alpha need --integrator sppm");
   if (!reads(OPTIONS_AO) && o.ao_radius > 0.0f)
     throw Error(ExitCode::Usage, "--ao-radius needs --integrator ao");
+  if (!reads(OPTIONS_MLT) && o.mlt_set)
+    throw Error(ExitCode::Usage, "--mlt-mode, --mlt-large-step, --mlt-sigma, --mlt-bootstrap and "
+                                 "--mlt-chains need --integrator mlt");
+  if (reads(OPTIONS_MLT)) {
+    one_of("--mlt-mode", o.mlt_mode, {"pssmlt", "mmlt"});
+    if (o.mlt_mode == "mmlt")
+      throw Error(ExitCode::Usage, "--mlt-mode mmlt: multiplexed MLT is not implemented yet; "
+                                   "use pssmlt");
+    // A chain's path must be a function of its vector alone: one stream of dimensions.
+    if (o.light_samples != 1 || o.branching != 1)
+      throw Error(ExitCode::Usage, "--integrator mlt mutates one path of one shadow ray per "
+                                   "vertex: --light-samples and --branching must stay 1");
+    if (o.sampler != "independent")
+      throw Error(ExitCode::Usage, "--integrator mlt takes its random numbers from its chains: "
+                                   "--sampler does not apply");
+  }
   if (o.pm_filter != "cone" && o.pm_filter != "epanechnikov" && o.pm_filter != "box")
     throw Error(ExitCode::Usage, "--pm-filter " + o.pm_filter + ": expected cone, epanechnikov "
                                  "or box");

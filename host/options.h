@@ -52,6 +52,13 @@ struct Options {
   float sppm_alpha = 2.0f / 3.0f;
   bool caustic_photons_set = false, final_gather_set = false, knn_set = false,
        pm_filter_set = false, sppm_alpha_set = false;
+  // Metropolis (mlt). mlt_set: one of the --mlt-* options was given.
+  std::string mlt_mode = "pssmlt";
+  float mlt_large_step = 0.3f;
+  float mlt_sigma = 0.01f;
+  uint32_t mlt_bootstrap = 100000;
+  uint32_t mlt_chains = 0;         // 0: one per pixel, at most 65536 (and 256 MiB of state)
+  bool mlt_set = false;
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR
   std::string reference;          // image to compare with (relMSE), empty: none

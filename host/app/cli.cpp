@@ -180,6 +180,10 @@ int run(const Options& opt) {
                                                          : dev::PHOTON_FILTER_CONE;
   settings.sppm_radius = opt.sppm_radius;
   settings.sppm_alpha = opt.sppm_alpha;
+  settings.mlt.chains = opt.mlt_chains;
+  settings.mlt.bootstrap = opt.mlt_bootstrap;
+  settings.mlt.large_step = opt.mlt_large_step;
+  settings.mlt.sigma = opt.mlt_sigma;
   if (opt.bdpt_mosaic) return run_mosaic(opt, ctx, scene, settings, device.name);
   Renderer renderer(ctx, scene, settings);
   if (reference && (reference->width != renderer.width() || reference->height != renderer.height()))
@@ -313,6 +317,24 @@ int run(const Options& opt) {
           {opt.integrator == "pm" ? "maps" : "grid_builds", ph.builds},
           {"device_bytes", ph.device_bytes}};
     }
+    if (row.options & OPTIONS_MLT) {
+      const MetropolisStats& m = st.metropolis;
+      const uint64_t proposed = m.large_proposed + m.small_proposed;
+      const auto rate = [](uint64_t a, uint64_t n) { return n ? double(a) / double(n) : 0.0; };
+      j["mlt"] = {{"mode", opt.mlt_mode},
+                  {"chains", m.chains},
+                  {"dimensions", m.dims},
+                  {"bootstrap_paths", m.bootstrap_paths},
+                  {"bootstrap_seconds", m.bootstrap_seconds},
+                  {"b", m.b},
+                  {"b_standard_error", m.b_standard_error},
+                  {"mutations", proposed},
+                  {"mutations_per_second", double(proposed) / secs},
+                  {"large_step_acceptance", rate(m.large_accepted, m.large_proposed)},
+                  {"small_step_acceptance", rate(m.small_accepted, m.small_proposed)},
+                  {"acceptance", rate(m.large_accepted + m.small_accepted, proposed)},
+                  {"device_bytes", m.device_bytes}};
+    }
     // Rays of camera-side paths; photon rays are under "photons".
     j["rays"] = film.rays;
     j["rays_per_second"] = double(film.rays) / secs;
@@ -331,7 +353,9 @@ int run(const Options& opt) {
       j["variance"] = "unavailable: " + opt.integrator +
                       (row.film == FilmKind::Progressive
                            ? " pixels are progressive estimates, not sample means"
-                           : " splats light paths into any pixel");
+                           : row.options & OPTIONS_MLT
+                               ? " splats its chains' states into any pixel"
+                               : " splats light paths into any pixel");
     }
     if (reference && film.samples_per_pixel > 0) {
       const ImageComparison c = compare_images(film.mean, *reference);

@@ -3,6 +3,7 @@
 #include "integrators/bdpt.h"
 #include "integrators/light_tracer.h"
 #include "integrators/megakernel.h"
+#include "integrators/metropolis.h"
 #include "integrators/photon_mapper.h"
 #include "integrators/sppm.h"
 #include "util/error.h"
@@ -31,6 +32,9 @@ std::unique_ptr<Integrator> make_bdpt(const cl::Context& ctx, const SceneBuffers
 std::unique_ptr<Integrator> make_pm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
   return std::make_unique<PhotonMapper>(ctx, s, c.photons, c.caustic_photons);
 }
+std::unique_ptr<Integrator> make_mlt(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
+  return std::make_unique<Metropolis>(ctx, s, c.mlt);
+}
 std::unique_ptr<Integrator> make_sppm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
   return std::make_unique<Sppm>(ctx, s, c.photons);
 }
@@ -47,7 +51,7 @@ const std::vector<IntegratorInfo>& integrator_table() {
       {"pm",     true,  F::SampleSums,  OPTIONS_PHOTONS | OPTIONS_PM,    true,  false, 0, false, make_pm},
       {"sppm",   true,  F::Progressive, OPTIONS_PHOTONS | OPTIONS_SPPM,  true,  false, 0, false, make_sppm},
       {"vcm",    false, F::Splats,      OPTIONS_NONE,                    true,  true,  0, false, nullptr},
-      {"mlt",    false, F::Splats,      OPTIONS_NONE,                    true,  false, 0, false, nullptr},
+      {"mlt",    true,  F::Splats,      OPTIONS_MLT,                     true,  false, 0, false, make_mlt},
       {"ic",     false, F::SampleSums,  OPTIONS_NONE,                    true,  false, 0, false, nullptr},
       {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, make_ao},
       {"direct", true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 1, false, make_direct},

@@ -24,6 +24,19 @@ struct PhotonStats {
   size_t device_bytes = 0;        // photon, tree and grid buffers on the device at the end
 };
 
+// Metropolis figures of mlt for --stats.
+struct MetropolisStats {
+  uint32_t chains = 0;
+  uint32_t dims = 0;               // coordinates of a chain's primary sample vector
+  uint64_t bootstrap_paths = 0;
+  double b = 0.0;                  // normalisation: the bootstrap's mean target (luminance)
+  double b_standard_error = 0.0;
+  double bootstrap_seconds = 0.0;
+  uint64_t large_proposed = 0, large_accepted = 0;
+  uint64_t small_proposed = 0, small_accepted = 0;
+  size_t device_bytes = 0;         // chain states and their vectors
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
@@ -39,6 +52,7 @@ class Integrator {
   // Shadow rays of connection strategies so far (bdpt); 0 for integrators without them.
   virtual uint64_t connections() const { return 0; }
   virtual PhotonStats photon_stats() const { return {}; }
+  virtual MetropolisStats metropolis_stats() const { return {}; }
 };
 
 // params with no samples per pass: a launch where every work-item loops over nothing, which
@@ -49,11 +63,23 @@ inline dev::RenderParams without_samples(const dev::RenderParams& params) {
   return none;
 }
 
+// mlt's settings (--mlt-*).
+struct MltConfig {
+  uint32_t chains = 0;       // 0: Metropolis::default_chains
+  uint32_t bootstrap = 100000;
+  float large_step = 0.3f;   // probability of a large step
+  float sigma = 0.01f;       // small steps' standard deviation
+  // false: chain c starts at bootstrap path c instead of one drawn in proportion to its
+  // target, which is the start-up bias the resampling removes (tests show it; no option).
+  bool resample = true;
+};
+
 // Construction-time settings some integrators take.
 struct IntegratorConfig {
   size_t path_memory_bytes = size_t(256) << 20;  // bdpt: light vertex buffer budget
   uint64_t photons = 0;          // pm: global map paths; sppm: paths per pass (0: pixels)
   uint64_t caustic_photons = 0;  // pm: caustic map paths
+  MltConfig mlt;
 };
 
 // What an integrator's film holds, which decides what the film and the command line offer.
@@ -71,6 +97,7 @@ enum IntegratorOptions : unsigned {
   OPTIONS_SPPM = 1u << 2,     // --sppm-radius, --sppm-alpha
   OPTIONS_BDPT = 1u << 3,     // --bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic, --bdpt-lvc, --bdpt-memory
   OPTIONS_AO = 1u << 4,       // --ao-radius
+  OPTIONS_MLT = 1u << 5,      // --mlt-large-step, --mlt-sigma, --mlt-bootstrap, --mlt-chains
 };
 
 // One row per integrator --integrator accepts: everything the options, the renderer, the

@@ -106,7 +106,8 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   t0 = Clock::now();
   integrator_ = make_integrator(
       settings_.integrator, ctx_, *scene_buffers_,
-      IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons});
+      IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons,
+                       settings_.mlt});
   integrator_->warm_up(params_, *film_);
   ctx_.finish();
   stats_.kernel_seconds = seconds_since(t0);
@@ -190,6 +191,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   out.film = film_->resolve(done);
   stats_.connections = integrator_->connections();
   stats_.photons = integrator_->photon_stats();
+  stats_.metropolis = integrator_->metropolis_stats();
   out.stats = stats_;
   return out;
 }

@@ -46,6 +46,7 @@ struct RenderSettings {
   uint32_t pm_filter = 1;           // dev::PhotonFilter (cone)
   float sppm_radius = 0.0f;         // sppm: initial radius; 0: 2 pixel footprints at the centre
   float sppm_alpha = 2.0f / 3.0f;
+  MltConfig mlt;                    // mlt: chains, bootstrap, step sizes
   std::string camera;              // index or name; empty: the first camera or a default one
   std::string env_file;            // equirectangular environment map; empty: none
   float env_scale = 1.0f;          // multiplies the map
@@ -73,6 +74,7 @@ struct RenderStats {
   size_t film_device_bytes = 0;
   uint64_t connections = 0;      // bdpt: shadow rays of connection strategies
   PhotonStats photons;           // pm, sppm
+  MetropolisStats metropolis;    // mlt
 };
 
 struct RenderOutput {

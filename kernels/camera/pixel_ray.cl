@@ -1,5 +1,7 @@
-/* The camera ray of one pixel sample: the film position and the lens position each take
- * their own sampler dimensions (DIM_PIXEL, DIM_CAMERA_LENS). */
+/* The camera ray of one sample: the film position and the lens position each take their own
+ * sampler dimensions (DIM_PIXEL, DIM_CAMERA_LENS). pixel_ray jitters inside the work-item's
+ * pixel; film_sample_ray takes the film position itself from the sample, for integrators
+ * whose work-items are not pixels (mlt's chains). */
 #ifndef CLPT_CAMERA_PIXEL_RAY_CL
 #define CLPT_CAMERA_PIXEL_RAY_CL
 
@@ -12,6 +14,21 @@ inline void pixel_ray(__constant const RenderParams* p, const Sampler* sampler, 
   const float2 lens =
       p->camera.lens_radius > 0.0f ? sample_2d(sampler, DIM_CAMERA_LENS) : (float2)(0.5f);
   camera_ray(&p->camera, film, lens, org, dir);
+}
+
+/* DIM_PIXEL spans the whole image: u in [0,1)^2 is the raster position (u.x * width,
+ * u.y * height), so a uniform u is the same film density as pixel_ray over uniform pixels.
+ * Returns the pixel it falls in. */
+inline u32 film_sample_ray(__constant const RenderParams* p, const Sampler* sampler, float3* org,
+                           float3* dir) {
+  const float2 u = sample_2d(sampler, DIM_PIXEL);
+  const float fx = u.x * (float)p->width, fy = u.y * (float)p->height;
+  const u32 x = min((u32)fx, p->width - 1u), y = min((u32)fy, p->height - 1u);
+  const float2 film = film_point(x, y, p->width, p->height, (float2)(fx - (float)x, fy - (float)y));
+  const float2 lens =
+      p->camera.lens_radius > 0.0f ? sample_2d(sampler, DIM_CAMERA_LENS) : (float2)(0.5f);
+  camera_ray(&p->camera, film, lens, org, dir);
+  return y * p->width + x;
 }
 
 #endif

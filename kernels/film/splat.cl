@@ -7,6 +7,8 @@
 #ifndef CLPT_FILM_SPLAT_CL
 #define CLPT_FILM_SPLAT_CL
 
+#include "shared/compat.h"
+
 inline void atomic_add_float(volatile __global float* addr, float v) {
   volatile __global uint* bits = (volatile __global uint*)addr;
   uint expected = *bits;

@@ -1,0 +1,198 @@
+#include "integrators/metropolis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "util/error.h"
+#include "util/log.h"
+#include "util/timer.h"
+
+namespace clpt {
+
+static_assert(sizeof(dev::MltChain) == 64, "MltChain should stay 64 bytes");
+static_assert(sizeof(dev::PssCoord) == 16, "PssCoord should stay 16 bytes");
+static_assert(sizeof(dev::MltParams) == 48, "MltParams should stay 48 bytes");
+
+namespace {
+
+// The chains' state budget when --mlt-chains is not given (as bdpt's light vertex buffer).
+constexpr size_t kDefaultChainBudget = size_t(256) << 20;
+constexpr uint32_t kMaxDefaultChains = 65536;
+
+// A uniform double in [0, 1) from a seed (splitmix64's finaliser): the one random number of
+// the host's resampling.
+double seeded_unit(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  x ^= x >> 31;
+  return double(x >> 11) * 0x1.0p-53;
+}
+
+// The settings' checks, before the program is built (a usage error should not wait for it).
+const MltConfig& checked(const MltConfig& c) {
+  if (!(c.large_step >= 0.0f && c.large_step <= 1.0f))
+    throw Error(ExitCode::Usage, "--mlt-large-step must be in [0, 1]");
+  if (!(c.sigma > 0.0f) || !std::isfinite(c.sigma))
+    throw Error(ExitCode::Usage, "--mlt-sigma must be a positive number");
+  if (c.bootstrap == 0) throw Error(ExitCode::Usage, "--mlt-bootstrap must be at least 1");
+  return c;
+}
+
+size_t chain_bytes(uint32_t dims) { return sizeof(dev::MltChain) + size_t(dims) * sizeof(dev::PssCoord); }
+
+}  // namespace
+
+Metropolis::Metropolis(const cl::Context& ctx, const SceneBuffers& scene, const MltConfig& config)
+    : ctx_(ctx),
+      config_(checked(config)),
+      program_(ctx, "integrators/mlt.cl"),
+      bootstrap_kernel_(program_, "mlt_bootstrap"),
+      start_kernel_(program_, "mlt_start"),
+      mutate_kernel_(program_, "mlt_mutate"),
+      params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
+      mlt_params_(ctx, sizeof(dev::MltParams), CL_MEM_READ_ONLY, nullptr, "Metropolis parameters"),
+      chains_(ctx, sizeof(dev::MltChain), CL_MEM_READ_WRITE, nullptr, "Metropolis chains"),
+      coords_(ctx, sizeof(dev::PssCoord), CL_MEM_READ_WRITE, nullptr, "primary sample vectors") {
+  bootstrap_arg_ = scene.bind(bootstrap_kernel_, 0);
+  start_arg_ = scene.bind(start_kernel_, 0);
+  mutate_arg_ = scene.bind(mutate_kernel_, 0);
+}
+
+uint32_t Metropolis::default_chains(size_t pixels, uint32_t dims, size_t budget_bytes) {
+  const size_t fit = budget_bytes / chain_bytes(dims);
+  return static_cast<uint32_t>(std::max<size_t>(1, std::min({pixels, size_t(kMaxDefaultChains), fit})));
+}
+
+std::vector<uint32_t> Metropolis::resample(const std::vector<float>& targets, uint32_t chains,
+                                           double u) {
+  std::vector<double> cumulative(targets.size());
+  double total = 0.0;
+  for (size_t i = 0; i < targets.size(); ++i) cumulative[i] = total += std::max(0.0f, targets[i]);
+  if (!(total > 0.0)) return {};
+  std::vector<uint32_t> start(chains);
+  for (uint32_t c = 0; c < chains; ++c) {
+    const double x = (double(c) + u) / double(chains) * total;
+    // The first path whose cumulative target exceeds x: its interval holds x, and it is not
+    // empty, so the path's target is > 0.
+    const size_t i = size_t(std::upper_bound(cumulative.begin(), cumulative.end(), x) - cumulative.begin());
+    start[c] = static_cast<uint32_t>(std::min(i, targets.size() - 1));
+  }
+  return start;
+}
+
+void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
+  // Every kernel once with no bootstrap paths and no chains: each work-item returns at once.
+  dev::MltParams none{};
+  params_.write(&params, sizeof(params));
+  mlt_params_.write(&none, sizeof(none));
+  cl::Buffer targets(ctx_, sizeof(float), CL_MEM_READ_WRITE, nullptr, "bootstrap targets");
+  cl::Buffer start(ctx_, sizeof(uint32_t), CL_MEM_READ_ONLY, nullptr, "chain starts");
+  bootstrap_kernel_.args(bootstrap_arg_, params_, mlt_params_, targets, film.ray_counts());
+  bootstrap_kernel_.launch(ctx_, 1);
+  start_kernel_.args(start_arg_, params_, mlt_params_, start, chains_, coords_, film.ray_counts());
+  start_kernel_.launch(ctx_, 1);
+  mutate_kernel_.args(mutate_arg_, params_, mlt_params_, chains_, coords_, film.splat(),
+                      film.ray_counts());
+  mutate_kernel_.launch(ctx_, 1);
+  ctx_.finish();
+}
+
+void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
+  const auto t0 = Clock::now();
+  mlt_.dims = PSS_DIMS(params.max_depth);
+  mlt_.chains = config_.chains ? config_.chains
+                               : default_chains(film.pixels(), mlt_.dims, kDefaultChainBudget);
+  const bool gpu = ctx_.device().is_gpu();
+  mlt_.dim_stride = gpu ? mlt_.chains : 1u;
+  mlt_.chain_stride = gpu ? 1u : mlt_.dims;
+  mlt_.bootstrap = config_.bootstrap;
+  mlt_.large_step = config_.large_step;
+  mlt_.sigma = config_.sigma;
+  mlt_.seed = params.seed;
+  params_.write(&params, sizeof(params));
+  mlt_params_.write(&mlt_, sizeof(mlt_));
+
+  cl::Buffer targets(ctx_, size_t(mlt_.bootstrap) * sizeof(float), CL_MEM_READ_WRITE, nullptr,
+                     "bootstrap targets");
+  bootstrap_kernel_.args(bootstrap_arg_, params_, mlt_params_, targets, film.ray_counts());
+  bootstrap_kernel_.launch(ctx_, mlt_.bootstrap);
+  const std::vector<float> target = targets.read_vector<float>(mlt_.bootstrap);
+
+  double sum = 0.0, sum_sq = 0.0;
+  for (float t : target) {
+    sum += t;
+    sum_sq += double(t) * t;
+  }
+  const double n = double(target.size());
+  stats_.b = sum / n;
+  stats_.b_standard_error =
+      n > 1 ? std::sqrt(std::max(0.0, (sum_sq - sum * sum / n) / (n - 1.0)) / n) : 0.0;
+  stats_.bootstrap_paths = mlt_.bootstrap;
+  stats_.chains = mlt_.chains;
+  stats_.dims = mlt_.dims;
+
+  std::vector<uint32_t> start = resample(target, mlt_.chains, seeded_unit(params.seed));
+  if (start.empty()) {
+    log::warn("mlt: all " + std::to_string(mlt_.bootstrap) + " bootstrap paths carry no light; "
+              "the image stays black");
+    dark_ = true;
+    stats_.bootstrap_seconds = seconds_since(t0);
+    return;
+  }
+  if (!config_.resample)
+    for (uint32_t c = 0; c < mlt_.chains; ++c) start[c] = c % mlt_.bootstrap;
+
+  chains_ = cl::Buffer(ctx_, size_t(mlt_.chains) * sizeof(dev::MltChain), CL_MEM_READ_WRITE,
+                       nullptr, "Metropolis chains");
+  coords_ = cl::Buffer(ctx_, size_t(mlt_.chains) * mlt_.dims * sizeof(dev::PssCoord),
+                       CL_MEM_READ_WRITE, nullptr, "primary sample vectors");
+  stats_.device_bytes = chains_.size() + coords_.size();
+  const cl::Buffer starts = cl::Buffer::from_vector(ctx_, start, CL_MEM_READ_ONLY, "chain starts");
+  start_kernel_.args(start_arg_, params_, mlt_params_, starts, chains_, coords_, film.ray_counts());
+  start_kernel_.launch(ctx_, mlt_.chains);
+  ctx_.finish();
+  stats_.bootstrap_seconds = seconds_since(t0);
+  log::verbose("mlt: b = " + std::to_string(stats_.b) + " +- " +
+               std::to_string(stats_.b_standard_error) + " from " +
+               std::to_string(mlt_.bootstrap) + " paths, " + std::to_string(mlt_.chains) +
+               " chains of " + std::to_string(mlt_.dims) + " dimensions");
+}
+
+void Metropolis::render_pass(const dev::RenderParams& params, Film& film) {
+  if (!film.splats()) throw Error(ExitCode::Usage, "Metropolis needs a film with splats");
+  if (!started_) {
+    bootstrap(params, film);
+    started_ = true;
+  }
+  if (dark_) return;
+  // spp mutations per pixel in all, spread over the chains; the scale makes up for the
+  // rounding, so that the film's division by spp is exact.
+  const uint64_t total = uint64_t(params.samples_per_pass) * film.pixels();
+  const uint64_t per_chain = (total + mlt_.chains - 1) / mlt_.chains;
+  if (per_chain > 0xffffffffull)
+    throw Error(ExitCode::Usage, "mlt: more than 2^32 mutations per chain in one pass; use more "
+                                 "--mlt-chains");
+  mlt_.mutations = static_cast<uint32_t>(per_chain);
+  mlt_.splat_scale = float(stats_.b * double(total) / (double(per_chain) * mlt_.chains));
+  params_.write(&params, sizeof(params));
+  mlt_params_.write(&mlt_, sizeof(mlt_));
+  mutate_kernel_.args(mutate_arg_, params_, mlt_params_, chains_, coords_, film.splat(),
+                      film.ray_counts());
+  mutate_kernel_.launch(ctx_, mlt_.chains);
+}
+
+MetropolisStats Metropolis::metropolis_stats() const {
+  MetropolisStats s = stats_;
+  if (!started_ || dark_) return s;
+  for (const dev::MltChain& c : chains_.read_vector<dev::MltChain>(mlt_.chains)) {
+    s.large_proposed += c.large_proposed;
+    s.large_accepted += c.large_accepted;
+    s.small_proposed += c.small_proposed;
+    s.small_accepted += c.small_accepted;
+  }
+  return s;
+}
+
+}  // namespace clpt

@@ -1,0 +1,52 @@
+// Primary-sample-space Metropolis light transport (--integrator mlt, Kelemen et al. 2002)
+// over the path tracer: kernels/integrators/mlt.cl, docs/concepts/metropolis.md.
+//
+// The first pass bootstraps: `bootstrap` independent paths (fresh primary sample vectors)
+// give their target values I (path luminance); their mean is the normalisation b, and every
+// chain's start state is drawn from them in proportion to I (systematic resampling), so the
+// chains start in their stationary distribution and there is no start-up bias. Then each
+// pass runs every chain for ceil(spp * pixels / chains) proposals: --spp counts mutations per
+// pixel. All chains share the one b. Like lt and bdpt its film has splats: no per-pixel
+// variance, sums not bit-reproducible unless PoCL runs on one thread.
+#pragma once
+
+#include <cstdint>
+
+#include "integrators/integrator.h"
+#include "shared/mlt_types.h"
+
+namespace clpt {
+
+class Metropolis final : public Integrator {
+ public:
+  Metropolis(const cl::Context& ctx, const SceneBuffers& scene, const MltConfig& config);
+  const char* name() const override { return "mlt"; }
+  void warm_up(const dev::RenderParams& params, Film& film) override;
+  void render_pass(const dev::RenderParams& params, Film& film) override;
+  const cl::BuildInfo& build_info() const override { return program_.build_info(); }
+  MetropolisStats metropolis_stats() const override;
+
+  // Chains for an image when --mlt-chains is not given: one per pixel, at most 65536, and
+  // no more than fit `budget_bytes` of chain state.
+  static uint32_t default_chains(size_t pixels, uint32_t dims, size_t budget_bytes);
+  // Chain c's start is the bootstrap path whose cumulative target interval holds
+  // (c + u) / chains (systematic resampling); empty when every target is 0.
+  static std::vector<uint32_t> resample(const std::vector<float>& targets, uint32_t chains, double u);
+
+ private:
+  void bootstrap(const dev::RenderParams& params, Film& film);
+
+  const cl::Context& ctx_;
+  MltConfig config_;
+  cl::Program program_;
+  cl::Kernel bootstrap_kernel_, start_kernel_, mutate_kernel_;
+  cl::Buffer params_, mlt_params_;
+  cl::Buffer chains_, coords_;
+  dev::MltParams mlt_{};
+  bool started_ = false;
+  bool dark_ = false;  // every bootstrap path was black: nothing to mutate
+  MetropolisStats stats_;
+  cl_uint bootstrap_arg_ = 0, start_arg_ = 0, mutate_arg_ = 0;
+};
+
+}  // namespace clpt

@@ -1,0 +1,64 @@
+/* Entry points of primary-sample-space Metropolis light transport (--integrator mlt,
+ * host/integrators/metropolis.cpp, docs/concepts/metropolis.md):
+ *   mlt_bootstrap  path i of the bootstrap: the target value of the fresh vector of key i
+ *                  (the host estimates b from them and picks the chains' start states);
+ *   mlt_start      chain c starts at bootstrap path start[c] (same key, same vector, same path);
+ *   mlt_mutate     every chain takes MltParams.mutations steps and splats them.
+ * The program reads its random numbers from the chains' vectors (sampler/pss.cl). */
+#define CLPT_PRIMARY_SAMPLE_SPACE 1
+#include "integrators/mlt/chain.cl"
+
+/* The key of bootstrap path i: a fresh vector. */
+inline u32 mlt_bootstrap_key(u32 seed, u32 i) { return hash_combine(hash_u32(seed ^ 0x510e527fu), i); }
+
+__kernel void mlt_bootstrap(SCENE_KERNEL_ARGS __constant const RenderParams* params,
+                            __constant const MltParams* mlt, __global float* target,
+                            __global u32* ray_counts) {
+  const u32 i = get_global_id(0);
+  if (i >= mlt->bootstrap) return;
+  const SceneView scene = SCENE_VIEW();
+  const Sampler sampler = pss_fresh(mlt_bootstrap_key(mlt->seed, i), mlt->dims);
+  u32 rays = 0;
+  target[i] = pss_path(&scene, params, &sampler, &rays).target;
+  atomic_add(ray_counts + i % (params->width * params->height), rays);
+}
+
+__kernel void mlt_start(SCENE_KERNEL_ARGS __constant const RenderParams* params,
+                        __constant const MltParams* mlt, __global const u32* start,
+                        __global MltChain* chains, __global PssCoord* coords,
+                        __global u32* ray_counts) {
+  const u32 c = get_global_id(0);
+  if (c >= mlt->chains) return;
+  const SceneView scene = SCENE_VIEW();
+  __global PssCoord* vector = coords + (size_t)c * mlt->chain_stride;
+  MltChain ch;
+  ch.weight = 0.0f;
+  ch.large_proposed = ch.large_accepted = ch.small_proposed = ch.small_accepted = 0u;
+  ch.pad[0] = ch.pad[1] = 0u;
+  pss_chain_start(&ch, vector, mlt->dim_stride, mlt->dims, mlt_bootstrap_key(mlt->seed, start[c]));
+  const Sampler sampler = pss_current(&ch, vector, mlt->dim_stride, mlt->dims);
+  u32 rays = 0;
+  const PssPath x = pss_path(&scene, params, &sampler, &rays);
+  vstore3(x.L, 0, ch.color);
+  ch.luminance = x.target;
+  ch.pixel = x.pixel;
+  chains[c] = ch;
+  atomic_add(ray_counts + c % (params->width * params->height), rays);
+}
+
+__kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params,
+                         __constant const MltParams* mlt, __global MltChain* chains,
+                         __global PssCoord* coords, __global float4* splat,
+                         __global u32* ray_counts) {
+  const u32 c = get_global_id(0);
+  if (c >= mlt->chains) return;
+  const SceneView scene = SCENE_VIEW();
+  MltChain ch = chains[c];
+  __global PssCoord* vector = coords + (size_t)c * mlt->chain_stride;
+  const u32 key = pss_chain_key(mlt->seed, c);
+  u32 rays = 0;
+  for (u32 i = 0; i < mlt->mutations; ++i) mlt_step(&scene, params, mlt, &ch, vector, key, splat, &rays);
+  mlt_flush(&ch, mlt->splat_scale, splat);
+  chains[c] = ch;
+  atomic_add(ray_counts + c % (params->width * params->height), rays);
+}

@@ -1,0 +1,29 @@
+/* The path a primary sample vector stands for (PSSMLT over the path tracer, Kelemen et al.
+ * 2002): the film position from DIM_PIXEL, then pt's estimator (integrators/path_trace.cl,
+ * the same function pt's pixels run) reading the vector through the PSS sampler. The
+ * chain's target function is the luminance of that contribution. */
+#ifndef CLPT_INTEGRATORS_MLT_PSS_PATH_CL
+#define CLPT_INTEGRATORS_MLT_PSS_PATH_CL
+
+#include "camera/pixel_ray.cl"
+#include "integrators/path_trace.cl"
+
+typedef struct PssPath {
+  float3 L;        /* the path's contribution C (radiance, pt's estimate for one sample) */
+  float target;    /* I = luminance(C); 0 for a black or non-finite C */
+  u32 pixel;       /* where its film position falls */
+} PssPath;
+
+inline PssPath pss_path(const SceneView* s, __constant const RenderParams* p,
+                        const Sampler* sampler, u32* rays) {
+  PssPath path;
+  float3 org, dir;
+  path.pixel = film_sample_ray(p, sampler, &org, &dir);
+  path.L = pt_radiance(s, p, sampler, org, dir, rays);
+  const float y = luminance(path.L);
+  const bool finite = isfinite(path.L.x) && isfinite(path.L.y) && isfinite(path.L.z);
+  path.target = finite && y > 0.0f ? y : 0.0f;
+  return path;
+}
+
+#endif

@@ -1,0 +1,190 @@
+/* Primary sample space: the sampler of a Metropolis chain (Kelemen, Szirmay-Kalos, Antal and
+ * Csonka 2002, "A Simple and Robust Mutation Strategy for the Metropolis Light Transport
+ * Algorithm"; the lazy bookkeeping is pbrt-v4's MLTSampler, pbrt 4th ed. §13.4).
+ *
+ * A path is a deterministic function of the vector u in [0,1)^dims its sample_1d/sample_2d
+ * calls read: dimension d is coordinate d (the dense layout of sampler/dimensions.h's stream
+ * 0). A chain keeps its vector in device memory, one PssCoord per coordinate at
+ * coords[d * stride] (MltParams.dim_stride: interleaved with the other chains' on GPUs,
+ * contiguous on CPUs). A proposal is either
+ *   a large step: a fresh uniform vector (Kelemen's "large step", probability
+ *                 MltParams.large_step), or
+ *   a small step: every coordinate moved by a Gaussian of standard deviation sigma, wrapped
+ *                 into [0, 1) (pbrt-v4's perturbation; Kelemen's was exponential).
+ * Coordinates are updated lazily, when the path reads them: a coordinate last brought up to
+ * date at iteration m and read at iteration i takes the last accepted large step's value if
+ * that came after m, then the i - m small steps it missed as one Gaussian of standard deviation
+ * sigma * sqrt(i - m) (the sum of independent Gaussians; wrapping commutes with it). The
+ * chain's vector therefore is, in distribution, what eager updates of every coordinate at
+ * every iteration would give, at the cost of the coordinates a path actually reads.
+ * A rejected proposal restores the coordinates it changed (value and iteration) from their
+ * backups and takes the iteration back.
+ *
+ * Random numbers are counter-based: proposal n of a chain draws its perturbations and its
+ * large step's values from key hash(chain, n), so a rejected proposal's successor never
+ * repeats it, and a large step's values can be recomputed from its key when a coordinate it
+ * did not read is read later. A fresh sampler (no chain: coords null) gives the values of a
+ * large step with key large_key, which is how the bootstrap's paths and a chain's start
+ * state share their vector. */
+#ifndef CLPT_SAMPLER_PSS_CL
+#define CLPT_SAMPLER_PSS_CL
+
+/* clang-format off: render_types.h must come first, it defines u32, which dimensions.h uses */
+#include "shared/render_types.h"
+/* clang-format on */
+#include "sampler/dimensions.h"
+#include "sampler/hash.cl"
+#include "shared/mlt_types.h"
+
+/* Salts separating a proposal key's uses. */
+#define PSS_SALT_UNIFORM 0x68e31da4u
+#define PSS_SALT_GAUSS 0xb5297a4du
+#define PSS_SALT_LARGE 0x1b56c4e9u
+#define PSS_SALT_ACCEPT 0x3c6ef372u
+
+typedef struct Sampler {
+  __global PssCoord* coords; /* coordinate 0 of the chain; null: a fresh vector (large_key) */
+  u32 stride;                /* coords[d * stride] is coordinate d */
+  u32 dims;                  /* coordinates of the vector */
+  u32 iteration;             /* the iteration this proposal belongs to */
+  u32 last_large;            /* iteration of the last accepted large step */
+  u32 large_key;             /* its key */
+  u32 step_key;              /* this proposal's key */
+  u32 large_step;            /* 1: this proposal is a large step */
+  float sigma;
+} Sampler;
+
+inline float pss_uniform(u32 key, u32 d) {
+  return fmin(u32_to_unit_float(hash_combine(key ^ PSS_SALT_UNIFORM, d)), 0x1.fffffep-1f);
+}
+
+/* A standard normal number for coordinate d of proposal `key` (Box and Muller 1958). */
+inline float pss_gaussian(u32 key, u32 d) {
+  const u32 h = hash_combine(key ^ PSS_SALT_GAUSS, d);
+  const float u1 = ((float)(h >> 8) + 1.0f) * 0x1.0p-24f; /* (0, 1]: log is finite */
+  const float u2 = u32_to_unit_float(hash_u32(h));
+  return sqrt(-2.0f * log(u1)) * cos(2.0f * M_PI_F * u2);
+}
+
+/* The sampler for a fresh uniform vector: the values a large step with this key gives. */
+inline Sampler pss_fresh(u32 key, u32 dims) {
+  Sampler s;
+  s.coords = 0;
+  s.stride = 0u;
+  s.dims = dims;
+  s.iteration = 1u;
+  s.last_large = 1u;
+  s.large_key = key;
+  s.step_key = key;
+  s.large_step = 0u;
+  s.sigma = 0.0f;
+  return s;
+}
+
+/* Coordinate d as this proposal sees it, brought up to date first (see the file comment). */
+inline float pss_value(const Sampler* s, u32 d) {
+  /* Out of the vector (a dimension the layout does not give the chain): an independent value
+   * per proposal. mlt sizes the vector so that pt's paths never read one. */
+  if (d >= s->dims) return pss_uniform(s->step_key, d);
+  if (!s->coords) return pss_uniform(s->large_key, d);
+  __global PssCoord* c = s->coords + (size_t)d * s->stride;
+  float value = c->value;
+  u32 modified = c->modified;
+  if (modified >= s->iteration) return value;
+  if (modified < s->last_large) { /* the last accepted large step's value */
+    value = pss_uniform(s->large_key, d);
+    modified = s->last_large;
+  }
+  c->backup = value;
+  c->backup_modified = modified;
+  if (s->large_step) {
+    value = pss_uniform(s->step_key, d);
+  } else if (modified < s->iteration) {
+    const float steps = (float)(s->iteration - modified);
+    value += s->sigma * sqrt(steps) * pss_gaussian(s->step_key, d);
+    value -= floor(value);
+    value = fmin(value, 0x1.fffffep-1f);
+  }
+  c->value = value;
+  c->modified = s->iteration;
+  return value;
+}
+
+inline float sample_1d(const Sampler* s, u32 dimension) { return pss_value(s, dimension); }
+
+inline float2 sample_2d(const Sampler* s, u32 dimension) {
+  return (float2)(pss_value(s, dimension), pss_value(s, dimension + 1u));
+}
+
+/* ---- A chain's proposals (MltChain holds the counters between them). ---- */
+
+/* Chain c's key: the root of its proposals' keys. */
+inline u32 pss_chain_key(u32 seed, u32 chain) { return hash_combine(hash_u32(seed ^ 0x7f4a7c15u), chain); }
+
+/* Sets a chain to the start state whose vector is the fresh one of `key`, with its
+ * coordinates not yet read (their iteration 0 is before the start's large step at 1). */
+inline void pss_chain_start(MltChain* ch, __global PssCoord* coords, u32 stride, u32 dims, u32 key) {
+  for (u32 d = 0; d < dims; ++d) coords[(size_t)d * stride].modified = 0u;
+  ch->iteration = 1u;
+  ch->last_large = 1u;
+  ch->large_key = key;
+  ch->proposals = 0u;
+}
+
+/* The sampler of the chain's current state (no change to any coordinate). */
+inline Sampler pss_current(const MltChain* ch, __global PssCoord* coords, u32 stride, u32 dims) {
+  Sampler s = pss_fresh(ch->large_key, dims);
+  s.coords = coords;
+  s.stride = stride;
+  s.iteration = ch->iteration;
+  s.last_large = ch->last_large;
+  return s;
+}
+
+/* Starts the chain's next proposal: a large step with probability large_step, else a small
+ * step of standard deviation sigma. */
+inline Sampler pss_propose(MltChain* ch, __global PssCoord* coords, u32 stride, u32 dims,
+                           u32 chain_key, float large_step, float sigma) {
+  ch->iteration += 1u;
+  ch->proposals += 1u;
+  Sampler s = pss_current(ch, coords, stride, dims);
+  s.step_key = hash_combine(chain_key, ch->proposals);
+  s.large_step = u32_to_unit_float(hash_u32(s.step_key ^ PSS_SALT_LARGE)) < large_step ? 1u : 0u;
+  s.sigma = sigma;
+  return s;
+}
+
+/* Metropolis-Hastings acceptance of a proposal of target value `proposed` from a state of
+ * value `current`, for the symmetric proposals above (a large step's uniform density and
+ * the wrapped Gaussian are both symmetric): min(1, proposed / current); a state of value 0
+ * (a chain that started on nothing) accepts anything. */
+inline float pss_acceptance(float proposed, float current) {
+  return current > 0.0f ? fmin(1.0f, proposed / current) : 1.0f;
+}
+
+/* The uniform number that decides whether proposal `s` is accepted. */
+inline float pss_accept_u(const Sampler* s) {
+  return u32_to_unit_float(hash_u32(s->step_key ^ PSS_SALT_ACCEPT));
+}
+
+/* The proposal becomes the chain's state. */
+inline void pss_accept(MltChain* ch, const Sampler* s) {
+  if (s->large_step) {
+    ch->last_large = s->iteration;
+    ch->large_key = s->step_key;
+  }
+}
+
+/* The proposal is dropped: its coordinates go back to their values before it. */
+inline void pss_reject(MltChain* ch, const Sampler* s) {
+  for (u32 d = 0; d < s->dims; ++d) {
+    __global PssCoord* c = s->coords + (size_t)d * s->stride;
+    if (c->modified == s->iteration) {
+      c->value = c->backup;
+      c->modified = c->backup_modified;
+    }
+  }
+  ch->iteration -= 1u;
+}
+
+#endif

@@ -1,0 +1,60 @@
+/* Metropolis light transport's device data (docs/concepts/metropolis.md): the parameters of
+ * one launch, a chain's state between launches, and one coordinate of a chain's primary
+ * sample vector (kernels/sampler/pss.cl updates it lazily). */
+#ifndef CLPT_SHARED_MLT_TYPES_H
+#define CLPT_SHARED_MLT_TYPES_H
+
+#include "shared/compat.h"
+
+CLPT_BEGIN_SHARED
+
+/* Coordinates of a path tracer's primary sample vector at --max-depth D: the camera's four
+ * dimensions and DIM_PER_BOUNCE for each of the bounces 0 to D (kernels/sampler/dimensions.h). */
+#define PSS_DIMS(max_depth) (4u + 8u * ((max_depth) + 1u))
+
+/* One coordinate of a chain's vector, with what a rejected proposal restores (pbrt-v4's
+ * MLTSampler::PrimarySample). `modified` is the chain iteration the value belongs to. */
+typedef struct PssCoord {
+  float value;
+  u32 modified;
+  float backup;
+  u32 backup_modified;
+} PssCoord;
+
+/* What one Metropolis launch needs besides RenderParams. */
+typedef struct MltParams {
+  u32 chains;        /* chains in flight (work-items of mlt_start and mlt_mutate) */
+  u32 mutations;     /* proposals per chain in this launch */
+  u32 dims;          /* coordinates of a chain's vector */
+  u32 dim_stride;    /* chain c's coordinate d is coords[c * chain_stride + d * dim_stride]: */
+  u32 chain_stride;  /*   GPUs (chains, 1), so a warp's reads of one dimension coalesce; CPUs
+                          (1, dims), so one chain's vector is one run of cache lines */
+  u32 bootstrap;     /* paths of mlt_bootstrap */
+  float large_step;  /* probability that a proposal is a large step (a fresh uniform vector) */
+  float sigma;       /* small steps: standard deviation of the Gaussian perturbation */
+  float splat_scale; /* b (the image's mean luminance) times this pass's normalisation */
+  u32 seed;
+  u32 pad[2];
+} MltParams;
+
+/* A chain between launches: its current state's contribution, the lazily updated vector's
+ * counters and acceptance counts. 64 bytes. */
+typedef struct MltChain {
+  float color[3];     /* the current path's contribution C */
+  float luminance;    /* its target value I = luminance(C) */
+  u32 pixel;          /* the pixel its film position falls in */
+  float weight;       /* expected-value weight gathered while current, not splatted yet */
+  u32 iteration;      /* iterations accepted so far, plus one */
+  u32 last_large;     /* iteration of the last accepted large step (1: the start state) */
+  u32 large_key;      /* key of that large step's uniform values */
+  u32 proposals;      /* proposals so far: the counter of the chain's random numbers */
+  u32 large_proposed;
+  u32 large_accepted;
+  u32 small_proposed;
+  u32 small_accepted;
+  u32 pad[2];
+} MltChain;
+
+CLPT_END_SHARED
+
+#endif

@@ -1,0 +1,55 @@
+/* Metropolis chains on a toy target in primary sample space, for the MltStationary tests
+ * (tests/mlt_test.cpp): the sampler's lazy vector (sampler/pss.cl) and its accept / reject,
+ * without a scene. The target reads u2 only where u0 < 0.5, as a path reads a dimension only
+ * when it gets that far:
+ *   f(u) = g(u0, u1) * (u0 < 0.5 ? h(u2) : 1),
+ *   g = 0.2 + exp(-|(u0, u1) - (0.3, 0.6)|^2 / (2 * 0.15^2)),  h = 0.25 + 1.5 u2^2.
+ * Each chain starts at a fresh uniform vector and takes `iterations` proposals; out[c] is its
+ * final state (u0, u1, u2, f).
+ * rule: 0 Metropolis (pss_acceptance and pss_reject); the broken variants the test must
+ * catch: 1 a rejected proposal's coordinates are not restored; 2 acceptance min(1, sqrt of
+ * the ratio), whose chain samples sqrt(f). */
+#define CLPT_PRIMARY_SAMPLE_SPACE 1
+#include "sampler/sampler.cl"
+
+inline float toy_target(const Sampler* s, float4* u) {
+  const float2 a = sample_2d(s, 0u);
+  const float dx = a.x - 0.3f, dy = a.y - 0.6f;
+  float f = 0.2f + exp(-(dx * dx + dy * dy) / (2.0f * 0.15f * 0.15f));
+  float u2 = -1.0f;
+  if (a.x < 0.5f) {
+    u2 = sample_1d(s, 2u);
+    f *= 0.25f + 1.5f * u2 * u2;
+  }
+  *u = (float4)(a.x, a.y, u2, f);
+  return f;
+}
+
+__kernel void mlt_toy_chains(__global PssCoord* coords, u32 chains, u32 iterations,
+                             float large_step, float sigma, u32 rule, u32 seed,
+                             __global float4* out) {
+  const u32 c = get_global_id(0);
+  if (c >= chains) return;
+  const u32 dims = 4u; /* one more than the target reads: never read, still restored */
+  __global PssCoord* vector = coords + (size_t)c * dims;
+  MltChain ch;
+  pss_chain_start(&ch, vector, 1u, dims, hash_combine(hash_u32(seed), c));
+  float4 x;
+  const Sampler start = pss_current(&ch, vector, 1u, dims);
+  float fx = toy_target(&start, &x);
+  const u32 key = pss_chain_key(seed, c);
+  for (u32 i = 0; i < iterations; ++i) {
+    const Sampler s = pss_propose(&ch, vector, 1u, dims, key, large_step, sigma);
+    float4 y;
+    const float fy = toy_target(&s, &y);
+    const float a = rule == 2u ? fmin(1.0f, sqrt(fy / fx)) : pss_acceptance(fy, fx);
+    if (pss_accept_u(&s) < a) {
+      pss_accept(&ch, &s);
+      x = y;
+      fx = fy;
+    } else if (rule != 1u) {
+      pss_reject(&ch, &s);
+    }
+  }
+  out[c] = x;
+}

@@ -1,0 +1,290 @@
+// Metropolis light transport (--integrator mlt, host/integrators/metropolis.h).
+//   MltStationary     chains on a toy target in primary sample space (tests/kernels/mlt_test.cl):
+//                     the histogram of their states is the target (chi-square), including a
+//                     coordinate the target reads only on part of the domain (the lazy
+//                     updates); no restore on reject, or a wrong acceptance, fail it
+//   MltResample       the host's systematic resampling of the bootstrap: proportional to the
+//                     targets, never a black path
+//   SphereFurnaceMlt  the image matches the closed form, as a mean and block by block
+//   CrossIntegrator   mlt matches the pt reference on the Cornell box (blocks, pixels, image)
+//   MltStartUp        32 runs of one mutation per pixel average to the reference: the
+//                     bootstrap's resampling removes start-up bias; starting the chains at
+//                     unweighted bootstrap paths instead fails the same test
+//   MltOptions        usage errors
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "integrators/metropolis.h"
+#include "options.h"
+#include "render/renderer.h"
+#include "shared/mlt_types.h"
+#include "stats/image_stats.h"
+#include "support/block_test.h"
+#include "support/chi2.h"
+#include "support/device.h"
+#include "support/reference_match.h"
+#include "support/reference_render.h"
+#include "support/scenes.h"
+#include "util/error.h"
+
+namespace clpt {
+namespace {
+
+// ---- The toy target of tests/kernels/mlt_test.cl, on the host. ----
+double toy_g(double u0, double u1) {
+  const double dx = u0 - 0.3, dy = u1 - 0.6;
+  return 0.2 + std::exp(-(dx * dx + dy * dy) / (2.0 * 0.15 * 0.15));
+}
+double toy_h(double u2) { return 0.25 + 1.5 * u2 * u2; }
+constexpr double kToyHIntegral = 0.75;  // of h over [0, 1]
+
+enum ToyRule : uint32_t { kMetropolis = 0, kNoRestore = 1, kSqrtAcceptance = 2 };
+
+std::vector<glm::vec4> toy_chains(uint32_t chains, uint32_t iterations, float large_step,
+                                  float sigma, ToyRule rule, uint32_t seed) {
+  cl::Context& ctx = test::device_context();
+  cl::Buffer coords(ctx, size_t(chains) * 4 * sizeof(dev::PssCoord));
+  cl::Buffer out(ctx, size_t(chains) * sizeof(glm::vec4));
+  cl::Kernel k(test::test_program("kernels/mlt_test.cl"), "mlt_toy_chains");
+  k.args(0, coords, chains, iterations, large_step, sigma, uint32_t(rule), seed, out);
+  k.launch(ctx, chains);
+  return out.read_vector<glm::vec4>(chains);
+}
+
+struct ToyFit {
+  test::Chi2Result joint;  // (u0, u1) on a 16 x 16 grid
+  test::Chi2Result u2;     // u2 where u0 < 0.5, 16 bins
+};
+
+ToyFit toy_fit(const std::vector<glm::vec4>& states) {
+  constexpr int kBins = 16, kSub = 8;
+  // Expected (u0, u1) counts: the marginal g(u0, u1) * (u0 < 0.5 ? integral of h : 1),
+  // integrated over each cell by the midpoint rule on kSub x kSub points.
+  std::vector<double> mass(kBins * kBins, 0.0);
+  double total = 0.0;
+  for (int i = 0; i < kBins; ++i)
+    for (int j = 0; j < kBins; ++j) {
+      double m = 0.0;
+      for (int a = 0; a < kSub; ++a)
+        for (int b = 0; b < kSub; ++b) {
+          const double u0 = (i + (a + 0.5) / kSub) / kBins, u1 = (j + (b + 0.5) / kSub) / kBins;
+          m += toy_g(u0, u1) * (u0 < 0.5 ? kToyHIntegral : 1.0);
+        }
+      mass[i * kBins + j] = m;
+      total += m;
+    }
+  std::vector<double> observed(kBins * kBins, 0.0), expected(kBins * kBins);
+  std::vector<double> observed_u2(kBins, 0.0), expected_u2(kBins);
+  size_t left = 0;
+  for (const glm::vec4& s : states) {
+    const int i = std::clamp(int(s.x * kBins), 0, kBins - 1);
+    const int j = std::clamp(int(s.y * kBins), 0, kBins - 1);
+    observed[i * kBins + j] += 1.0;
+    if (s.x < 0.5f) {
+      observed_u2[std::clamp(int(s.z * kBins), 0, kBins - 1)] += 1.0;
+      ++left;
+    }
+  }
+  for (size_t c = 0; c < mass.size(); ++c) expected[c] = mass[c] / total * double(states.size());
+  for (int b = 0; b < kBins; ++b) {
+    const double lo = double(b) / kBins, hi = double(b + 1) / kBins;
+    const double integral = 0.25 * (hi - lo) + 0.5 * (hi * hi * hi - lo * lo * lo);
+    expected_u2[b] = integral / kToyHIntegral * double(left);
+  }
+  test::Chi2Options opt;
+  opt.alpha = 0.01 / 2.0;  // two statistics per fit
+  const auto cell = [](size_t c) { return "cell " + std::to_string(c); };
+  return {test::chi2_counts(observed, expected, opt, cell),
+          test::chi2_counts(observed_u2, expected_u2, opt, cell)};
+}
+
+constexpr uint32_t kToyChains = 20000, kToyIterations = 160;
+
+// From a uniform start, 160 proposals with large steps at 0.3 leave the chains within a
+// total variation of about 1e-4 of their stationary law (the independence sampler's rate,
+// 1 - 0.3 * min f / max f per step, bounds it), far below what 20 000 states resolve.
+TEST(MltStationary, ChainsSampleTheTarget) {
+  for (const float sigma : {0.01f, 0.1f}) {
+    const ToyFit fit = toy_fit(toy_chains(kToyChains, kToyIterations, 0.3f, sigma, kMetropolis, 11));
+    EXPECT_TRUE(fit.joint.passed) << "sigma " << sigma << ": " << fit.joint.report;
+    EXPECT_TRUE(fit.u2.passed) << "sigma " << sigma << ": " << fit.u2.report;
+    std::cout << "[ figures  ] toy chains sigma " << sigma << ": (u0,u1) " << fit.joint.summary()
+              << "; u2 " << fit.u2.summary() << "\n";
+  }
+}
+
+// Small steps alone (no large step) also keep the target: the Gaussian perturbation is
+// symmetric, so Metropolis' rule needs no proposal ratio. A sigma of 0.1 mixes in 160 steps.
+TEST(MltStationary, SmallStepsAloneSampleTheTarget) {
+  const ToyFit fit = toy_fit(toy_chains(kToyChains, 400, 0.0f, 0.1f, kMetropolis, 12));
+  EXPECT_TRUE(fit.joint.passed) << fit.joint.report;
+  EXPECT_TRUE(fit.u2.passed) << fit.u2.report;
+}
+
+TEST(MltStationary, NotRestoringRejectedProposalsFails) {
+  const ToyFit fit = toy_fit(toy_chains(kToyChains, kToyIterations, 0.3f, 0.1f, kNoRestore, 11));
+  EXPECT_FALSE(fit.joint.passed && fit.u2.passed) << fit.joint.summary() << "; " << fit.u2.summary();
+}
+
+TEST(MltStationary, WrongAcceptanceFails) {
+  const ToyFit fit = toy_fit(toy_chains(kToyChains, kToyIterations, 0.3f, 0.1f, kSqrtAcceptance, 11));
+  EXPECT_FALSE(fit.joint.passed) << fit.joint.summary();
+}
+
+// ---- Host resampling. ----
+TEST(MltResample, IsProportionalToTheTargets) {
+  const std::vector<float> targets = {0.0f, 1.0f, 0.0f, 3.0f, 4.0f, 0.0f};
+  const std::vector<uint32_t> start = Metropolis::resample(targets, 8000, 0.37);
+  ASSERT_EQ(start.size(), 8000u);
+  std::vector<int> count(targets.size(), 0);
+  for (uint32_t s : start) ++count.at(s);
+  EXPECT_EQ(count[0] + count[2] + count[5], 0) << "a black path was chosen";
+  // Systematic resampling: each path gets its share to within one chain.
+  EXPECT_NEAR(count[1], 1000, 1);
+  EXPECT_NEAR(count[3], 3000, 1);
+  EXPECT_NEAR(count[4], 4000, 1);
+}
+
+TEST(MltResample, AllBlackGivesNoStart) {
+  EXPECT_TRUE(Metropolis::resample({0.0f, 0.0f}, 4, 0.5).empty());
+  EXPECT_TRUE(Metropolis::resample({}, 4, 0.5).empty());
+}
+
+TEST(MltResample, DefaultChainsFitTheBudget) {
+  EXPECT_EQ(Metropolis::default_chains(1000, 76, size_t(256) << 20), 1000u);
+  EXPECT_EQ(Metropolis::default_chains(size_t(1) << 22, 76, size_t(256) << 20), 65536u);
+  const uint32_t fit = Metropolis::default_chains(size_t(1) << 22, PSS_DIMS(1024), size_t(256) << 20);
+  EXPECT_LE(fit * (sizeof(dev::MltChain) + PSS_DIMS(1024) * sizeof(dev::PssCoord)), size_t(256) << 20);
+  EXPECT_GT(fit, 1000u);
+}
+
+// ---- Renders. ----
+RenderSettings mlt_settings(uint32_t size, uint64_t spp) {
+  RenderSettings s;
+  s.width = s.height = size;
+  s.spp = spp;
+  s.integrator = "mlt";
+  return s;
+}
+
+class SphereFurnaceMlt : public ::testing::TestWithParam<test::FurnaceCase> {};
+
+// Every pixel sees the same radiance, so the chains' splats must cover the film evenly: the
+// image mean (b's estimate, in effect) and each 4 x 4 block against the closed form.
+TEST_P(SphereFurnaceMlt, MatchesClosedForm) {
+  const test::FurnaceCase c = GetParam();
+  const Scene scene = test::furnace_scene(c.rho, 1.0f);
+  const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
+  RenderSettings s = mlt_settings(16, 64);
+  s.max_depth = c.max_depth;
+  const std::vector<Image> batches = test::render_batches(scene, s, 24, 3100);
+  const test::ChannelMeans m = test::channel_means(batches);
+  for (int ch = 0; ch < 3; ++ch) {
+    EXPECT_LT(std::fabs(m.mean[ch] - expected) / m.sigma[ch], 4.0)
+        << "channel " << ch << " mean " << m.mean[ch] << " expected " << expected;
+    EXPECT_LT(4.0 * m.sigma[ch], 0.03 * expected) << "too few samples for a meaningful test";
+  }
+  Image flat(16, 16), zero(16, 16);
+  std::fill(flat.rgb.begin(), flat.rgb.end(), float(expected));
+  const test::BlockTestResult blocks = test::block_means_test(batches, flat, zero, 4);
+  EXPECT_EQ(blocks.failed, 0u) << blocks.summary();
+  std::cout << "[ figures  ] mlt furnace rho " << c.rho << " depth " << c.max_depth << ": mean "
+            << m.mean[0] << " expected " << expected << " sigma " << m.sigma[0] << "; "
+            << blocks.summary() << "\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, SphereFurnaceMlt,
+                         ::testing::Values(test::FurnaceCase{0.5f, 1}, test::FurnaceCase{0.8f, 8}),
+                         [](const auto& info) { return test::furnace_case_name(info.param); });
+
+constexpr uint32_t kSize = 32;
+
+const Scene& cornell() {
+  static const Scene scene = test::cornell_box();
+  return scene;
+}
+
+// 48 batches, not the 16 of lt and bdpt: a pixel's value is a count of correlated chain
+// splats, skewed to the right, and with 16 batches the per-pixel t-statistics came out
+// heavier-tailed than Student's (9 of 3072 pixel-channels and 16 of 768 2 x 2 blocks beyond
+// the threshold, nearly all below the reference); with 64 batches of the same renders, none
+// and 3, with a mean z of 0.004 where a bias would have doubled them (docs/TESTING.md).
+TEST(CrossIntegrator, MltMatchesPtOnCornellBox) {
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  test::expect_matches_reference(test::render_batches(cornell(), mlt_settings(kSize, 64), 48, 900),
+                                 ref, "mlt");
+}
+
+// One mutation per pixel with one chain per pixel: the image is mostly the chains' start
+// states, each splatted with weight b / I. Resampled in proportion to I they average to the
+// image; taken as they come (uniform in primary sample space) the dim pixels, which start
+// more chains than their share of I, come out too bright.
+test::BlockTestResult startup_blocks(bool resample) {
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  RenderSettings s = mlt_settings(kSize, 1);
+  s.mlt.chains = kSize * kSize;
+  s.mlt.bootstrap = 20000;
+  s.mlt.resample = resample;
+  const std::vector<Image> batches = test::render_batches(cornell(), s, 32, 5000);
+  return test::block_means_test(batches, ref.mean,
+                                variance_of_mean(ref.variance, ref.samples_per_pixel), 8);
+}
+
+TEST(MltStartUp, ShortRunsMatchTheReference) {
+  const test::BlockTestResult t = startup_blocks(true);
+  EXPECT_EQ(t.failed, 0u) << t.summary();
+  std::cout << "[ figures  ] mlt start-up, resampled: " << t.summary() << "\n";
+}
+
+TEST(MltStartUp, WithoutResamplingShortRunsAreBiased) {
+  const test::BlockTestResult t = startup_blocks(false);
+  EXPECT_GT(t.failed, 0u) << t.summary();
+  std::cout << "[ figures  ] mlt start-up, not resampled: " << t.summary() << "\n";
+}
+
+// ---- Options. ----
+ExitCode parse_error(std::vector<const char*> args) {
+  args.insert(args.begin(), "clpt");
+  try {
+    (void)parse_options(int(args.size()), args.data());
+  } catch (const Error& e) {
+    return e.code();
+  }
+  return ExitCode::Ok;
+}
+
+TEST(MltOptions, BadValuesAreUsageErrors) {
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-large-step", "1.5"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-large-step", "-0.1"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-sigma", "0"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-chains", "0"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-bootstrap", "0"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "mmlt"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "x"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--light-samples", "2"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--sampler", "sobol"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--mlt-sigma", "0.1"}), ExitCode::Usage);  // not mlt
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-sigma", "0.05",
+                         "--mlt-large-step", "1", "--mlt-chains", "7"}),
+            ExitCode::Ok);
+}
+
+TEST(MltOptions, RendererChecksItsConfig) {
+  RenderSettings s = mlt_settings(8, 1);
+  s.mlt.sigma = 0.0f;
+  try {
+    Renderer r(test::device_context(), test::furnace_scene(0.5f, 1.0f), s);
+    FAIL() << "sigma 0 was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::Usage);
+  }
+}
+
+}  // namespace
+}  // namespace clpt
