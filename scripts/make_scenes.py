@@ -2,7 +2,8 @@
 """Generate clpt's reference glTF 2.0 scenes, deterministically.
 
     python3 scripts/make_scenes.py            # writes scenes/cornell_box.gltf, scenes/furnace.gltf,
-                                              # scenes/caustic.gltf, scenes/indirect.gltf
+                                              # scenes/caustic.gltf, scenes/indirect.gltf,
+                                              # scenes/door_ajar.gltf
     python3 scripts/make_scenes.py --out DIR  # writes them into DIR instead
 
 Python 3.11 standard library only. Each scene is a single .gltf file whose one buffer is
@@ -888,6 +889,91 @@ def make_indirect(out_dir):
     return res
 
 
+# ---------------------------------------------------------------------------------------------
+# Door-ajar benchmark: two rooms, the lamp in one, the camera in the other, light through a
+# door left slightly open (Veach 1997's hard case for path tracing, built anew here)
+
+DOOR_ROOM_LO, DOOR_ROOM_HI = (-2.0, 0.0, -3.0), (2.0, 2.5, 3.0)  # both rooms, inside
+DOOR_WALL_Z = 0.05                     # the dividing wall spans z in [-0.05, 0.05]
+DOOR_OPENING_X = (0.2, 1.0)            # the doorway: 0.8 m wide ...
+DOOR_OPENING_TOP = 2.0                 # ... and 2 m high
+DOOR_THICKNESS = 0.04
+DOOR_ANGLE_DEG = 8.0                   # open by 8 degrees into the lamp's room (z < 0)
+DOOR_ALBEDO = 0.6
+DOOR_ROOM_ALBEDO = 0.7
+DOOR_LAMP_LO, DOOR_LAMP_HI = (-0.6, -2.6), (0.6, -1.8)  # x, z of a lamp facing the ceiling
+DOOR_LAMP_HEIGHT = 1.8
+DOOR_LAMP_RADIANCE = 60.0
+DOOR_CAMERA = (-1.6, 1.3, 2.8)
+DOOR_TARGET = (0.6, 0.5, 0.0)
+DOOR_YFOV_DEG = 55.0
+
+
+def add_door_panel(mesh, hinge, width, y0, y1, thickness, angle):
+    """A box of width x (y1 - y0) x thickness, closed along +x from `hinge` (x, z) with its
+    faces between z = hinge z and hinge z - thickness, turned by `angle` about the hinge's
+    vertical axis so that its free edge swings towards -z."""
+    c, s_ = math.cos(angle), math.sin(angle)
+    hx, hz = hinge
+
+    def at(u, v, y):  # u along the closed door (+x), v across it (-z), turned
+        return (hx + u * c - v * s_, y, hz - u * s_ - v * c)
+
+    along, across = (c, 0.0, -s_), (-s_, 0.0, -c)
+    faces = [  # (corners in (u, v), y pairs, outward normal)
+        ([(0, 0, y0), (width, 0, y0), (width, 0, y1), (0, 0, y1)], scale(across, -1.0)),
+        ([(0, thickness, y0), (width, thickness, y0), (width, thickness, y1), (0, thickness, y1)], across),
+        ([(0, 0, y0), (0, thickness, y0), (0, thickness, y1), (0, 0, y1)], scale(along, -1.0)),
+        ([(width, 0, y0), (width, thickness, y0), (width, thickness, y1), (width, 0, y1)], along),
+        ([(0, 0, y0), (width, 0, y0), (width, thickness, y0), (0, thickness, y0)], (0.0, -1.0, 0.0)),
+        ([(0, 0, y1), (width, 0, y1), (width, thickness, y1), (0, thickness, y1)], (0.0, 1.0, 0.0)),
+    ]
+    for corners, n in faces:
+        add_quad(mesh, [at(u, v, y) for u, v, y in corners], n)
+
+
+def make_door(out_dir):
+    doc = Document("clpt scripts/make_scenes.py (door-ajar benchmark)")
+    a = DOOR_ROOM_ALBEDO
+    doc.add_material("wall", (a, a, a))
+    d = DOOR_ALBEDO
+    doc.add_material("door", (d, d, d))
+    doc.add_material("lamp", (0.78, 0.78, 0.78), (DOOR_LAMP_RADIANCE,) * 3, double_sided=False)
+
+    room = Mesh("rooms", "wall")
+    add_box(room, DOOR_ROOM_LO, DOOR_ROOM_HI, outward=False)
+    doc.add_mesh(room)
+    (x0, y0r, _), (x1, y1r, _) = DOOR_ROOM_LO, DOOR_ROOM_HI
+    ox0, ox1 = DOOR_OPENING_X
+    wall = Mesh("dividing_wall", "wall")  # left of the doorway, right of it, above it
+    add_box(wall, (x0, y0r, -DOOR_WALL_Z), (ox0, y1r, DOOR_WALL_Z), skip=("-x", "-y", "+y"))
+    add_box(wall, (ox1, y0r, -DOOR_WALL_Z), (x1, y1r, DOOR_WALL_Z), skip=("+x", "-y", "+y"))
+    add_box(wall, (ox0, DOOR_OPENING_TOP, -DOOR_WALL_Z), (ox1, y1r, DOOR_WALL_Z), skip=("-x", "+x", "+y"))
+    doc.add_mesh(wall)
+    door = Mesh("door", "door")  # 5 mm clear of the floor and of the lintel
+    add_door_panel(door, (ox0, -DOOR_WALL_Z), ox1 - ox0 - 0.01, 0.005, DOOR_OPENING_TOP - 0.005,
+                   DOOR_THICKNESS, math.radians(DOOR_ANGLE_DEG))
+    doc.add_mesh(door)
+
+    lamp = Mesh("lamp", "lamp")
+    (lx0, lz0), (lx1, lz1) = DOOR_LAMP_LO, DOOR_LAMP_HI
+    y = DOOR_LAMP_HEIGHT
+    add_quad(lamp, [(lx0, y, lz0), (lx1, y, lz0), (lx1, y, lz1), (lx0, y, lz1)], (0.0, 1.0, 0.0))
+    doc.add_mesh(lamp)
+
+    doc.add_perspective_camera("door_camera", list(DOOR_CAMERA), math.radians(DOOR_YFOV_DEG), 1.0, 0.01,
+                               rotation=look_at_rotation(DOOR_CAMERA, DOOR_TARGET))
+    path = os.path.join(out_dir, "door_ajar.gltf")
+    write_gltf(doc.finish(), path)
+    res = validate(path)
+    area, radiance, power, normal = emitter_summary(res, "lamp")
+    assert normal == (0.0, 1.0, 0.0) and lz1 < -DOOR_WALL_Z and DOOR_CAMERA[2] > DOOR_WALL_Z
+    print(f"{path}: {res['triangles']} triangles; lamp {area:g} m^2 facing the far room's ceiling, "
+          f"radiance {radiance[0]:g} W/m^2/sr, power {power[0]:.1f} W; door open {DOOR_ANGLE_DEG:g} deg; "
+          f"camera {DOOR_CAMERA} in the near room")
+    return res
+
+
 def main(argv=None):
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -900,6 +986,7 @@ def main(argv=None):
     make_furnace(out_dir)
     make_caustic(out_dir)
     make_indirect(out_dir)
+    make_door(out_dir)
     return 0
 
 

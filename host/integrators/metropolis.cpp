@@ -82,28 +82,35 @@ std::vector<uint32_t> Metropolis::resample(const std::vector<float>& targets, ui
   return start;
 }
 
+uint32_t Metropolis::chains_for(const dev::RenderParams& params, const Film& film) const {
+  return config_.chains ? config_.chains
+                        : default_chains(film.pixels(), PSS_DIMS(params.max_depth), kDefaultChainBudget);
+}
+
 void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
-  // Every kernel once with no bootstrap paths and no chains: each work-item returns at once.
+  // Every kernel once over as many work-items as its real launches (PoCL compiles a
+  // work-group function per grid size class at the first launch of each), with no
+  // bootstrap paths and no chains in the parameters: each work-item returns at once.
   dev::MltParams none{};
   params_.write(&params, sizeof(params));
   mlt_params_.write(&none, sizeof(none));
+  const uint32_t chains = chains_for(params, film);
   cl::Buffer targets(ctx_, sizeof(float), CL_MEM_READ_WRITE, nullptr, "bootstrap targets");
   cl::Buffer start(ctx_, sizeof(uint32_t), CL_MEM_READ_ONLY, nullptr, "chain starts");
   bootstrap_kernel_.args(bootstrap_arg_, params_, mlt_params_, targets, film.ray_counts());
-  bootstrap_kernel_.launch(ctx_, 1);
+  bootstrap_kernel_.launch(ctx_, config_.bootstrap);
   start_kernel_.args(start_arg_, params_, mlt_params_, start, chains_, coords_, film.ray_counts());
-  start_kernel_.launch(ctx_, 1);
+  start_kernel_.launch(ctx_, chains);
   mutate_kernel_.args(mutate_arg_, params_, mlt_params_, chains_, coords_, film.splat(),
                       film.ray_counts());
-  mutate_kernel_.launch(ctx_, 1);
+  mutate_kernel_.launch(ctx_, chains);
   ctx_.finish();
 }
 
 void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
   const auto t0 = Clock::now();
   mlt_.dims = PSS_DIMS(params.max_depth);
-  mlt_.chains = config_.chains ? config_.chains
-                               : default_chains(film.pixels(), mlt_.dims, kDefaultChainBudget);
+  mlt_.chains = chains_for(params, film);
   const bool gpu = ctx_.device().is_gpu();
   mlt_.dim_stride = gpu ? mlt_.chains : 1u;
   mlt_.chain_stride = gpu ? 1u : mlt_.dims;
@@ -175,7 +182,8 @@ void Metropolis::render_pass(const dev::RenderParams& params, Film& film) {
     throw Error(ExitCode::Usage, "mlt: more than 2^32 mutations per chain in one pass; use more "
                                  "--mlt-chains");
   mlt_.mutations = static_cast<uint32_t>(per_chain);
-  mlt_.splat_scale = float(stats_.b * double(total) / (double(per_chain) * mlt_.chains));
+  mlt_.b = float(stats_.b);
+  mlt_.splat_scale = float(double(total) / (double(per_chain) * mlt_.chains));
   params_.write(&params, sizeof(params));
   mlt_params_.write(&mlt_, sizeof(mlt_));
   mutate_kernel_.args(mutate_arg_, params_, mlt_params_, chains_, coords_, film.splat(),

@@ -34,6 +34,7 @@ class Metropolis final : public Integrator {
   static std::vector<uint32_t> resample(const std::vector<float>& targets, uint32_t chains, double u);
 
  private:
+  uint32_t chains_for(const dev::RenderParams& params, const Film& film) const;
   void bootstrap(const dev::RenderParams& params, Film& film);
 
   const cl::Context& ctx_;

@@ -58,7 +58,7 @@ __kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params
   const u32 key = pss_chain_key(mlt->seed, c);
   u32 rays = 0;
   for (u32 i = 0; i < mlt->mutations; ++i) mlt_step(&scene, params, mlt, &ch, vector, key, splat, &rays);
-  mlt_flush(&ch, mlt->splat_scale, splat);
+  mlt_flush(mlt, &ch, splat);
   chains[c] = ch;
   atomic_add(ray_counts + c % (params->width * params->height), rays);
 }

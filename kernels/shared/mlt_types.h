@@ -32,9 +32,10 @@ typedef struct MltParams {
   u32 bootstrap;     /* paths of mlt_bootstrap */
   float large_step;  /* probability that a proposal is a large step (a fresh uniform vector) */
   float sigma;       /* small steps: standard deviation of the Gaussian perturbation */
-  float splat_scale; /* b (the image's mean luminance) times this pass's normalisation */
+  float b;           /* the normalisation: the image's mean target (luminance), from the bootstrap */
+  float splat_scale; /* this pass's normalisation: pixels * spp / (chains * mutations) */
   u32 seed;
-  u32 pad[2];
+  u32 pad;
 } MltParams;
 
 /* A chain between launches: its current state's contribution, the lazily updated vector's
