@@ -2,7 +2,8 @@
 //   MltStationary     chains on a toy target in primary sample space (tests/kernels/mlt_test.cl):
 //                     the histogram of their states is the target (chi-square), including a
 //                     coordinate the target reads only on part of the domain (the lazy
-//                     updates); no restore on reject, or a wrong acceptance, fail it
+//                     updates); no restore on reject, or a wrong acceptance, fail it; the small
+//                     steps' normal numbers are standard normal
 //   MltResample       the host's systematic resampling of the bootstrap: proportional to the
 //                     targets, never a black path
 //   SphereFurnaceMlt  the image matches the closed form, as a mean and block by block
@@ -135,6 +136,33 @@ TEST(MltStationary, NotRestoringRejectedProposalsFails) {
 TEST(MltStationary, WrongAcceptanceFails) {
   const ToyFit fit = toy_fit(toy_chains(kToyChains, kToyIterations, 0.3f, 0.1f, kSqrtAcceptance, 11));
   EXPECT_FALSE(fit.joint.passed) << fit.joint.summary();
+}
+
+// The small steps' normal numbers (fast native_ functions, sign from its own bit): a
+// standard normal by chi-square over 40 equiprobable-width bins in [-4, 4] and the tails.
+TEST(MltStationary, SmallStepsAreStandardNormal) {
+  constexpr uint32_t kN = 200000;
+  cl::Context& ctx = test::device_context();
+  cl::Buffer out(ctx, kN * sizeof(float));
+  cl::Kernel k(test::test_program("kernels/mlt_test.cl"), "mlt_gaussians");
+  k.args(0, kN, out);
+  k.launch(ctx, kN);
+  const std::vector<float> g = out.read_vector<float>(kN);
+  constexpr int kBins = 40;
+  const auto cdf = [](double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); };
+  std::vector<double> observed(kBins + 2, 0.0), expected(kBins + 2, 0.0);
+  for (float v : g) {
+    ASSERT_TRUE(std::isfinite(v));
+    const int b = v < -4.0f ? 0 : v >= 4.0f ? kBins + 1 : 1 + std::min(kBins - 1, int((v + 4.0f) / 8.0f * kBins));
+    observed[b] += 1.0;
+  }
+  expected[0] = cdf(-4.0) * kN;
+  expected[kBins + 1] = (1.0 - cdf(4.0)) * kN;
+  for (int b = 0; b < kBins; ++b)
+    expected[1 + b] = (cdf(-4.0 + 8.0 * (b + 1) / kBins) - cdf(-4.0 + 8.0 * b / kBins)) * kN;
+  const test::Chi2Result r = test::chi2_counts(observed, expected, test::Chi2Options{},
+                                               [](size_t c) { return "bin " + std::to_string(c); });
+  EXPECT_TRUE(r.passed) << r.report;
 }
 
 // ---- Host resampling. ----

@@ -58,12 +58,19 @@ inline float pss_uniform(u32 key, u32 d) {
   return fmin(u32_to_unit_float(hash_combine(key ^ PSS_SALT_UNIFORM, d)), 0x1.fffffep-1f);
 }
 
-/* A standard normal number for coordinate d of proposal `key` (Box and Muller 1958). */
+/* A standard normal number for coordinate d of proposal `key` (Box and Muller 1958): its
+ * magnitude from a quarter turn (|cos| of a uniform angle is cos of a uniform angle in
+ * [0, pi/2)), its sign from an independent bit. The step is thus symmetric by construction,
+ * which is all Metropolis' acceptance rule needs of it, so the fast native_ functions may
+ * round as they like. With them mlt ran about 1.17x faster on PoCL than with log, sqrt
+ * and cos (Cornell box, 128x128, three A/B pairs). */
 inline float pss_gaussian(u32 key, u32 d) {
   const u32 h = hash_combine(key ^ PSS_SALT_GAUSS, d);
+  const u32 h2 = hash_u32(h);
   const float u1 = ((float)(h >> 8) + 1.0f) * 0x1.0p-24f; /* (0, 1]: log is finite */
-  const float u2 = u32_to_unit_float(hash_u32(h));
-  return sqrt(-2.0f * log(u1)) * cos(2.0f * M_PI_F * u2);
+  const float u2 = (float)(h2 >> 9) * 0x1.0p-23f;          /* [0, 1), bit 0 is the sign's */
+  const float magnitude = native_sqrt(-2.0f * native_log(u1)) * native_cos(0.5f * M_PI_F * u2);
+  return (h2 & 1u) ? -magnitude : magnitude;
 }
 
 /* The sampler for a fresh uniform vector: the values a large step with this key gives. */
@@ -101,7 +108,7 @@ inline float pss_value(const Sampler* s, u32 d) {
     value = pss_uniform(s->step_key, d);
   } else if (modified < s->iteration) {
     const float steps = (float)(s->iteration - modified);
-    value += s->sigma * sqrt(steps) * pss_gaussian(s->step_key, d);
+    value += s->sigma * native_sqrt(steps) * pss_gaussian(s->step_key, d);
     value -= floor(value);
     value = fmin(value, 0x1.fffffep-1f);
   }

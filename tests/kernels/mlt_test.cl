@@ -53,3 +53,10 @@ __kernel void mlt_toy_chains(__global PssCoord* coords, u32 chains, u32 iteratio
   }
   out[c] = x;
 }
+
+/* pss_gaussian for keys 0..n-1 at dimension 3 (the small steps' normal numbers). */
+__kernel void mlt_gaussians(u32 n, __global float* out) {
+  const u32 i = get_global_id(0);
+  if (i >= n) return;
+  out[i] = pss_gaussian(hash_u32(i), 3u);
+}
