@@ -117,6 +117,40 @@ TEST_F(Cli, BdptWritesStatsAndAStrategyMosaic) {
   EXPECT_GT(cell_sum(4, 5), 0.0);  // light tracing of four-bounce paths
 }
 
+// mlt renders, reports its chains, and refuses what a splatted film cannot give.
+TEST_F(Cli, MltWritesStatsAndRefusesVarianceAndCheckpoints) {
+  test::RunResult r = run_clpt({kCornell, "--device", "pocl", "--integrator", "mlt",
+                                "--resolution", "16x16", "--spp", "4", "--mlt-chains", "64",
+                                "--mlt-bootstrap", "5000", "-o", path("m.exr"), "--stats",
+                                path("m.json"), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(test::read_file(path("m.json")));
+  const nlohmann::json& m = j["mlt"];
+  EXPECT_EQ(m["chains"].get<uint32_t>(), 64u);
+  EXPECT_EQ(m["dimensions"].get<uint32_t>(), 4u + 8u * 9u);  // --max-depth 8
+  EXPECT_EQ(m["bootstrap_paths"].get<uint64_t>(), 5000u);
+  // 4 mutations per pixel of 256 pixels: 16 per chain, whatever the passes (each pass
+  // rounds its mutations per chain up, and 64 chains divide 256 pixels).
+  EXPECT_EQ(m["mutations"].get<uint64_t>(), 1024u);
+  EXPECT_GT(m["b"].get<double>(), 0.0);
+  EXPECT_GT(m["b_standard_error"].get<double>(), 0.0);
+  for (const char* key : {"acceptance", "large_step_acceptance", "small_step_acceptance"}) {
+    EXPECT_GT(m[key].get<double>(), 0.0) << key;
+    EXPECT_LT(m[key].get<double>(), 1.0) << key;
+  }
+  EXPECT_TRUE(j["mean_variance"].is_null());
+  EXPECT_GT(image_mean(read_image(path("m.exr"))), 0.01);
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{kCornell, "--integrator", "mlt", "--variance", "-o", path("v.exr")},
+        std::vector<std::string>{kCornell, "--integrator", "mlt", "--checkpoint", path("c.ckpt")},
+        std::vector<std::string>{kCornell, "--integrator", "mlt", "--branching", "2"},
+        std::vector<std::string>{kCornell, "--integrator", "mlt", "--mlt-large-step", "2"}}) {
+    r = run_clpt(args);
+    EXPECT_EQ(r.exit_code, 1) << args[3] << ": " << r.err;
+    EXPECT_FALSE(r.err.empty());
+  }
+}
+
 TEST_F(Cli, BadPhotonOptionsAreUsageErrors) {
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{kCornell, "--integrator", "pt", "--photons", "1000"},
