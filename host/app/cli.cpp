@@ -269,8 +269,9 @@ int run(const Options& opt) {
   log::info((out.interrupted ? "interrupted: " : "") + std::string("rendered ") +
             std::to_string(film.samples_per_pixel) + " spp in " + std::to_string(st.render_seconds) +
             " s (" + std::to_string(paths / secs / 1e6) +
-            (integrator_info(opt.integrator).traces_light_paths ? " M light paths/s)"
-                                                                : " M camera paths/s)") +
+            (integrator_info(opt.integrator).traces_light_paths           ? " M light paths/s)"
+             : integrator_info(opt.integrator).options & OPTIONS_MLT ? " M mutations/s)"
+                                                                     : " M camera paths/s)") +
             (film.samples_per_pixel > 0 ? ", wrote " + opt.output : std::string()));
   if (film.dropped_samples)
     log::warn(std::to_string(film.dropped_samples) + " NaN/Inf samples were dropped");
