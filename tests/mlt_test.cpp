@@ -243,7 +243,8 @@ const Scene& cornell() {
 // splats, skewed to the right, and with 16 batches the per-pixel t-statistics came out
 // heavier-tailed than Student's (9 of 3072 pixel-channels and 16 of 768 2 x 2 blocks beyond
 // the threshold, nearly all below the reference); with 64 batches of the same renders, none
-// and 3, with a mean z of 0.004 where a bias would have doubled them (docs/TESTING.md).
+// and 3, with a mean z of 0.004 where a bias would have doubled them
+// (docs/concepts/metropolis.md).
 TEST(CrossIntegrator, MltMatchesPtOnCornellBox) {
   const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
   test::expect_matches_reference(test::render_batches(cornell(), mlt_settings(kSize, 64), 48, 900),
