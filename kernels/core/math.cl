@@ -11,6 +11,8 @@ inline float luminance(float3 c) { return dot(c, (float3)(0.2126f, 0.7152f, 0.07
 
 inline bool is_black(float3 c) { return c.x <= 0.0f && c.y <= 0.0f && c.z <= 0.0f; }
 
+inline bool is_finite3(float3 c) { return isfinite(c.x) && isfinite(c.y) && isfinite(c.z); }
+
 /* An orthonormal basis around unit n (Duff et al. 2017, "Building an Orthonormal Basis,
  * Revisited"). */
 inline void make_basis(float3 n, float3* t, float3* b) {

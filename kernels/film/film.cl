@@ -5,6 +5,7 @@
 #ifndef CLPT_FILM_FILM_CL
 #define CLPT_FILM_FILM_CL
 
+#include "core/math.cl"
 #include "shared/compat.h"
 
 typedef struct FilmPixel {
@@ -20,7 +21,7 @@ inline FilmPixel film_load(__global const float4* sum, __global const float4* su
 }
 
 inline void film_add(FilmPixel* f, float3 L) {
-  if (isfinite(L.x) && isfinite(L.y) && isfinite(L.z)) {
+  if (is_finite3(L)) {
     f->sum.xyz += L;
     f->sum_sq.xyz += L * L;
   } else {

@@ -7,6 +7,7 @@
 #ifndef CLPT_FILM_SPLAT_CL
 #define CLPT_FILM_SPLAT_CL
 
+#include "core/math.cl"
 #include "shared/compat.h"
 
 inline void atomic_add_float(volatile __global float* addr, float v) {
@@ -22,7 +23,7 @@ inline void atomic_add_float(volatile __global float* addr, float v) {
 /* Adds L to pixel `pixel` of the splat film; a non-finite L is counted as dropped instead. */
 inline void film_splat(__global float4* splat, u32 pixel, float3 L) {
   volatile __global float* px = (volatile __global float*)(splat + pixel);
-  if (isfinite(L.x) && isfinite(L.y) && isfinite(L.z)) {
+  if (is_finite3(L)) {
     if (L.x != 0.0f) atomic_add_float(px + 0, L.x);
     if (L.y != 0.0f) atomic_add_float(px + 1, L.y);
     if (L.z != 0.0f) atomic_add_float(px + 2, L.z);

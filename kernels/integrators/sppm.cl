@@ -82,7 +82,7 @@ __kernel void sppm_pass(SCENE_KERNEL_ARGS __constant const RenderParams* params,
     u32 m = 0;
     const float3 phi = vp.beta * sppm_gather(photons, heads, next, inv_cell, mask,
                                              params->max_depth, &vp, px.radius, &m);
-    if (!(isfinite(phi.x) && isfinite(phi.y) && isfinite(phi.z))) {
+    if (!is_finite3(phi)) {
       film.w += 1.0f;
     } else if (m > 0u) {
       const float n_new = px.n + params->sppm_alpha * (float)m;
@@ -94,7 +94,7 @@ __kernel void sppm_pass(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   } else {
     Ld = vp.L;
   }
-  if (isfinite(Ld.x) && isfinite(Ld.y) && isfinite(Ld.z))
+  if (is_finite3(Ld))
     direct += Ld;
   else
     film.w += 1.0f;

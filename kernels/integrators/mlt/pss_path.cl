@@ -21,8 +21,7 @@ inline PssPath pss_path(const SceneView* s, __constant const RenderParams* p,
   path.pixel = film_sample_ray(p, sampler, &org, &dir);
   path.L = pt_radiance(s, p, sampler, org, dir, rays);
   const float y = luminance(path.L);
-  const bool finite = isfinite(path.L.x) && isfinite(path.L.y) && isfinite(path.L.z);
-  path.target = finite && y > 0.0f ? y : 0.0f;
+  path.target = is_finite3(path.L) && y > 0.0f ? y : 0.0f;
   return path;
 }
 
