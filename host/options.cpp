@@ -155,8 +155,8 @@ struct Parser {
         ->type_name("A")
         ->check(CLI::Range(0.01f, 1.0f).description(""));
     app.add_option("--mlt-mode", o.mlt_mode,
-                   "mlt: pssmlt (Kelemen's primary sample space over pt); mmlt (multiplexed, "
-                   "over bdpt's strategies) is not implemented yet [pssmlt]")
+                   "mlt: mmlt (multiplexed, over bdpt's strategies, a chain per path length) or "
+                   "pssmlt (Kelemen's primary sample space over pt) [mmlt]")
         ->type_name("MODE");
     app.add_option("--mlt-large-step", o.mlt_large_step,
                    "mlt: probability that a mutation is a large step (a fresh path) [0.3]")
@@ -167,8 +167,8 @@ struct Parser {
         ->type_name("S")
         ->check(CLI::Range(1e-7f, 1.0f).description(""));
     app.add_option("--mlt-bootstrap", o.mlt_bootstrap,
-                   "mlt: independent paths that estimate the image's brightness and choose the "
-                   "chains' start states [100000]")
+                   "mlt: independent paths (mmlt: per path length) that estimate the image's "
+                   "brightness and choose the chains' start states [100000]")
         ->type_name("N")
         ->check(CLI::Range(1u, 1u << 26).description(""));
     app.add_option("--mlt-chains", o.mlt_chains,
@@ -376,9 +376,6 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
                                  "--mlt-chains need --integrator mlt");
   if (reads(OPTIONS_MLT)) {
     one_of("--mlt-mode", o.mlt_mode, {"pssmlt", "mmlt"});
-    if (o.mlt_mode == "mmlt")
-      throw Error(ExitCode::Usage, "--mlt-mode mmlt: multiplexed MLT is not implemented yet; "
-                                   "use pssmlt");
     // A chain's path must be a function of its vector alone: one stream of dimensions.
     if (o.light_samples != 1 || o.branching != 1)
       throw Error(ExitCode::Usage, "--integrator mlt mutates one path of one shadow ray per "

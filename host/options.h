@@ -53,7 +53,7 @@ struct Options {
   bool caustic_photons_set = false, final_gather_set = false, knn_set = false,
        pm_filter_set = false, sppm_alpha_set = false;
   // Metropolis (mlt). mlt_set: one of the --mlt-* options was given.
-  std::string mlt_mode = "pssmlt";
+  std::string mlt_mode = "mmlt";
   float mlt_large_step = 0.3f;
   float mlt_sigma = 0.01f;
   uint32_t mlt_bootstrap = 100000;

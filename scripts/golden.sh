@@ -65,9 +65,12 @@ pm_caustic   | scenes/caustic.gltf     | --integrator pm --photons 20000 --caust
 pm_box       | scenes/cornell_box.gltf | --integrator pm --photons 20000 --caustic-photons 20000 --pm-filter box --knn 20
 sppm         | scenes/cornell_box.gltf | --integrator sppm
 sppm_caustic | scenes/caustic.gltf     | --integrator sppm --sppm-alpha 0.8
-mlt          | scenes/cornell_box.gltf | --integrator mlt --mlt-bootstrap 20000
-mlt_door     | scenes/door_ajar.gltf   | --integrator mlt --mlt-large-step 0.1 --mlt-sigma 0.05 --mlt-chains 1000
-mlt_lens     | scenes/cornell_box.gltf | --integrator mlt --aperture 0.05 --rr fixed:0.3
+mlt          | scenes/cornell_box.gltf | --integrator mlt --mlt-mode pssmlt --mlt-bootstrap 20000
+mlt_door     | scenes/door_ajar.gltf   | --integrator mlt --mlt-mode pssmlt --mlt-large-step 0.1 --mlt-sigma 0.05 --mlt-chains 1000
+mlt_lens     | scenes/cornell_box.gltf | --integrator mlt --mlt-mode pssmlt --aperture 0.05 --rr fixed:0.3
+mmlt         | scenes/cornell_box.gltf | --integrator mlt --mlt-bootstrap 5000
+mmlt_caustic | scenes/caustic.gltf     | --integrator mlt --mlt-bootstrap 5000 --mlt-chains 500
+mmlt_env     | scenes/cornell_box.gltf | --integrator mlt --mlt-bootstrap 5000 --max-depth 3 --background 0.2,0.3,0.4
 sh_alpha_pt     | @scenes/AlphaBlendModeTest/glTF-Binary/AlphaBlendModeTest.glb | --integrator pt --background 1,1,1
 sh_alpha_lt     | @scenes/AlphaBlendModeTest/glTF-Binary/AlphaBlendModeTest.glb | --integrator lt --background 1,1,1
 sh_alpha_bdpt   | @scenes/AlphaBlendModeTest/glTF-Binary/AlphaBlendModeTest.glb | --integrator bdpt --background 1,1,1

@@ -126,9 +126,23 @@ TEST_F(Cli, MltWritesStatsAndRefusesVarianceAndCheckpoints) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(test::read_file(path("m.json")));
   const nlohmann::json& m = j["mlt"];
+  EXPECT_EQ(m["mode"].get<std::string>(), "mmlt");  // the default
   EXPECT_EQ(m["chains"].get<uint32_t>(), 64u);
-  EXPECT_EQ(m["dimensions"].get<uint32_t>(), 4u + 8u * 9u);  // --max-depth 8
-  EXPECT_EQ(m["bootstrap_paths"].get<uint64_t>(), 5000u);
+  // --max-depth 8: camera and light streams of 4 + 8 * 9 dimensions each; 5000 paths for
+  // each of the 9 path lengths, and the chains shared out over them.
+  EXPECT_EQ(m["dimensions"].get<uint32_t>(), 2u * (4u + 8u * 9u));
+  EXPECT_EQ(m["bootstrap_paths"].get<uint64_t>(), 9u * 5000u);
+  ASSERT_EQ(m["b_by_depth"].size(), 9u);
+  ASSERT_EQ(m["chains_by_depth"].size(), 9u);
+  double b_sum = 0.0;
+  uint32_t chain_sum = 0;
+  for (size_t d = 0; d < 9; ++d) {
+    b_sum += m["b_by_depth"][d].get<double>();
+    chain_sum += m["chains_by_depth"][d].get<uint32_t>();
+  }
+  EXPECT_NEAR(b_sum, m["b"].get<double>(), 1e-9 * b_sum);
+  EXPECT_EQ(chain_sum, 64u);
+  EXPECT_GT(m["chains_by_depth"][0].get<uint32_t>(), m["chains_by_depth"][8].get<uint32_t>());
   // 4 mutations per pixel of 256 pixels: 16 per chain, whatever the passes (each pass
   // rounds its mutations per chain up, and 64 chains divide 256 pixels).
   EXPECT_EQ(m["mutations"].get<uint64_t>(), 1024u);
@@ -140,6 +154,17 @@ TEST_F(Cli, MltWritesStatsAndRefusesVarianceAndCheckpoints) {
   }
   EXPECT_TRUE(j["mean_variance"].is_null());
   EXPECT_GT(image_mean(read_image(path("m.exr"))), 0.01);
+  // pssmlt: one stream, one bootstrap for all lengths.
+  r = run_clpt({kCornell, "--device", "pocl", "--integrator", "mlt", "--mlt-mode", "pssmlt",
+                "--resolution", "16x16", "--spp", "4", "--mlt-chains", "64", "--mlt-bootstrap",
+                "5000", "-o", path("p.exr"), "--stats", path("p.json"), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json p = nlohmann::json::parse(test::read_file(path("p.json")))["mlt"];
+  EXPECT_EQ(p["mode"].get<std::string>(), "pssmlt");
+  EXPECT_EQ(p["dimensions"].get<uint32_t>(), 4u + 8u * 9u);
+  EXPECT_EQ(p["bootstrap_paths"].get<uint64_t>(), 5000u);
+  EXPECT_FALSE(p.contains("b_by_depth"));
+  EXPECT_GT(image_mean(read_image(path("p.exr"))), 0.01);
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{kCornell, "--integrator", "mlt", "--variance", "-o", path("v.exr")},
         std::vector<std::string>{kCornell, "--integrator", "mlt", "--checkpoint", path("c.ckpt")},

@@ -5,18 +5,24 @@
 //                     updates); no restore on reject, or a wrong acceptance, fail it; the small
 //                     steps' normal numbers are standard normal
 //   MltResample       the host's systematic resampling of the bootstrap: proportional to the
-//                     targets, never a black path
-//   SphereFurnaceMlt  the image matches the closed form, as a mean and block by block
-//   CrossIntegrator   mlt matches the pt reference on the Cornell box (blocks, pixels, image)
+//                     targets, never a black path; mmlt's chains per path length
+//   SphereFurnaceMlt  the image matches the closed form, as a mean and block by block, for
+//                     mmlt and pssmlt
+//   MmltFurnace       each path length's bootstrap mean b_d is the closed form Le rho^d: every
+//                     bdpt strategy mmlt chooses from, weighted and scaled, sums to its length
+//   CrossIntegrator   mlt matches the pt reference on the Cornell box (blocks, pixels, image),
+//                     mmlt and pssmlt
 //   MltStartUp        32 runs of one mutation per pixel average to the reference: the
 //                     bootstrap's resampling removes start-up bias; starting the chains at
-//                     unweighted bootstrap paths instead fails the same test
+//                     unweighted bootstrap paths instead fails the same test (mmlt)
 //   MltOptions        usage errors
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -184,6 +190,22 @@ TEST(MltResample, AllBlackGivesNoStart) {
   EXPECT_TRUE(Metropolis::resample({}, 4, 0.5).empty());
 }
 
+TEST(MltResample, ChainsPerLengthFollowB) {
+  // Largest remainders of 100 * b_d / sum b: 50.0, 30.0, 15.0, 5.0.
+  EXPECT_EQ(Metropolis::allocate({0.5, 0.3, 0.15, 0.05}, 100),
+            (std::vector<uint32_t>{50, 30, 15, 5}));
+  // 10 chains over thirds: 3.33 each, the one left over to the first largest remainder.
+  EXPECT_EQ(Metropolis::allocate({1.0, 1.0, 1.0}, 10), (std::vector<uint32_t>{4, 3, 3}));
+  // A length with light but a quota below one still gets a chain, from the largest share.
+  EXPECT_EQ(Metropolis::allocate({1.0, 1e-6, 0.0}, 8), (std::vector<uint32_t>{7, 1, 0}));
+  // Too few chains to give every length one: the larger lengths keep theirs.
+  EXPECT_EQ(Metropolis::allocate({1.0, 0.5, 0.25}, 1), (std::vector<uint32_t>{1, 0, 0}));
+  EXPECT_EQ(Metropolis::allocate({0.0, 0.0}, 5), (std::vector<uint32_t>{0, 0}));
+  uint32_t sum = 0;
+  for (uint32_t n : Metropolis::allocate({0.7, 0.2, 0.06, 0.03, 0.01}, 65536)) sum += n;
+  EXPECT_EQ(sum, 65536u);
+}
+
 TEST(MltResample, DefaultChainsFitTheBudget) {
   EXPECT_EQ(Metropolis::default_chains(1000, 76, size_t(256) << 20), 1000u);
   EXPECT_EQ(Metropolis::default_chains(size_t(1) << 22, 76, size_t(256) << 20), 65536u);
@@ -193,23 +215,31 @@ TEST(MltResample, DefaultChainsFitTheBudget) {
 }
 
 // ---- Renders. ----
-RenderSettings mlt_settings(uint32_t size, uint64_t spp) {
+RenderSettings mlt_settings(uint32_t size, uint64_t spp, bool multiplexed = true) {
   RenderSettings s;
   s.width = s.height = size;
   s.spp = spp;
   s.integrator = "mlt";
+  s.mlt.multiplexed = multiplexed;
   return s;
 }
 
-class SphereFurnaceMlt : public ::testing::TestWithParam<test::FurnaceCase> {};
+const char* mode_name(bool multiplexed) { return multiplexed ? "mmlt" : "pssmlt"; }
+
+struct MltFurnaceCase {
+  test::FurnaceCase furnace;
+  bool multiplexed;
+};
+
+class SphereFurnaceMlt : public ::testing::TestWithParam<MltFurnaceCase> {};
 
 // Every pixel sees the same radiance, so the chains' splats must cover the film evenly: the
 // image mean (b's estimate, in effect) and each 4 x 4 block against the closed form.
 TEST_P(SphereFurnaceMlt, MatchesClosedForm) {
-  const test::FurnaceCase c = GetParam();
+  const test::FurnaceCase c = GetParam().furnace;
   const Scene scene = test::furnace_scene(c.rho, 1.0f);
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
-  RenderSettings s = mlt_settings(16, 64);
+  RenderSettings s = mlt_settings(16, 64, GetParam().multiplexed);
   s.max_depth = c.max_depth;
   s.mlt.bootstrap = 10000;  // b to about 0.5 %; the default 100 000 took most of the test's time
   const std::vector<Image> batches = test::render_batches(scene, s, 24, 3100);
@@ -223,14 +253,52 @@ TEST_P(SphereFurnaceMlt, MatchesClosedForm) {
   std::fill(flat.rgb.begin(), flat.rgb.end(), float(expected));
   const test::BlockTestResult blocks = test::block_means_test(batches, flat, zero, 4);
   EXPECT_EQ(blocks.failed, 0u) << blocks.summary();
-  std::cout << "[ figures  ] mlt furnace rho " << c.rho << " depth " << c.max_depth << ": mean "
+  std::cout << "[ figures  ] " << mode_name(GetParam().multiplexed) << " furnace rho " << c.rho
+            << " depth " << c.max_depth << ": mean "
             << m.mean[0] << " expected " << expected << " sigma " << m.sigma[0] << "; "
             << blocks.summary() << "\n";
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, SphereFurnaceMlt,
-                         ::testing::Values(test::FurnaceCase{0.5f, 1}, test::FurnaceCase{0.8f, 8}),
-                         [](const auto& info) { return test::furnace_case_name(info.param); });
+INSTANTIATE_TEST_SUITE_P(
+    Cases, SphereFurnaceMlt,
+    ::testing::Values(MltFurnaceCase{{0.5f, 1}, true}, MltFurnaceCase{{0.8f, 8}, true},
+                      MltFurnaceCase{{0.5f, 1}, false}, MltFurnaceCase{{0.8f, 8}, false}),
+    [](const auto& info) {
+      return std::string(mode_name(info.param.multiplexed)) + "_" +
+             test::furnace_case_name(info.param.furnace);
+    });
+
+// In the furnace every path of d bounces carries Le rho^d exactly, so each path length's
+// bootstrap mean b_d, which mmlt estimates from one strategy per path (chosen uniformly,
+// scaled by d + 2, MIS-weighted), must be that: a strategy with a wrong factor, or weights
+// that do not sum to one over the length's strategies, moves its length's b_d. Emission,
+// next-event estimation, connections and light tracing all occur: the inner sphere is seen
+// from the camera and emits too.
+TEST(MmltFurnace, EachPathLengthCarriesItsShare) {
+  constexpr float kRho = 0.6f;
+  constexpr uint32_t kDepth = 5;
+  RenderSettings s = mlt_settings(16, 1);
+  s.max_depth = kDepth;
+  s.mlt.bootstrap = 100000;
+  s.mlt.chains = 64;
+  const RenderOutput out = Renderer(test::device_context(), test::furnace_scene(kRho, 1.0f), s).render();
+  const MetropolisStats& m = out.stats.metropolis;
+  ASSERT_EQ(m.b_by_depth.size(), kDepth + 1);
+  ASSERT_EQ(m.b_depth_standard_error.size(), kDepth + 1);
+  // |z| < 3.8: two-sided 1.4e-4 per length, 1e-3 over the six.
+  const double threshold = 3.8;
+  std::ostringstream fig;
+  fig << "[ figures  ] mmlt furnace rho " << kRho << ", b_d / (rho^d Le) by d:";
+  for (uint32_t d = 0; d <= kDepth; ++d) {
+    const double expected = std::pow(double(kRho), double(d));
+    const double se = m.b_depth_standard_error[d];
+    EXPECT_LE(std::fabs(m.b_by_depth[d] - expected), threshold * se + 1e-6 * expected)
+        << "length " << d << ": b_d " << m.b_by_depth[d] << " expected " << expected << " +- " << se;
+    EXPECT_LT(threshold * se, 0.05 * expected) << "length " << d << ": too few paths to tell";
+    fig << " " << m.b_by_depth[d] / expected << " (+-" << se / expected << ")";
+  }
+  std::cout << fig.str() << "\n";
+}
 
 constexpr uint32_t kSize = 32;
 
@@ -245,10 +313,16 @@ const Scene& cornell() {
 // the threshold, nearly all below the reference); with 64 batches of the same renders, none
 // and 3, with a mean z of 0.004 where a bias would have doubled them
 // (docs/concepts/metropolis.md).
-TEST(CrossIntegrator, MltMatchesPtOnCornellBox) {
+TEST(CrossIntegrator, MmltMatchesPtOnCornellBox) {
   const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
   test::expect_matches_reference(test::render_batches(cornell(), mlt_settings(kSize, 64), 48, 900),
-                                 ref, "mlt");
+                                 ref, "mmlt");
+}
+
+TEST(CrossIntegrator, PssmltMatchesPtOnCornellBox) {
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  test::expect_matches_reference(
+      test::render_batches(cornell(), mlt_settings(kSize, 64, false), 48, 900), ref, "pssmlt");
 }
 
 // One mutation per pixel with one chain per pixel: the image is mostly the chains' start
@@ -295,7 +369,8 @@ TEST(MltOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-sigma", "0"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-chains", "0"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-bootstrap", "0"}), ExitCode::Usage);
-  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "mmlt"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "mmlt"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "pssmlt"}), ExitCode::Ok);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "x"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--light-samples", "2"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--sampler", "sobol"}), ExitCode::Usage);

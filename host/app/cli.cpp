@@ -180,6 +180,7 @@ int run(const Options& opt) {
                                                          : dev::PHOTON_FILTER_CONE;
   settings.sppm_radius = opt.sppm_radius;
   settings.sppm_alpha = opt.sppm_alpha;
+  settings.mlt.multiplexed = opt.mlt_mode == "mmlt";
   settings.mlt.chains = opt.mlt_chains;
   settings.mlt.bootstrap = opt.mlt_bootstrap;
   settings.mlt.large_step = opt.mlt_large_step;
@@ -335,6 +336,10 @@ int run(const Options& opt) {
                   {"small_step_acceptance", rate(m.small_accepted, m.small_proposed)},
                   {"acceptance", rate(m.large_accepted + m.small_accepted, proposed)},
                   {"device_bytes", m.device_bytes}};
+      if (opt.mlt_mode == "mmlt") {
+        j["mlt"]["b_by_depth"] = m.b_by_depth;
+        j["mlt"]["chains_by_depth"] = m.chains_by_depth;
+      }
     }
     // Rays of camera-side paths; photon rays are under "photons".
     j["rays"] = film.rays;

@@ -29,8 +29,11 @@ struct MetropolisStats {
   uint32_t chains = 0;
   uint32_t dims = 0;               // coordinates of a chain's primary sample vector
   uint64_t bootstrap_paths = 0;
-  double b = 0.0;                  // normalisation: the bootstrap's mean target (luminance)
-  double b_standard_error = 0.0;
+  double b = 0.0;                  // normalisation: the bootstrap's mean target (luminance);
+  double b_standard_error = 0.0;   //   mmlt: the sum over path lengths of theirs
+  std::vector<double> b_by_depth;  // mmlt: each path length's (bounces 0, 1, ...) ...
+  std::vector<double> b_depth_standard_error;  // ... and its standard error
+  std::vector<uint32_t> chains_by_depth;
   double bootstrap_seconds = 0.0;
   uint64_t large_proposed = 0, large_accepted = 0;
   uint64_t small_proposed = 0, small_accepted = 0;
@@ -65,8 +68,9 @@ inline dev::RenderParams without_samples(const dev::RenderParams& params) {
 
 // mlt's settings (--mlt-*).
 struct MltConfig {
+  bool multiplexed = true;   // --mlt-mode mmlt (over bdpt's strategies); false: pssmlt (over pt)
   uint32_t chains = 0;       // 0: Metropolis::default_chains
-  uint32_t bootstrap = 100000;
+  uint32_t bootstrap = 100000;  // pssmlt: paths; mmlt: paths per path length
   float large_step = 0.3f;   // probability of a large step
   float sigma = 0.01f;       // small steps' standard deviation
   // false: chain c starts at bootstrap path c instead of one drawn in proportion to its

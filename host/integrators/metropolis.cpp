@@ -13,6 +13,7 @@ namespace clpt {
 static_assert(sizeof(dev::MltChain) == 64, "MltChain should stay 64 bytes");
 static_assert(sizeof(dev::PssCoord) == 16, "PssCoord should stay 16 bytes");
 static_assert(sizeof(dev::MltParams) == 48, "MltParams should stay 48 bytes");
+static_assert(sizeof(dev::MltDepth) == 8, "MltDepth is two floats");
 
 namespace {
 
@@ -37,6 +38,7 @@ const MltConfig& checked(const MltConfig& c) {
   if (!(c.sigma > 0.0f) || !std::isfinite(c.sigma))
     throw Error(ExitCode::Usage, "--mlt-sigma must be a positive number");
   if (c.bootstrap == 0) throw Error(ExitCode::Usage, "--mlt-bootstrap must be at least 1");
+  if (c.bootstrap > (1u << 26)) throw Error(ExitCode::Usage, "--mlt-bootstrap must be at most 2^26");
   return c;
 }
 
@@ -47,12 +49,13 @@ size_t chain_bytes(uint32_t dims) { return sizeof(dev::MltChain) + size_t(dims) 
 Metropolis::Metropolis(const cl::Context& ctx, const SceneBuffers& scene, const MltConfig& config)
     : ctx_(ctx),
       config_(checked(config)),
-      program_(ctx, "integrators/mlt.cl"),
+      program_(ctx, "integrators/mlt.cl", config_.multiplexed ? "-DCLPT_MLT_MULTIPLEXED=1" : ""),
       bootstrap_kernel_(program_, "mlt_bootstrap"),
       start_kernel_(program_, "mlt_start"),
       mutate_kernel_(program_, "mlt_mutate"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
       mlt_params_(ctx, sizeof(dev::MltParams), CL_MEM_READ_ONLY, nullptr, "Metropolis parameters"),
+      depths_(ctx, sizeof(dev::MltDepth), CL_MEM_READ_ONLY, nullptr, "Metropolis normalisations"),
       chains_(ctx, sizeof(dev::MltChain), CL_MEM_READ_WRITE, nullptr, "Metropolis chains"),
       coords_(ctx, sizeof(dev::PssCoord), CL_MEM_READ_WRITE, nullptr, "primary sample vectors") {
   bootstrap_arg_ = scene.bind(bootstrap_kernel_, 0);
@@ -82,9 +85,42 @@ std::vector<uint32_t> Metropolis::resample(const std::vector<float>& targets, ui
   return start;
 }
 
+std::vector<uint32_t> Metropolis::allocate(const std::vector<double>& b, uint32_t chains) {
+  std::vector<uint32_t> n(b.size(), 0);
+  double total = 0.0;
+  for (double x : b) total += std::max(0.0, x);
+  if (!(total > 0.0)) return n;
+  std::vector<double> remainder(b.size());
+  uint32_t given = 0;
+  for (size_t d = 0; d < b.size(); ++d) {
+    const double quota = std::max(0.0, b[d]) / total * double(chains);
+    n[d] = static_cast<uint32_t>(std::floor(quota));
+    remainder[d] = quota - double(n[d]);
+    given += n[d];
+  }
+  std::vector<size_t> order(b.size());
+  for (size_t d = 0; d < order.size(); ++d) order[d] = d;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t x, size_t y) { return remainder[x] > remainder[y]; });
+  for (size_t i = 0; given < chains && i < order.size(); ++i, ++given) ++n[order[i]];
+  // Lengths that carry light but got no chain take one from the length with the most.
+  for (size_t d = 0; d < b.size(); ++d) {
+    if (n[d] > 0 || !(b[d] > 0.0)) continue;
+    const size_t most = size_t(std::max_element(n.begin(), n.end()) - n.begin());
+    if (n[most] < 2) break;
+    --n[most];
+    n[d] = 1;
+  }
+  return n;
+}
+
+uint32_t Metropolis::dims_for(const dev::RenderParams& params) const {
+  return config_.multiplexed ? MMLT_DIMS(params.max_depth) : PSS_DIMS(params.max_depth);
+}
+
 uint32_t Metropolis::chains_for(const dev::RenderParams& params, const Film& film) const {
   return config_.chains ? config_.chains
-                        : default_chains(film.pixels(), PSS_DIMS(params.max_depth), kDefaultChainBudget);
+                        : default_chains(film.pixels(), dims_for(params), kDefaultChainBudget);
 }
 
 void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
@@ -101,7 +137,7 @@ void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
   bootstrap_kernel_.launch(ctx_, config_.bootstrap);
   start_kernel_.args(start_arg_, params_, mlt_params_, start, chains_, coords_, film.ray_counts());
   start_kernel_.launch(ctx_, chains);
-  mutate_kernel_.args(mutate_arg_, params_, mlt_params_, chains_, coords_, film.splat(),
+  mutate_kernel_.args(mutate_arg_, params_, mlt_params_, depths_, chains_, coords_, film.splat(),
                       film.ray_counts());
   mutate_kernel_.launch(ctx_, chains);
   ctx_.finish();
@@ -109,12 +145,17 @@ void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
 
 void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
   const auto t0 = Clock::now();
-  mlt_.dims = PSS_DIMS(params.max_depth);
+  const uint32_t depths = config_.multiplexed ? params.max_depth + 1u : 1u;
+  mlt_.dims = dims_for(params);
   mlt_.chains = chains_for(params, film);
   const bool gpu = ctx_.device().is_gpu();
   mlt_.dim_stride = gpu ? mlt_.chains : 1u;
   mlt_.chain_stride = gpu ? 1u : mlt_.dims;
-  mlt_.bootstrap = config_.bootstrap;
+  mlt_.depths = depths;
+  if (uint64_t(config_.bootstrap) * depths > 0xffffffffull)
+    throw Error(ExitCode::Usage, "mlt: --mlt-bootstrap times the path lengths (--max-depth + 1) "
+                                 "exceeds 2^32 paths");
+  mlt_.bootstrap = config_.bootstrap * depths;
   mlt_.large_step = config_.large_step;
   mlt_.sigma = config_.sigma;
   mlt_.seed = params.seed;
@@ -127,20 +168,42 @@ void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
   bootstrap_kernel_.launch(ctx_, mlt_.bootstrap);
   const std::vector<float> target = targets.read_vector<float>(mlt_.bootstrap);
 
-  double sum = 0.0, sum_sq = 0.0;
-  for (float t : target) {
-    sum += t;
-    sum_sq += double(t) * t;
+  // Path i has i % depths bounces: each length's targets, their mean b_d and its error.
+  std::vector<std::vector<float>> by_depth(depths);
+  for (auto& t : by_depth) t.reserve(config_.bootstrap);
+  for (size_t i = 0; i < target.size(); ++i) by_depth[i % depths].push_back(target[i]);
+  stats_.b_by_depth.assign(depths, 0.0);
+  stats_.b_depth_standard_error.assign(depths, 0.0);
+  double b = 0.0, variance = 0.0;
+  for (uint32_t d = 0; d < depths; ++d) {
+    double sum = 0.0, sum_sq = 0.0;
+    for (float t : by_depth[d]) {
+      sum += t;
+      sum_sq += double(t) * t;
+    }
+    const double n = double(by_depth[d].size());
+    stats_.b_by_depth[d] = sum / n;
+    b += sum / n;
+    const double v = n > 1 ? std::max(0.0, (sum_sq - sum * sum / n) / (n - 1.0)) / n : 0.0;
+    stats_.b_depth_standard_error[d] = std::sqrt(v);
+    variance += v;
   }
-  const double n = double(target.size());
-  stats_.b = sum / n;
-  stats_.b_standard_error =
-      n > 1 ? std::sqrt(std::max(0.0, (sum_sq - sum * sum / n) / (n - 1.0)) / n) : 0.0;
+  stats_.b = b;
+  stats_.b_standard_error = std::sqrt(variance);
   stats_.bootstrap_paths = mlt_.bootstrap;
   stats_.chains = mlt_.chains;
   stats_.dims = mlt_.dims;
 
-  std::vector<uint32_t> start = resample(target, mlt_.chains, seeded_unit(params.seed));
+  // Chains per length, then each length's starts resampled from its own paths, one run of
+  // chains per length (a GPU warp's chains then trace paths of one length).
+  std::vector<uint32_t> chains_of = allocate(stats_.b_by_depth, mlt_.chains);
+  std::vector<uint32_t> start;
+  start.reserve(mlt_.chains);
+  const double u = seeded_unit(params.seed);
+  for (uint32_t d = 0; d < depths; ++d) {
+    if (chains_of[d] == 0) continue;
+    for (uint32_t j : resample(by_depth[d], chains_of[d], u)) start.push_back(j * depths + d);
+  }
   if (start.empty()) {
     log::warn("mlt: all " + std::to_string(mlt_.bootstrap) + " bootstrap paths carry no light; "
               "the image stays black");
@@ -151,11 +214,22 @@ void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
   if (!config_.resample)
     for (uint32_t c = 0; c < mlt_.chains; ++c) start[c] = c % mlt_.bootstrap;
 
+  // What each length's chains splat with: its b_d and the share of the chains it has.
+  std::vector<uint32_t> count(depths, 0);
+  for (uint32_t i : start) ++count[i % depths];
+  std::vector<dev::MltDepth> norm(depths);
+  for (uint32_t d = 0; d < depths; ++d) {
+    norm[d].b = float(stats_.b_by_depth[d]);
+    norm[d].chain_scale = count[d] ? float(double(mlt_.chains) / double(count[d])) : 0.0f;
+  }
+  stats_.chains_by_depth = count;
+  depths_ = cl::Buffer::from_vector(ctx_, norm, CL_MEM_READ_ONLY, "Metropolis normalisations");
+
   chains_ = cl::Buffer(ctx_, size_t(mlt_.chains) * sizeof(dev::MltChain), CL_MEM_READ_WRITE,
                        nullptr, "Metropolis chains");
   coords_ = cl::Buffer(ctx_, size_t(mlt_.chains) * mlt_.dims * sizeof(dev::PssCoord),
                        CL_MEM_READ_WRITE, nullptr, "primary sample vectors");
-  stats_.device_bytes = chains_.size() + coords_.size();
+  stats_.device_bytes = chains_.size() + coords_.size() + depths_.size();
   const cl::Buffer starts = cl::Buffer::from_vector(ctx_, start, CL_MEM_READ_ONLY, "chain starts");
   start_kernel_.args(start_arg_, params_, mlt_params_, starts, chains_, coords_, film.ray_counts());
   start_kernel_.launch(ctx_, mlt_.chains);
@@ -182,11 +256,10 @@ void Metropolis::render_pass(const dev::RenderParams& params, Film& film) {
     throw Error(ExitCode::Usage, "mlt: more than 2^32 mutations per chain in one pass; use more "
                                  "--mlt-chains");
   mlt_.mutations = static_cast<uint32_t>(per_chain);
-  mlt_.b = float(stats_.b);
   mlt_.splat_scale = float(double(total) / (double(per_chain) * mlt_.chains));
   params_.write(&params, sizeof(params));
   mlt_params_.write(&mlt_, sizeof(mlt_));
-  mutate_kernel_.args(mutate_arg_, params_, mlt_params_, chains_, coords_, film.splat(),
+  mutate_kernel_.args(mutate_arg_, params_, mlt_params_, depths_, chains_, coords_, film.splat(),
                       film.ray_counts());
   mutate_kernel_.launch(ctx_, mlt_.chains);
 }

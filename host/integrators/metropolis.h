@@ -1,13 +1,16 @@
-// Primary-sample-space Metropolis light transport (--integrator mlt, Kelemen et al. 2002)
-// over the path tracer: kernels/integrators/mlt.cl, docs/concepts/metropolis.md.
+// Metropolis light transport (--integrator mlt): multiplexed MLT over bdpt's strategies
+// (Hachisuka et al. 2014, --mlt-mode mmlt) or primary-sample-space MLT over the path tracer
+// (Kelemen et al. 2002, pssmlt). kernels/integrators/mlt.cl, docs/concepts/metropolis.md.
 //
-// The first pass bootstraps: `bootstrap` independent paths (fresh primary sample vectors)
-// give their target values I (path luminance); their mean is the normalisation b, and every
-// chain's start state is drawn from them in proportion to I (systematic resampling), so the
-// chains start in their stationary distribution and there is no start-up bias. Then each
-// pass runs every chain for ceil(spp * pixels / chains) proposals: --spp counts mutations per
-// pixel. All chains share the one b. Like lt and bdpt its film has splats: no per-pixel
-// variance, sums not bit-reproducible unless PoCL runs on one thread.
+// The first pass bootstraps: `bootstrap` independent paths (fresh primary sample vectors) per
+// path length (mmlt: bounces 0 to max_depth; pssmlt: one, all lengths in one path) give
+// their target values I (path luminance); their mean is each length's normalisation b_d.
+// The chains are shared out over the lengths in proportion to b_d (allocate), and each
+// chain's start state is drawn from its length's paths in proportion to I (systematic
+// resampling), so the chains start in their stationary distribution and there is no start-up
+// bias. Then each pass runs every chain for ceil(spp * pixels / chains) proposals: --spp
+// counts mutations per pixel. Like lt and bdpt its film has splats: no per-pixel variance,
+// sums not bit-reproducible unless PoCL runs on one thread.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +35,10 @@ class Metropolis final : public Integrator {
   // Chain c's start is the bootstrap path whose cumulative target interval holds
   // (c + u) / chains (systematic resampling); empty when every target is 0.
   static std::vector<uint32_t> resample(const std::vector<float>& targets, uint32_t chains, double u);
+  // Chains per path length for normalisations b (largest remainders of chains * b_d / sum b),
+  // with at least one for every length of b_d > 0 while chains allow (a length without
+  // chains would lose its light); all zero when every b_d is 0.
+  static std::vector<uint32_t> allocate(const std::vector<double>& b, uint32_t chains);
 
  private:
   uint32_t chains_for(const dev::RenderParams& params, const Film& film) const;
@@ -41,7 +48,9 @@ class Metropolis final : public Integrator {
   MltConfig config_;
   cl::Program program_;
   cl::Kernel bootstrap_kernel_, start_kernel_, mutate_kernel_;
-  cl::Buffer params_, mlt_params_;
+  uint32_t dims_for(const dev::RenderParams& params) const;
+
+  cl::Buffer params_, mlt_params_, depths_;
   cl::Buffer chains_, coords_;
   dev::MltParams mlt_{};
   bool started_ = false;

@@ -1,8 +1,11 @@
-/* Entry points of primary-sample-space Metropolis light transport (--integrator mlt,
- * host/integrators/metropolis.cpp, docs/concepts/metropolis.md):
- *   mlt_bootstrap  path i of the bootstrap: the target value of the fresh vector of key i
- *                  (the host estimates b from them and picks the chains' start states);
- *   mlt_start      chain c starts at bootstrap path start[c] (same key, same vector, same path);
+/* Entry points of Metropolis light transport (--integrator mlt,
+ * host/integrators/metropolis.cpp, docs/concepts/metropolis.md), primary-sample-space MLT
+ * over pt's paths or, built with CLPT_MLT_MULTIPLEXED, multiplexed MLT over bdpt's strategies:
+ *   mlt_bootstrap  path i of the bootstrap: the target value of the fresh vector of key i,
+ *                  a path of i % depths bounces for mmlt (the host estimates each length's
+ *                  b from them and picks the chains' start states);
+ *   mlt_start      chain c starts at bootstrap path start[c] (same key, same vector, same
+ *                  length, same path);
  *   mlt_mutate     every chain takes MltParams.mutations steps and splats them.
  * The program reads its random numbers from the chains' vectors (sampler/pss.cl). */
 #define CLPT_PRIMARY_SAMPLE_SPACE 1
@@ -17,9 +20,10 @@ __kernel void mlt_bootstrap(SCENE_KERNEL_ARGS __constant const RenderParams* par
   const u32 i = get_global_id(0);
   if (i >= mlt->bootstrap) return;
   const SceneView scene = SCENE_VIEW();
-  const Sampler sampler = pss_fresh(mlt_bootstrap_key(mlt->seed, i), mlt->dims);
+  const u32 depth = i % mlt->depths;
+  const Sampler sampler = pss_fresh(mlt_bootstrap_key(mlt->seed, i), mlt_chain_dims(mlt, depth));
   u32 rays = 0;
-  target[i] = pss_path(&scene, params, &sampler, &rays).target;
+  target[i] = mlt_path(&scene, params, &sampler, depth, &rays).target;
   atomic_add(ray_counts + i % (params->width * params->height), rays);
 }
 
@@ -34,11 +38,13 @@ __kernel void mlt_start(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   MltChain ch;
   ch.weight = 0.0f;
   ch.large_proposed = ch.large_accepted = ch.small_proposed = ch.small_accepted = 0u;
-  ch.pad[0] = ch.pad[1] = 0u;
-  pss_chain_start(&ch, vector, mlt->dim_stride, mlt->dims, mlt_bootstrap_key(mlt->seed, start[c]));
-  const Sampler sampler = pss_current(&ch, vector, mlt->dim_stride, mlt->dims);
+  ch.depth = start[c] % mlt->depths;
+  ch.pad = 0u;
+  const u32 dims = mlt_chain_dims(mlt, ch.depth);
+  pss_chain_start(&ch, vector, mlt->dim_stride, dims, mlt_bootstrap_key(mlt->seed, start[c]));
+  const Sampler sampler = pss_current(&ch, vector, mlt->dim_stride, dims);
   u32 rays = 0;
-  const PssPath x = pss_path(&scene, params, &sampler, &rays);
+  const PssPath x = mlt_path(&scene, params, &sampler, ch.depth, &rays);
   vstore3(x.L, 0, ch.color);
   ch.luminance = x.target;
   ch.pixel = x.pixel;
@@ -47,7 +53,8 @@ __kernel void mlt_start(SCENE_KERNEL_ARGS __constant const RenderParams* params,
 }
 
 __kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params,
-                         __constant const MltParams* mlt, __global MltChain* chains,
+                         __constant const MltParams* mlt, __global const MltDepth* depths,
+                         __global MltChain* chains,
                          __global PssCoord* coords, __global float4* splat,
                          __global u32* ray_counts) {
   const u32 c = get_global_id(0);
@@ -56,9 +63,10 @@ __kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params
   MltChain ch = chains[c];
   __global PssCoord* vector = coords + (size_t)c * mlt->chain_stride;
   const u32 key = pss_chain_key(mlt->seed, c);
+  const MltDepth n = depths[ch.depth];
   u32 rays = 0;
-  for (u32 i = 0; i < mlt->mutations; ++i) mlt_step(&scene, params, mlt, &ch, vector, key, splat, &rays);
-  mlt_flush(mlt, &ch, splat);
+  for (u32 i = 0; i < mlt->mutations; ++i) mlt_step(&scene, params, mlt, n, &ch, vector, key, splat, &rays);
+  mlt_flush(mlt, n, &ch, splat);
   chains[c] = ch;
   atomic_add(ray_counts + c % (params->width * params->height), rays);
 }

@@ -32,6 +32,9 @@
  * with the light tracer's layout in a stream of its own. */
 #define DIM_BDPT_LIGHT_STREAM 0xff00u
 #define DIM_STREAMS_PER_BRANCH 256u
+/* Multiplexed MLT's choice of the bdpt strategy (kernels/integrators/mlt/mmlt_path.cl): a
+ * dimension no light subpath reads (bounce 0's light vertex caching pick, light stream). */
+#define DIM_MMLT_STRATEGY (DIM_BOUNCE_BASE + DIM_LVC_PICK + DIM_BDPT_LIGHT_STREAM * DIM_STREAM_STRIDE)
 
 inline u32 bounce_dim(u32 bounce, u32 offset) {
   return DIM_BOUNCE_BASE + bounce * DIM_PER_BOUNCE + offset;

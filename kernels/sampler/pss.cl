@@ -4,7 +4,11 @@
  *
  * A path is a deterministic function of the vector u in [0,1)^dims its sample_1d/sample_2d
  * calls read: dimension d is coordinate d (the dense layout of sampler/dimensions.h's stream
- * 0). A chain keeps its vector in device memory, one PssCoord per coordinate at
+ * 0), or, in a program built with CLPT_MLT_MULTIPLEXED (multiplexed MLT over bdpt's
+ * strategies), the camera stream's dimension d is coordinate 2d and the light stream's
+ * (DIM_BDPT_LIGHT_STREAM) 2d + 1, so that both subpaths' leading dimensions are in the
+ * vector whatever their lengths (pbrt-v4's MLTSampler interleaves its streams the same way).
+ * A chain keeps its vector in device memory, one PssCoord per coordinate at
  * coords[d * stride] (MltParams.dim_stride: interleaved with the other chains' on GPUs,
  * contiguous on CPUs). A proposal is either
  *   a large step: a fresh uniform vector (Kelemen's "large step", probability
@@ -41,6 +45,25 @@
 #define PSS_SALT_GAUSS 0xb5297a4du
 #define PSS_SALT_LARGE 0x1b56c4e9u
 #define PSS_SALT_ACCEPT 0x3c6ef372u
+
+#ifdef CLPT_MLT_MULTIPLEXED
+#define PSS_STREAMS 2u
+#else
+#define PSS_STREAMS 1u
+#endif
+
+/* The coordinate of a sampler dimension (see above); ~0u: none, the dimension is outside the
+ * vector. */
+inline u32 pss_coordinate(u32 dimension) {
+#if PSS_STREAMS == 2u
+  const u32 stream = dimension / DIM_STREAM_STRIDE, d = dimension % DIM_STREAM_STRIDE;
+  if (stream == 0u) return 2u * d;
+  if (stream == DIM_BDPT_LIGHT_STREAM) return 2u * d + 1u;
+  return 0xffffffffu;
+#else
+  return dimension;
+#endif
+}
 
 typedef struct Sampler {
   __global PssCoord* coords; /* coordinate 0 of the chain; null: a fresh vector (large_key) */
@@ -89,10 +112,11 @@ inline Sampler pss_fresh(u32 key, u32 dims) {
 }
 
 /* Coordinate d as this proposal sees it, brought up to date first (see the file comment). */
-inline float pss_value(const Sampler* s, u32 d) {
+inline float pss_value(const Sampler* s, u32 dimension) {
   /* Out of the vector (a dimension the layout does not give the chain): an independent value
-   * per proposal. mlt sizes the vector so that pt's paths never read one. */
-  if (d >= s->dims) return pss_uniform(s->step_key, d);
+   * per proposal. mlt sizes the vector so that its paths never read one. */
+  const u32 d = pss_coordinate(dimension);
+  if (d >= s->dims) return pss_uniform(s->step_key, dimension);
   if (!s->coords) return pss_uniform(s->large_key, d);
   __global PssCoord* c = s->coords + (size_t)d * s->stride;
   float value = c->value;

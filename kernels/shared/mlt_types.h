@@ -1,6 +1,6 @@
 /* Metropolis light transport's device data (docs/concepts/metropolis.md): the parameters of
- * one launch, a chain's state between launches, and one coordinate of a chain's primary
- * sample vector (kernels/sampler/pss.cl updates it lazily). */
+ * one launch, the normalisation per path length, a chain's state between launches, and one
+ * coordinate of a chain's primary sample vector (kernels/sampler/pss.cl updates it lazily). */
 #ifndef CLPT_SHARED_MLT_TYPES_H
 #define CLPT_SHARED_MLT_TYPES_H
 
@@ -11,6 +11,9 @@ CLPT_BEGIN_SHARED
 /* Coordinates of a path tracer's primary sample vector at --max-depth D: the camera's four
  * dimensions and DIM_PER_BOUNCE for each of the bounces 0 to D (kernels/sampler/dimensions.h). */
 #define PSS_DIMS(max_depth) (4u + 8u * ((max_depth) + 1u))
+/* ... and of multiplexed MLT's: the camera and the light subpath's streams interleaved, each
+ * laid out as a path tracer's (kernels/sampler/pss.cl). */
+#define MMLT_DIMS(max_depth) (2u * PSS_DIMS(max_depth))
 
 /* One coordinate of a chain's vector, with what a rejected proposal restores (pbrt-v4's
  * MLTSampler::PrimarySample). `modified` is the chain iteration the value belongs to. */
@@ -29,14 +32,24 @@ typedef struct MltParams {
   u32 dim_stride;    /* chain c's coordinate d is coords[c * chain_stride + d * dim_stride]: */
   u32 chain_stride;  /*   GPUs (chains, 1), so a warp's reads of one dimension coalesce; CPUs
                           (1, dims), so one chain's vector is one run of cache lines */
-  u32 bootstrap;     /* paths of mlt_bootstrap */
+  u32 bootstrap;     /* paths of mlt_bootstrap, all path lengths together */
+  u32 depths;        /* path lengths the chains sample: 1 (pssmlt: every length in one chain)
+                        or max_depth + 1 (mmlt: bootstrap path i and its chain have i % depths
+                        bounces) */
   float large_step;  /* probability that a proposal is a large step (a fresh uniform vector) */
   float sigma;       /* small steps: standard deviation of the Gaussian perturbation */
-  float b;           /* the normalisation: the image's mean target (luminance), from the bootstrap */
   float splat_scale; /* this pass's normalisation: pixels * spp / (chains * mutations) */
   u32 seed;
   u32 pad;
 } MltParams;
+
+/* What the chains of one path length (all chains, for pssmlt) splat with. */
+typedef struct MltDepth {
+  float b;           /* the normalisation: the mean target of the paths of this length (mmlt)
+                        or of all paths (pssmlt), from the bootstrap */
+  float chain_scale; /* all chains / the chains of this length: makes up for the share of the
+                        chains this length was given */
+} MltDepth;
 
 /* A chain between launches: its current state's contribution, the lazily updated vector's
  * counters and acceptance counts. 64 bytes. */
@@ -53,7 +66,8 @@ typedef struct MltChain {
   u32 large_accepted;
   u32 small_proposed;
   u32 small_accepted;
-  u32 pad[2];
+  u32 depth;          /* mmlt: the bounces of every path of this chain (pssmlt: 0) */
+  u32 pad;
 } MltChain;
 
 CLPT_END_SHARED

@@ -5,7 +5,9 @@
  *   s = 1   next-event estimation: a fresh light sample,
  *   s >= 2  a connection to light vertex y_(s-1) of the light subpath with the same key,
  * each for paths of at most max_depth bounces (s + t - 2 <= max_depth), weighted by
- * kernels/integrators/stages/vertex_mis.cl. */
+ * kernels/integrators/stages/vertex_mis.cl. Each strategy is a function of its own
+ * (bdpt_gather_escape, bdpt_gather_emitter, bdpt_nee, bdpt_connect_vertex), which multiplexed
+ * MLT calls one at a time (kernels/integrators/mlt/mmlt_path.cl). */
 #ifndef CLPT_INTEGRATORS_BDPT_CAMERA_PATH_CL
 #define CLPT_INTEGRATORS_BDPT_CAMERA_PATH_CL
 
@@ -40,7 +42,38 @@ inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, con
   return f * ls.Le * (bdpt_strategy_weight(p, 1u, k + 1u, w) / ls.pdf_w);
 }
 
-/* s >= 2: camera vertex sh (oriented to wo, index k) joined to stored light vertex v. */
+/* s >= 2: camera vertex sh (oriented to wo, index k) joined to light vertex y (oriented to
+ * y_wo, subpath state ls) of a light subpath with s_count vertices up to it. */
+inline float3 bdpt_connect_vertex(__constant const RenderParams* p, const SceneView* s,
+                                  const SurfaceHit* sh, float3 wo, const SubpathState* st, u32 k,
+                                  const SurfaceHit* y, float3 y_wo, const SubpathState* ls,
+                                  u32 s_count, u32* rays, u32* connections) {
+  if (s_count + k - 1u > p->max_depth) return (float3)(0.0f);
+  if (bdpt_strategy_weight(p, s_count, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
+  const float3 d = y->p - sh->p;
+  const float dist2 = dot(d, d);
+  if (!(dist2 > 0.0f)) return (float3)(0.0f);
+  const float dist = sqrt(dist2);
+  const float3 dir = d / dist; /* camera vertex -> light vertex */
+  const float3 f_cam = bsdf_eval_cos(sh, wo, dir, TRANSPORT_RADIANCE);
+  if (is_black(f_cam)) return (float3)(0.0f);
+  const float3 f_light =
+      bsdf_eval_cos(y, y_wo, -dir, TRANSPORT_IMPORTANCE) * shading_correction(y, y_wo, -dir);
+  if (is_black(f_light)) return (float3)(0.0f);
+  const float cos_cam = fabs(dot(sh->ng, dir)), cos_light = fabs(dot(y->ng, dir));
+  const float w = bdpt_weight_connect(p, st, ls, bsdf_pdf_w(sh, wo, dir) * cos_light / dist2,
+                                      bsdf_pdf_w(sh, dir, wo),
+                                      bsdf_pdf_w(y, y_wo, -dir) * cos_cam / dist2,
+                                      bsdf_pdf_w(y, -dir, y_wo));
+  ++*rays;
+  ++*connections;
+  const float3 org = offset_ray_origin_towards(sh->p, sh->ng, dir);
+  if (segment_occluded(s, org, offset_ray_origin_towards(y->p, y->ng, -dir))) return (float3)(0.0f);
+  return f_cam * f_light * ls->beta * volume_transmittance(s, sh, dir, dist) *
+         (bdpt_strategy_weight(p, s_count, k + 1u, w) / dist2);
+}
+
+/* s >= 2 with a stored light vertex v. */
 inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s, const SurfaceHit* sh,
                            float3 wo, const SubpathState* st, u32 k, __global const PathVertex* v,
                            u32* rays, u32* connections) {
@@ -48,33 +81,51 @@ inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s,
   if (s_count + k - 1u > p->max_depth) return (float3)(0.0f);
   if (bdpt_strategy_weight(p, s_count, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
   const SurfaceHit y = path_vertex_surface(v);
-  const float3 d = y.p - sh->p;
-  const float dist2 = dot(d, d);
-  if (!(dist2 > 0.0f)) return (float3)(0.0f);
-  const float dist = sqrt(dist2);
-  const float3 dir = d / dist; /* camera vertex -> light vertex */
-  const float3 y_wo = vload3(0, v->wo);
-  const float3 f_cam = bsdf_eval_cos(sh, wo, dir, TRANSPORT_RADIANCE);
-  if (is_black(f_cam)) return (float3)(0.0f);
-  const float3 f_light =
-      bsdf_eval_cos(&y, y_wo, -dir, TRANSPORT_IMPORTANCE) * shading_correction(&y, y_wo, -dir);
-  if (is_black(f_light)) return (float3)(0.0f);
   SubpathState ls;
   ls.beta = vload3(0, v->beta);
   ls.dvcm = v->dvcm;
   ls.dvc = v->dvc;
   ls.dvm = v->dvm;
-  const float cos_cam = fabs(dot(sh->ng, dir)), cos_light = fabs(dot(y.ng, dir));
-  const float w = bdpt_weight_connect(p, st, &ls, bsdf_pdf_w(sh, wo, dir) * cos_light / dist2,
-                                      bsdf_pdf_w(sh, dir, wo),
-                                      bsdf_pdf_w(&y, y_wo, -dir) * cos_cam / dist2,
-                                      bsdf_pdf_w(&y, -dir, y_wo));
-  ++*rays;
-  ++*connections;
-  const float3 org = offset_ray_origin_towards(sh->p, sh->ng, dir);
-  if (segment_occluded(s, org, offset_ray_origin_towards(y.p, y.ng, -dir))) return (float3)(0.0f);
-  return f_cam * f_light * ls.beta * volume_transmittance(s, sh, dir, dist) *
-         (bdpt_strategy_weight(p, s_count, k + 1u, w) / dist2);
+  return bdpt_connect_vertex(p, s, sh, wo, st, k, &y, vload3(0, v->wo), &ls, s_count, rays,
+                             connections);
+}
+
+/* The camera subpath's state at the camera, for a ray in direction dir. */
+inline SubpathState bdpt_camera_start(__constant const RenderParams* p, float3 dir) {
+  SubpathState st;
+  st.beta = (float3)(1.0f);
+  st.dvcm = bdpt_mis(p, 1.0f / camera_ray_pdf_w(&p->camera, dir));
+  st.dvc = 0.0f;
+  st.dvm = 0.0f;
+  return st;
+}
+
+/* s = 0 through the environment: the camera subpath (state st, throughput beta) escaped in
+ * direction dir from its vertex k - 1; seen directly (k = 1) it has no other strategy. Adds
+ * the weighted radiance to *L (one expression with the sum, so that the compiler's
+ * contraction into a fused multiply-add stays what it was when this was inline code). */
+inline void bdpt_gather_escape(__constant const RenderParams* p, const SceneView* s,
+                               const SubpathState* st, float3 beta, float3 dir, u32 k,
+                               float3* L) {
+  if (!env_present(s)) return;
+  const LightPdfs q = light_pdfs_env(s, dir);
+  const float w_env = k == 1u ? 1.0f : bdpt_weight_hit_light(p, st, q.direct, q.emit_w);
+  *L += beta * env_radiance(s, dir) * bdpt_strategy_weight(p, 0u, k + 1u, w_env);
+}
+
+/* s = 0 at an emitter: camera vertex k (sh, oriented to wo, state st after arriving). Seen
+ * directly (k = 1) it has weight 1 (s = 1, t = 1 is left out). Adds to *L as above. */
+inline void bdpt_gather_emitter(__constant const RenderParams* p, const SceneView* s,
+                                const SubpathState* st, const SurfaceHit* sh, float3 wo, u32 k,
+                                float3* L) {
+  const float3 Le = light_radiance(s, sh, wo);
+  if (is_black(Le)) return;
+  float w_hit = 1.0f;
+  if (k > 1u) {
+    const LightPdfs q = light_pdfs_area(s, sh->triangle, fabs(dot(sh->ng, wo)));
+    w_hit = bdpt_weight_hit_light(p, st, q.direct, q.emit_w);
+  }
+  *L += st->beta * Le * bdpt_strategy_weight(p, 0u, k + 1u, w_hit);
 }
 
 /* The camera subpath of one pixel sample joined with light subpath `lv` (`count` vertices);
@@ -92,39 +143,20 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
                                u32* connections) {
   float3 org, dir;
   pixel_ray(p, sampler, x, y, &org, &dir);
-  SubpathState st;
-  st.beta = (float3)(1.0f);
-  st.dvcm = bdpt_mis(p, 1.0f / camera_ray_pdf_w(&p->camera, dir));
-  st.dvc = 0.0f;
-  st.dvm = 0.0f;
+  SubpathState st = bdpt_camera_start(p, dir);
   float3 L = (float3)(0.0f);
   PathWalk w = walk_from_camera(org, dir, 0u, 0u);
   for (;;) {
     const u32 k = w.depth + 1u; /* the vertex's index on the camera subpath */
     if (!walk_next(s, &w, rays)) {
-      /* s = 0 through the environment; seen directly it has no other strategy. */
-      if (env_present(s)) {
-        const LightPdfs q = light_pdfs_env(s, w.dir);
-        const float w_env = k == 1u ? 1.0f : bdpt_weight_hit_light(p, &st, q.direct, q.emit_w);
-        L += w.beta * env_radiance(s, w.dir) * bdpt_strategy_weight(p, 0u, k + 1u, w_env);
-      }
+      bdpt_gather_escape(p, s, &st, w.beta, w.dir, k, &L);
       break;
     }
     st.beta = w.beta;
     const SurfaceHit* sh = &w.sh;
     const float3 wo = w.wo;
-    const float cos_in = fabs(dot(sh->ng, wo));
-    bdpt_mis_arrive(p, &st, distance(sh->p, w.from), cos_in, 1); /* vertex to vertex */
-    /* s = 0: an emitter hit; seen directly (k = 1) it has weight 1 (s = 1, t = 1 is left out). */
-    const float3 Le = light_radiance(s, sh, wo);
-    if (!is_black(Le)) {
-      float w_hit = 1.0f;
-      if (k > 1u) {
-        const LightPdfs q = light_pdfs_area(s, sh->triangle, cos_in);
-        w_hit = bdpt_weight_hit_light(p, &st, q.direct, q.emit_w);
-      }
-      L += st.beta * Le * bdpt_strategy_weight(p, 0u, k + 1u, w_hit);
-    }
+    bdpt_mis_arrive(p, &st, distance(sh->p, w.from), fabs(dot(sh->ng, wo)), 1); /* vertex to vertex */
+    bdpt_gather_emitter(p, s, &st, sh, wo, k, &L);
     if (k > p->max_depth) break;
     if (bsdf_has_smooth_lobe(sh)) {
       L += st.beta * bdpt_nee(p, s, sampler, sh, wo, &st, k, rays, connections);

@@ -9,7 +9,9 @@
  *
  * The sampler: the same key (pixel index, sample index) as the camera subpath it will be
  * joined with, in its own stream of dimensions (DIM_BDPT_LIGHT_STREAM), laid out like a light
- * tracer's path. */
+ * tracer's path. Its start (bdpt_light_start), the MIS update at a vertex (bdpt_light_arrive)
+ * and the camera connection (bdpt_camera_connection) are what multiplexed MLT's light
+ * subpaths are made of too (kernels/integrators/mlt/mmlt_path.cl). */
 #ifndef CLPT_INTEGRATORS_BDPT_LIGHT_PATH_CL
 #define CLPT_INTEGRATORS_BDPT_LIGHT_PATH_CL
 
@@ -27,25 +29,71 @@ inline float2 bdpt_light_sample_2d(const Sampler* sampler, u32 dim) {
   return sample_2d(sampler, stream_dim(dim, DIM_BDPT_LIGHT_STREAM));
 }
 
-/* t = 1: light vertex sh (oriented to wo, towards the light) connected to the camera. */
-inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneView* s,
-                                const SurfaceHit* sh, float3 wo, const SubpathState* st,
-                                u32 depth, float2 u_lens, __global float4* splat, u32* rays,
-                                u32* connections) {
+/* t = 1: light vertex sh (oriented to wo, towards the light, at bounce `depth`) connected
+ * to the camera through lens point u_lens. Returns its weighted contribution to the film and
+ * sets *pixel to where it lands; 0 when the strategy is off, the camera cannot see the vertex
+ * or the shadow ray is blocked. */
+inline float3 bdpt_camera_connection(__constant const RenderParams* p, const SceneView* s,
+                                     const SurfaceHit* sh, float3 wo, const SubpathState* st,
+                                     u32 depth, float2 u_lens, u32* pixel, u32* rays,
+                                     u32* connections) {
   const float strategy = bdpt_strategy_weight(p, depth + 1u, 1u, 1.0f);
-  if (strategy == 0.0f) return;
+  if (strategy == 0.0f) return (float3)(0.0f);
   const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
-  if (!c.valid) return;
+  if (!c.valid) return (float3)(0.0f);
   const float3 f = bsdf_eval_cos(sh, wo, c.wi, TRANSPORT_IMPORTANCE) * shading_correction(sh, wo, c.wi);
-  if (is_black(f)) return;
+  if (is_black(f)) return (float3)(0.0f);
   const float camera_pdf_a = c.pdf_w * fabs(dot(sh->ng, c.wi)) / (c.dist * c.dist);
   const float rev = bsdf_pdf_w(sh, c.wi, wo);
   const float w = bdpt_strategy_weight(p, depth + 1u, 1u, bdpt_weight_camera(p, st, camera_pdf_a, rev));
   ++*rays;
   ++*connections;
   const float3 org = offset_ray_origin_towards(sh->p, sh->ng, c.wi);
-  if (intersect_any(s, org, c.wi, c.dist * (1.0f - 1e-4f))) return;
-  film_splat(splat, splat_pixel(p, &c), st->beta * f * (c.weight * w));
+  if (intersect_any(s, org, c.wi, c.dist * (1.0f - 1e-4f))) return (float3)(0.0f);
+  *pixel = splat_pixel(p, &c);
+  return st->beta * f * (c.weight * w);
+}
+
+/* bdpt's t = 1 strategy: the connection above, splatted. */
+inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneView* s,
+                                const SurfaceHit* sh, float3 wo, const SubpathState* st,
+                                u32 depth, float2 u_lens, __global float4* splat, u32* rays,
+                                u32* connections) {
+  u32 pixel = 0u;
+  const float3 L = bdpt_camera_connection(p, s, sh, wo, st, depth, u_lens, &pixel, rays, connections);
+  if (!is_black(L)) film_splat(splat, pixel, L);
+}
+
+/* The start of a light subpath: a light, a point on it and a direction from the light stream's
+ * dimensions, the subpath state at the light (vertex_mis.cl) in *st, the emission's densities
+ * in *q. Returns 0 when nothing is emitted. */
+inline int bdpt_light_start(__constant const RenderParams* p, const SceneView* s,
+                            const Sampler* sampler, SubpathState* st, LightPdfs* q,
+                            PathWalk* w) {
+  if (s->num_lights == 0u) return 0;
+  const LightEmission e = light_emit(s, bdpt_light_sample_1d(sampler, bounce_dim(0u, DIM_LIGHT_SELECT)),
+                                     bdpt_light_sample_2d(sampler, DIM_LT_EMIT_POS),
+                                     bdpt_light_sample_2d(sampler, DIM_LT_EMIT_DIR));
+  if (!(e.pdf_a > 0.0f && e.pdf_w > 0.0f && e.pdf_select > 0.0f) || is_black(e.Le)) return 0;
+  *q = light_pdfs_emission(s, &e);
+  st->beta = e.Le * (e.cos_light / q->emit_w);
+  st->dvcm = bdpt_mis(p, q->direct / q->emit_w);
+  st->dvc = (e.is_delta_pos || e.is_delta_dir) ? 0.0f : bdpt_mis(p, q->cos_light / q->emit_w);
+  st->dvm = 0.0f;
+  *w = walk_from_light(e.p, light_emission_origin(s, &e), e.dir, st->beta, DIM_BDPT_LIGHT_STREAM,
+                       WALK_RR_PATH);
+  return 1;
+}
+
+/* The MIS update on arriving at the walk's vertex. Distances between the vertices, not the
+ * ray's t from its offset origin: the connection weights measure edges between vertices too
+ * (tests/bdpt_mis_test.cpp). `finite`: the light of the subpath is not at infinity (whose
+ * first segment has no distance). */
+inline void bdpt_light_arrive(__constant const RenderParams* p, SubpathState* st,
+                              const PathWalk* w, int finite) {
+  st->beta = w->beta;
+  bdpt_mis_arrive(p, st, distance(w->sh.p, w->from), fabs(dot(w->sh.ng, w->wo)),
+                  w->depth > 1u || finite);
 }
 
 /* Traces one light subpath and stores its connectable vertices: in `out` (capacity
@@ -56,27 +104,14 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
                            const Sampler* sampler, __global PathVertex* out,
                            __global PathVertex* pool, volatile __global u32* pool_count,
                            __global float4* splat, u32* rays, u32* connections) {
-  if (s->num_lights == 0u) return 0u;
-  const LightEmission e = light_emit(s, bdpt_light_sample_1d(sampler, bounce_dim(0u, DIM_LIGHT_SELECT)),
-                                     bdpt_light_sample_2d(sampler, DIM_LT_EMIT_POS),
-                                     bdpt_light_sample_2d(sampler, DIM_LT_EMIT_DIR));
-  if (!(e.pdf_a > 0.0f && e.pdf_w > 0.0f && e.pdf_select > 0.0f) || is_black(e.Le)) return 0u;
-  const LightPdfs q = light_pdfs_emission(s, &e);
   SubpathState st;
-  st.beta = e.Le * (e.cos_light / q.emit_w);
-  st.dvcm = bdpt_mis(p, q.direct / q.emit_w);
-  st.dvc = (e.is_delta_pos || e.is_delta_dir) ? 0.0f : bdpt_mis(p, q.cos_light / q.emit_w);
-  st.dvm = 0.0f;
-
-  PathWalk w = walk_from_light(e.p, light_emission_origin(s, &e), e.dir, st.beta,
-                               DIM_BDPT_LIGHT_STREAM, WALK_RR_PATH);
+  LightPdfs q;
+  PathWalk w;
+  if (!bdpt_light_start(p, s, sampler, &st, &q, &w)) return 0u;
   u32 stored = 0u;
   while (w.depth <= p->max_depth && walk_next(s, &w, rays)) {
     const u32 depth = w.depth;
-    st.beta = w.beta;
-    /* Distances between the vertices, not the ray's t from its offset origin: the
-     * connection weights measure edges between vertices too (tests/bdpt_mis_test.cpp). */
-    bdpt_mis_arrive(p, &st, distance(w.sh.p, w.from), fabs(dot(w.sh.ng, w.wo)), depth > 1u || q.finite);
+    bdpt_light_arrive(p, &st, &w, q.finite);
     if (bsdf_has_smooth_lobe(&w.sh)) {
       if (depth < p->max_depth && stored < p->light_vertex_capacity) {
         ++stored;

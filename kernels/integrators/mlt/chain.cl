@@ -7,36 +7,69 @@
  * in expectation the image gets C (I / b + P_large) / (I / b + P_large) = C; where I is small
  * the large steps carry the estimate as plain Monte Carlo would (without them, P_large = 0,
  * the weight is Veach's b C / I). The current state's weights are gathered while it stays
- * current and splatted once, when it is left or at the end of the launch. */
+ * current and splatted once, when it is left or at the end of the launch.
+ *
+ * Multiplexed MLT (CLPT_MLT_MULTIPLEXED) runs chains of one path length each, b being that
+ * length's normalisation b_d; a length given n_d of the N chains splats N / n_d times as much
+ * (MltDepth.chain_scale), so every length counts once whatever share of the chains it got
+ * (any n_d >= 1 is unbiased; n_d near N b_d / b, which the host aims at, is what pbrt-v4's
+ * MLTIntegrator does by drawing each chain's length in proportion to b_d). */
 #ifndef CLPT_INTEGRATORS_MLT_CHAIN_CL
 #define CLPT_INTEGRATORS_MLT_CHAIN_CL
 
 #include "film/splat.cl"
+#include "integrators/mlt/mmlt_path.cl"
 #include "integrators/mlt/pss_path.cl"
 
-/* The splat of a state of contribution L and target I with expected-value weight w. */
-inline float3 mlt_splat_value(__constant const MltParams* m, float3 L, float I, float w) {
-  const float density = I / m->b + m->large_step;
-  return density > 0.0f ? L * (w * m->splat_scale / density) : (float3)(0.0f);
+/* The path of a chain's vector: over bdpt's strategies for mmlt, pt's path for pssmlt. */
+inline PssPath mlt_path(const SceneView* s, __constant const RenderParams* p,
+                        const Sampler* sampler, u32 depth, u32* rays) {
+#ifdef CLPT_MLT_MULTIPLEXED
+  return mmlt_path(s, p, sampler, depth, rays);
+#else
+  return pss_path(s, p, sampler, rays);
+#endif
+}
+
+/* The coordinates a chain's paths read: all of the vector for pssmlt (a path of any length),
+ * for mmlt those of both subpaths' streams up to the chain's path length (the rest of the
+ * vector stays unread, and a rejected proposal need not look at it). */
+inline u32 mlt_chain_dims(__constant const MltParams* m, u32 depth) {
+#ifdef CLPT_MLT_MULTIPLEXED
+  return min(m->dims, MMLT_DIMS(depth));
+#else
+  return m->dims;
+#endif
+}
+
+/* The splat of a state of contribution L and target I with expected-value weight w, for a
+ * chain of normalisation n. */
+inline float3 mlt_splat_value(__constant const MltParams* m, MltDepth n, float3 L, float I,
+                              float w) {
+  const float density = I / n.b + m->large_step;
+  return density > 0.0f ? L * (w * m->splat_scale * n.chain_scale / density) : (float3)(0.0f);
 }
 
 /* Splats the current state's gathered weight. */
-inline void mlt_flush(__constant const MltParams* m, MltChain* ch, __global float4* splat) {
+inline void mlt_flush(__constant const MltParams* m, MltDepth n, MltChain* ch,
+                      __global float4* splat) {
   if (ch->weight > 0.0f && ch->luminance > 0.0f)
-    film_splat(splat, ch->pixel, mlt_splat_value(m, vload3(0, ch->color), ch->luminance, ch->weight));
+    film_splat(splat, ch->pixel,
+               mlt_splat_value(m, n, vload3(0, ch->color), ch->luminance, ch->weight));
   ch->weight = 0.0f;
 }
 
 inline void mlt_step(const SceneView* s, __constant const RenderParams* p,
-                     __constant const MltParams* m, MltChain* ch, __global PssCoord* coords,
-                     u32 chain_key, __global float4* splat, u32* rays) {
+                     __constant const MltParams* m, MltDepth n, MltChain* ch,
+                     __global PssCoord* coords, u32 chain_key, __global float4* splat, u32* rays) {
   const Sampler proposal =
-      pss_propose(ch, coords, m->dim_stride, m->dims, chain_key, m->large_step, m->sigma);
-  const PssPath y = pss_path(s, p, &proposal, rays);
+      pss_propose(ch, coords, m->dim_stride, mlt_chain_dims(m, ch->depth), chain_key,
+                  m->large_step, m->sigma);
+  const PssPath y = mlt_path(s, p, &proposal, ch->depth, rays);
   const float a = pss_acceptance(y.target, ch->luminance);
   if (y.target > 0.0f)
     film_splat(splat, y.pixel,
-               mlt_splat_value(m, y.L, y.target, a + (proposal.large_step ? 1.0f : 0.0f)));
+               mlt_splat_value(m, n, y.L, y.target, a + (proposal.large_step ? 1.0f : 0.0f)));
   ch->weight += 1.0f - a;
   const bool accepted = pss_accept_u(&proposal) < a;
   if (proposal.large_step) {
@@ -47,7 +80,7 @@ inline void mlt_step(const SceneView* s, __constant const RenderParams* p,
     ch->small_accepted += accepted ? 1u : 0u;
   }
   if (accepted) {
-    mlt_flush(m, ch, splat);
+    mlt_flush(m, n, ch, splat);
     vstore3(y.L, 0, ch->color);
     ch->luminance = y.target;
     ch->pixel = y.pixel;

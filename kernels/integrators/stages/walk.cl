@@ -25,7 +25,7 @@
  * leaving a vertex of bounce d with d + 1 >= rr_depth, survival from rr_weight (pt, lt, bdpt,
  * the camera side of pm and sppm); WALK_RR_ALBEDO is the photon tracer's, at every vertex with
  * the survival of that one scattering's weight (Jensen 2001: a white diffuse surface passes a
- * photon on unchanged).
+ * photon on unchanged); WALK_RR_NONE never stops a path (mlt's subpaths of a fixed length).
  *
  * Volumes (material/volume.cl): the medium is decided when the ray leaves a surface and its
  * transmittance applied when the ray lands; a walk started from a camera or a light starts
@@ -52,6 +52,7 @@
  * pt 2-3 % on the Cornell box (docs/BENCHMARKS.md). */
 #define WALK_RR_PATH 0u
 #define WALK_RR_ALBEDO 1u
+#define WALK_RR_NONE 2u
 
 typedef struct PathWalk {
   SurfaceHit sh;    /* the vertex walk_next reached, normals oriented to wo */
@@ -67,7 +68,7 @@ typedef struct PathWalk {
   u32 depth;        /* the bounce of the vertex reached (dimension layout) */
   u32 stream;       /* the dimension stream */
   u32 mode;         /* TRANSPORT_RADIANCE (camera side) or TRANSPORT_IMPORTANCE (light side) */
-  u32 roulette;     /* WALK_RR_PATH or WALK_RR_ALBEDO */
+  u32 roulette;     /* WALK_RR_PATH, WALK_RR_ALBEDO or WALK_RR_NONE */
 } PathWalk;
 
 /* A walk whose next ray is org, dir, towards its vertex of bounce `depth`, in `medium`. */
@@ -154,7 +155,7 @@ CLPT_INLINE int walk_scatter(__constant const RenderParams* p, const SceneView* 
   } else {
     w->beta *= weight;
     w->rr_weight *= weight;
-    if (w->depth + 1u >= p->rr_depth) {
+    if (w->roulette == WALK_RR_PATH && w->depth + 1u >= p->rr_depth) {
       const float survive = rr_survival(p, w->rr_weight);
       if (!(sample_1d(sampler, walk_dim(w, DIM_RR)) < survive)) return 0;
       w->beta /= survive;
