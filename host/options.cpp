@@ -158,6 +158,11 @@ struct Parser {
                    "mlt: mmlt (multiplexed, over bdpt's strategies, a chain per path length) or "
                    "pssmlt (Kelemen's primary sample space over pt) [mmlt]")
         ->type_name("MODE");
+    app.add_option("--mlt-target", o.mlt_target,
+                   "mlt: what the chains' density follows: tile (luminance over the bootstrap's "
+                   "estimate of its 8x8 tile's mean, so dim regions get their share) or "
+                   "luminance [tile]")
+        ->type_name("T");
     app.add_option("--mlt-large-step", o.mlt_large_step,
                    "mlt: probability that a mutation is a large step (a fresh path) [0.3]")
         ->type_name("P")
@@ -304,7 +309,8 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
   o.knn_set = p.app.count("--knn") > 0;
   o.pm_filter_set = p.app.count("--pm-filter") > 0;
   o.sppm_alpha_set = p.app.count("--sppm-alpha") > 0;
-  for (const char* name : {"--mlt-mode", "--mlt-large-step", "--mlt-sigma", "--mlt-bootstrap",
+  for (const char* name : {"--mlt-mode", "--mlt-target", "--mlt-large-step", "--mlt-sigma",
+                           "--mlt-bootstrap",
                            "--mlt-chains"})
     o.mlt_set = o.mlt_set || p.app.count(name) > 0;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
@@ -372,10 +378,12 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
   if (!reads(OPTIONS_AO) && o.ao_radius > 0.0f)
     throw Error(ExitCode::Usage, "--ao-radius needs --integrator ao");
   if (!reads(OPTIONS_MLT) && o.mlt_set)
-    throw Error(ExitCode::Usage, "--mlt-mode, --mlt-large-step, --mlt-sigma, --mlt-bootstrap and "
+    throw Error(ExitCode::Usage, "--mlt-mode, --mlt-target, --mlt-large-step, --mlt-sigma, "
+                                 "--mlt-bootstrap and "
                                  "--mlt-chains need --integrator mlt");
   if (reads(OPTIONS_MLT)) {
     one_of("--mlt-mode", o.mlt_mode, {"pssmlt", "mmlt"});
+    one_of("--mlt-target", o.mlt_target, {"tile", "luminance"});
     // A chain's path must be a function of its vector alone: one stream of dimensions.
     if (o.light_samples != 1 || o.branching != 1)
       throw Error(ExitCode::Usage, "--integrator mlt mutates one path of one shadow ray per "

@@ -54,6 +54,7 @@ struct Options {
        pm_filter_set = false, sppm_alpha_set = false;
   // Metropolis (mlt). mlt_set: one of the --mlt-* options was given.
   std::string mlt_mode = "mmlt";
+  std::string mlt_target = "tile";
   float mlt_large_step = 0.3f;
   float mlt_sigma = 0.01f;
   uint32_t mlt_bootstrap = 100000;

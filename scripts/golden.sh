@@ -65,9 +65,9 @@ pm_caustic   | scenes/caustic.gltf     | --integrator pm --photons 20000 --caust
 pm_box       | scenes/cornell_box.gltf | --integrator pm --photons 20000 --caustic-photons 20000 --pm-filter box --knn 20
 sppm         | scenes/cornell_box.gltf | --integrator sppm
 sppm_caustic | scenes/caustic.gltf     | --integrator sppm --sppm-alpha 0.8
-mlt          | scenes/cornell_box.gltf | --integrator mlt --mlt-mode pssmlt --mlt-bootstrap 20000
-mlt_door     | scenes/door_ajar.gltf   | --integrator mlt --mlt-mode pssmlt --mlt-large-step 0.1 --mlt-sigma 0.05 --mlt-chains 1000
-mlt_lens     | scenes/cornell_box.gltf | --integrator mlt --mlt-mode pssmlt --aperture 0.05 --rr fixed:0.3
+mlt          | scenes/cornell_box.gltf | --integrator mlt --mlt-mode pssmlt --mlt-target luminance --mlt-bootstrap 20000
+mlt_door     | scenes/door_ajar.gltf   | --integrator mlt --mlt-mode pssmlt --mlt-target luminance --mlt-large-step 0.1 --mlt-sigma 0.05 --mlt-chains 1000
+mlt_lens     | scenes/cornell_box.gltf | --integrator mlt --mlt-mode pssmlt --mlt-target luminance --aperture 0.05 --rr fixed:0.3
 mmlt         | scenes/cornell_box.gltf | --integrator mlt --mlt-bootstrap 5000
 mmlt_caustic | scenes/caustic.gltf     | --integrator mlt --mlt-bootstrap 5000 --mlt-chains 500
 mmlt_env     | scenes/cornell_box.gltf | --integrator mlt --mlt-bootstrap 5000 --max-depth 3 --background 0.2,0.3,0.4

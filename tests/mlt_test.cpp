@@ -206,6 +206,29 @@ TEST(MltResample, ChainsPerLengthFollowB) {
   EXPECT_EQ(sum, 65536u);
 }
 
+TEST(MltResample, TileImportanceEvensOutTheImage) {
+  // A 4 x 2 film in tiles of 2: tile 0 (x 0-1) bright, tile 1 (x 2-3) a quarter as bright, as
+  // two lengths' bootstrap paths (i % 2) saw them: 8 paths per length.
+  std::vector<float> target;
+  std::vector<uint32_t> pixel;
+  for (uint32_t i = 0; i < 16; ++i) {
+    const uint32_t p = (i / 2) % 8;  // every pixel once per length
+    pixel.push_back(p);
+    target.push_back((p % 4) < 2 ? 4.0f : 1.0f);
+  }
+  const std::vector<float> w = Metropolis::tile_importance(target, pixel, 2, 4, 2, 2);
+  // Per length 4 paths in each tile, summing to 16 (tile 0) and 4 (tile 1). Image mean
+  // sum_d (1/8) sum I = 2 * (16 + 4) / 8 = 5; tile 0's mean 2 * 16 / 8 / (4/8) = 8, tile 1's
+  // 2 (above the floor 0.3 * 5); weights 5/8 and 5/2.
+  ASSERT_EQ(w.size(), 8u);
+  for (uint32_t p = 0; p < 8; ++p) EXPECT_FLOAT_EQ(w[p], (p % 4) < 2 ? 5.0f / 8.0f : 5.0f / 2.0f) << p;
+  // A tile the bootstrap saw black gets the floor: 1 / 0.3 of the image's weight.
+  for (float& t : target) t = (t == 1.0f) ? 0.0f : t;
+  const std::vector<float> f = Metropolis::tile_importance(target, pixel, 2, 4, 2, 2);
+  EXPECT_FLOAT_EQ(f[2], float(1.0 / 0.3));
+  EXPECT_FLOAT_EQ(f[0], 0.5f);  // image 4, tile 8
+}
+
 TEST(MltResample, DefaultChainsFitTheBudget) {
   EXPECT_EQ(Metropolis::default_chains(1000, 76, size_t(256) << 20), 1000u);
   EXPECT_EQ(Metropolis::default_chains(size_t(1) << 22, 76, size_t(256) << 20), 65536u);
@@ -215,12 +238,15 @@ TEST(MltResample, DefaultChainsFitTheBudget) {
 }
 
 // ---- Renders. ----
+// mmlt with the tile target (the defaults), or pssmlt with the luminance target (session 8's
+// integrator): the two ends, each tested on every render below.
 RenderSettings mlt_settings(uint32_t size, uint64_t spp, bool multiplexed = true) {
   RenderSettings s;
   s.width = s.height = size;
   s.spp = spp;
   s.integrator = "mlt";
   s.mlt.multiplexed = multiplexed;
+  if (!multiplexed) s.mlt.importance_tile = 0;
   return s;
 }
 
@@ -279,6 +305,7 @@ TEST(MmltFurnace, EachPathLengthCarriesItsShare) {
   constexpr uint32_t kDepth = 5;
   RenderSettings s = mlt_settings(16, 1);
   s.max_depth = kDepth;
+  s.mlt.importance_tile = 0;  // b_d of the luminance target
   s.mlt.bootstrap = 100000;
   s.mlt.chains = 64;
   const RenderOutput out = Renderer(test::device_context(), test::furnace_scene(kRho, 1.0f), s).render();

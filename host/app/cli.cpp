@@ -182,6 +182,7 @@ int run(const Options& opt) {
   settings.sppm_alpha = opt.sppm_alpha;
   settings.mlt.multiplexed = opt.mlt_mode == "mmlt";
   settings.mlt.chains = opt.mlt_chains;
+  settings.mlt.importance_tile = opt.mlt_target == "tile" ? 8u : 0u;
   settings.mlt.bootstrap = opt.mlt_bootstrap;
   settings.mlt.large_step = opt.mlt_large_step;
   settings.mlt.sigma = opt.mlt_sigma;
@@ -324,6 +325,7 @@ int run(const Options& opt) {
       const uint64_t proposed = m.large_proposed + m.small_proposed;
       const auto rate = [](uint64_t a, uint64_t n) { return n ? double(a) / double(n) : 0.0; };
       j["mlt"] = {{"mode", opt.mlt_mode},
+                  {"target", opt.mlt_target},
                   {"chains", m.chains},
                   {"dimensions", m.dims},
                   {"bootstrap_paths", m.bootstrap_paths},

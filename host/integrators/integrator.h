@@ -73,6 +73,9 @@ struct MltConfig {
   uint32_t bootstrap = 100000;  // pssmlt: paths; mmlt: paths per path length
   float large_step = 0.3f;   // probability of a large step
   float sigma = 0.01f;       // small steps' standard deviation
+  // --mlt-target: 8 (tile): the target is luminance times the image's mean over its 8 x 8
+  // tile's mean (Metropolis::tile_importance); 0 (luminance): luminance alone.
+  uint32_t importance_tile = 8;
   // false: chain c starts at bootstrap path c instead of one drawn in proportion to its
   // target, which is the start-up bias the resampling removes (tests show it; no option).
   bool resample = true;
@@ -101,7 +104,7 @@ enum IntegratorOptions : unsigned {
   OPTIONS_SPPM = 1u << 2,     // --sppm-radius, --sppm-alpha
   OPTIONS_BDPT = 1u << 3,     // --bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic, --bdpt-lvc, --bdpt-memory
   OPTIONS_AO = 1u << 4,       // --ao-radius
-  OPTIONS_MLT = 1u << 5,      // --mlt-large-step, --mlt-sigma, --mlt-bootstrap, --mlt-chains
+  OPTIONS_MLT = 1u << 5,      // --mlt-mode, --mlt-target, --mlt-large-step, --mlt-sigma, --mlt-bootstrap, --mlt-chains
 };
 
 // One row per integrator --integrator accepts: everything the options, the renderer, the

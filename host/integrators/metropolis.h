@@ -4,7 +4,11 @@
 //
 // The first pass bootstraps: `bootstrap` independent paths (fresh primary sample vectors) per
 // path length (mmlt: bounces 0 to max_depth; pssmlt: one, all lengths in one path) give
-// their target values I (path luminance); their mean is each length's normalisation b_d.
+// their target values I; their mean is each length's normalisation b_d. I is the path's
+// luminance, or with the tile target (--mlt-target tile, the default) its luminance times
+// the pixel's weight from the bootstrap's estimate of the image (tile_importance), which
+// sends the chains to dim tiles as often as to bright ones (the weight is fixed before the
+// chains start, so any positive weight keeps the estimate unbiased).
 // The chains are shared out over the lengths in proportion to b_d (allocate), and each
 // chain's start state is drawn from its length's paths in proportion to I (systematic
 // resampling), so the chains start in their stationary distribution and there is no start-up
@@ -39,6 +43,12 @@ class Metropolis final : public Integrator {
   // with at least one for every length of b_d > 0 while chains allow (a length without
   // chains would lose its light); all zero when every b_d is 0.
   static std::vector<uint32_t> allocate(const std::vector<double>& b, uint32_t chains);
+  // The tile target's weight per pixel: the image's mean luminance over its tile's mean
+  // (tiles of tile x tile pixels), both estimated from the bootstrap's luminance targets and
+  // pixels (path i has i % depths bounces), the tile's mean floored at 0.3 of the image's.
+  static std::vector<float> tile_importance(const std::vector<float>& target,
+                                            const std::vector<uint32_t>& pixel, uint32_t depths,
+                                            uint32_t width, uint32_t height, uint32_t tile);
 
  private:
   uint32_t chains_for(const dev::RenderParams& params, const Film& film) const;
@@ -50,7 +60,7 @@ class Metropolis final : public Integrator {
   cl::Kernel bootstrap_kernel_, start_kernel_, mutate_kernel_;
   uint32_t dims_for(const dev::RenderParams& params) const;
 
-  cl::Buffer params_, mlt_params_, depths_;
+  cl::Buffer params_, mlt_params_, depths_, importance_;
   cl::Buffer chains_, coords_;
   dev::MltParams mlt_{};
   bool started_ = false;

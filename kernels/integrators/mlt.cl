@@ -15,21 +15,24 @@
 inline u32 mlt_bootstrap_key(u32 seed, u32 i) { return hash_combine(hash_u32(seed ^ 0x510e527fu), i); }
 
 __kernel void mlt_bootstrap(SCENE_KERNEL_ARGS __constant const RenderParams* params,
-                            __constant const MltParams* mlt, __global float* target,
-                            __global u32* ray_counts) {
+                            __constant const MltParams* mlt, __global const float* importance,
+                            __global float* target, __global u32* pixel, __global u32* ray_counts) {
   const u32 i = get_global_id(0);
   if (i >= mlt->bootstrap) return;
   const SceneView scene = SCENE_VIEW();
   const u32 depth = i % mlt->depths;
   const Sampler sampler = pss_fresh(mlt_bootstrap_key(mlt->seed, i), mlt_chain_dims(mlt, depth));
   u32 rays = 0;
-  target[i] = mlt_path(&scene, params, &sampler, depth, &rays).target;
+  const PssPath path = mlt_path(&scene, params, &sampler, depth, importance, &rays);
+  target[i] = path.target;
+  pixel[i] = path.pixel;
   atomic_add(ray_counts + i % (params->width * params->height), rays);
 }
 
 __kernel void mlt_start(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __constant const MltParams* mlt, __global const u32* start,
-                        __global MltChain* chains, __global PssCoord* coords,
+                        __global const float* importance, __global MltChain* chains,
+                        __global PssCoord* coords,
                         __global u32* ray_counts) {
   const u32 c = get_global_id(0);
   if (c >= mlt->chains) return;
@@ -44,7 +47,7 @@ __kernel void mlt_start(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   pss_chain_start(&ch, vector, mlt->dim_stride, dims, mlt_bootstrap_key(mlt->seed, start[c]));
   const Sampler sampler = pss_current(&ch, vector, mlt->dim_stride, dims);
   u32 rays = 0;
-  const PssPath x = mlt_path(&scene, params, &sampler, ch.depth, &rays);
+  const PssPath x = mlt_path(&scene, params, &sampler, ch.depth, importance, &rays);
   vstore3(x.L, 0, ch.color);
   ch.luminance = x.target;
   ch.pixel = x.pixel;
@@ -54,7 +57,7 @@ __kernel void mlt_start(SCENE_KERNEL_ARGS __constant const RenderParams* params,
 
 __kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                          __constant const MltParams* mlt, __global const MltDepth* depths,
-                         __global MltChain* chains,
+                         __global const float* importance, __global MltChain* chains,
                          __global PssCoord* coords, __global float4* splat,
                          __global u32* ray_counts) {
   const u32 c = get_global_id(0);
@@ -65,7 +68,7 @@ __kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params
   const u32 key = pss_chain_key(mlt->seed, c);
   const MltDepth n = depths[ch.depth];
   u32 rays = 0;
-  for (u32 i = 0; i < mlt->mutations; ++i) mlt_step(&scene, params, mlt, n, &ch, vector, key, splat, &rays);
+  for (u32 i = 0; i < mlt->mutations; ++i) mlt_step(&scene, params, mlt, n, &ch, vector, key, importance, splat, &rays);
   mlt_flush(mlt, n, &ch, splat);
   chains[c] = ch;
   atomic_add(ray_counts + c % (params->width * params->height), rays);

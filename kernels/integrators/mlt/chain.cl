@@ -21,14 +21,19 @@
 #include "integrators/mlt/mmlt_path.cl"
 #include "integrators/mlt/pss_path.cl"
 
-/* The path of a chain's vector: over bdpt's strategies for mmlt, pt's path for pssmlt. */
+/* The path of a chain's vector: over bdpt's strategies for mmlt, pt's path for pssmlt; its
+ * target is the path's luminance times its pixel's importance (all 1 for --mlt-target
+ * luminance, the bootstrap's tile weights for tile: host/integrators/metropolis.h). */
 inline PssPath mlt_path(const SceneView* s, __constant const RenderParams* p,
-                        const Sampler* sampler, u32 depth, u32* rays) {
+                        const Sampler* sampler, u32 depth, __global const float* importance,
+                        u32* rays) {
 #ifdef CLPT_MLT_MULTIPLEXED
-  return mmlt_path(s, p, sampler, depth, rays);
+  PssPath path = mmlt_path(s, p, sampler, depth, rays);
 #else
-  return pss_path(s, p, sampler, rays);
+  PssPath path = pss_path(s, p, sampler, rays);
 #endif
+  path.target *= importance[path.pixel];
+  return path;
 }
 
 /* The coordinates a chain's paths read: all of the vector for pssmlt (a path of any length),
@@ -61,11 +66,12 @@ inline void mlt_flush(__constant const MltParams* m, MltDepth n, MltChain* ch,
 
 inline void mlt_step(const SceneView* s, __constant const RenderParams* p,
                      __constant const MltParams* m, MltDepth n, MltChain* ch,
-                     __global PssCoord* coords, u32 chain_key, __global float4* splat, u32* rays) {
+                     __global PssCoord* coords, u32 chain_key, __global const float* importance,
+                     __global float4* splat, u32* rays) {
   const Sampler proposal =
       pss_propose(ch, coords, m->dim_stride, mlt_chain_dims(m, ch->depth), chain_key,
                   m->large_step, m->sigma);
-  const PssPath y = mlt_path(s, p, &proposal, ch->depth, rays);
+  const PssPath y = mlt_path(s, p, &proposal, ch->depth, importance, rays);
   const float a = pss_acceptance(y.target, ch->luminance);
   if (y.target > 0.0f)
     film_splat(splat, y.pixel,
