@@ -48,7 +48,7 @@ double toy_g(double u0, double u1) {
   const double dx = u0 - 0.3, dy = u1 - 0.6;
   return 0.2 + std::exp(-(dx * dx + dy * dy) / (2.0 * 0.15 * 0.15));
 }
-double toy_h(double u2) { return 0.25 + 1.5 * u2 * u2; }
+// h(u2) = 0.25 + 1.5 u2^2, the toy target's factor in u2 (read where u0 < 0.5).
 constexpr double kToyHIntegral = 0.75;  // of h over [0, 1]
 
 enum ToyRule : uint32_t { kMetropolis = 0, kNoRestore = 1, kSqrtAcceptance = 2 };

@@ -49,7 +49,7 @@ __kernel void mlt_start(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   u32 rays = 0;
   const PssPath x = mlt_path(&scene, params, &sampler, ch.depth, importance, &rays);
   vstore3(x.L, 0, ch.color);
-  ch.luminance = x.target;
+  ch.target = x.target;
   ch.pixel = x.pixel;
   chains[c] = ch;
   atomic_add(ray_counts + c % (params->width * params->height), rays);

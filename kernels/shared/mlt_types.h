@@ -55,7 +55,7 @@ typedef struct MltDepth {
  * counters and acceptance counts. 64 bytes. */
 typedef struct MltChain {
   float color[3];     /* the current path's contribution C */
-  float luminance;    /* its target value I: luminance(C), times the pixel's importance
+  float target;       /* its target value I: luminance(C), times the pixel's importance
                          (--mlt-target tile; host/integrators/metropolis.h) */
   u32 pixel;          /* the pixel its film position falls in */
   float weight;       /* expected-value weight gathered while current, not splatted yet */

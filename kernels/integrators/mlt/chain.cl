@@ -58,9 +58,9 @@ inline float3 mlt_splat_value(__constant const MltParams* m, MltDepth n, float3 
 /* Splats the current state's gathered weight. */
 inline void mlt_flush(__constant const MltParams* m, MltDepth n, MltChain* ch,
                       __global float4* splat) {
-  if (ch->weight > 0.0f && ch->luminance > 0.0f)
+  if (ch->weight > 0.0f && ch->target > 0.0f)
     film_splat(splat, ch->pixel,
-               mlt_splat_value(m, n, vload3(0, ch->color), ch->luminance, ch->weight));
+               mlt_splat_value(m, n, vload3(0, ch->color), ch->target, ch->weight));
   ch->weight = 0.0f;
 }
 
@@ -72,7 +72,7 @@ inline void mlt_step(const SceneView* s, __constant const RenderParams* p,
       pss_propose(ch, coords, m->dim_stride, mlt_chain_dims(m, ch->depth), chain_key,
                   m->large_step, m->sigma);
   const PssPath y = mlt_path(s, p, &proposal, ch->depth, importance, rays);
-  const float a = pss_acceptance(y.target, ch->luminance);
+  const float a = pss_acceptance(y.target, ch->target);
   if (y.target > 0.0f)
     film_splat(splat, y.pixel,
                mlt_splat_value(m, n, y.L, y.target, a + (proposal.large_step ? 1.0f : 0.0f)));
@@ -88,7 +88,7 @@ inline void mlt_step(const SceneView* s, __constant const RenderParams* p,
   if (accepted) {
     mlt_flush(m, n, ch, splat);
     vstore3(y.L, 0, ch->color);
-    ch->luminance = y.target;
+    ch->target = y.target;
     ch->pixel = y.pixel;
     pss_accept(ch, &proposal);
   } else {
