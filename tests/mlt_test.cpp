@@ -419,6 +419,15 @@ TEST(MltOptions, RendererChecksItsConfig) {
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ExitCode::Usage);
   }
+  // The tile target needs two rounds of bootstrap paths; refused before any kernel runs.
+  s = mlt_settings(8, 1);
+  s.mlt.bootstrap = 1;
+  try {
+    Renderer r(test::device_context(), test::furnace_scene(0.5f, 1.0f), s);
+    FAIL() << "a bootstrap of 1 with the tile target was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::Usage);
+  }
 }
 
 }  // namespace

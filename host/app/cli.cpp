@@ -182,7 +182,7 @@ int run(const Options& opt) {
   settings.sppm_alpha = opt.sppm_alpha;
   settings.mlt.multiplexed = opt.mlt_mode == "mmlt";
   settings.mlt.chains = opt.mlt_chains;
-  settings.mlt.importance_tile = opt.mlt_target == "tile" ? 8u : 0u;
+  settings.mlt.importance_tile = opt.mlt_target == "tile" ? kMltTile : 0u;
   settings.mlt.bootstrap = opt.mlt_bootstrap;
   settings.mlt.large_step = opt.mlt_large_step;
   settings.mlt.sigma = opt.mlt_sigma;

@@ -66,6 +66,9 @@ inline dev::RenderParams without_samples(const dev::RenderParams& params) {
   return none;
 }
 
+// The tile target's tiles (--mlt-target tile): kMltTile x kMltTile pixels.
+constexpr uint32_t kMltTile = 8;
+
 // mlt's settings (--mlt-*).
 struct MltConfig {
   bool multiplexed = true;   // --mlt-mode mmlt (over bdpt's strategies); false: pssmlt (over pt)
@@ -75,7 +78,7 @@ struct MltConfig {
   float sigma = 0.01f;       // small steps' standard deviation
   // --mlt-target: 8 (tile): the target is luminance times the image's mean over its 8 x 8
   // tile's mean (Metropolis::tile_importance); 0 (luminance): luminance alone.
-  uint32_t importance_tile = 8;
+  uint32_t importance_tile = kMltTile;
   // false: chain c starts at bootstrap path c instead of one drawn in proportion to its
   // target, which is the start-up bias the resampling removes (tests show it; no option).
   bool resample = true;

@@ -44,6 +44,9 @@ const MltConfig& checked(const MltConfig& c) {
     throw Error(ExitCode::Usage, "--mlt-sigma must be a positive number");
   if (c.bootstrap == 0) throw Error(ExitCode::Usage, "--mlt-bootstrap must be at least 1");
   if (c.bootstrap > (1u << 26)) throw Error(ExitCode::Usage, "--mlt-bootstrap must be at most 2^26");
+  // The tile target splits the bootstrap's rounds in two (weights, then b and the starts).
+  if (c.importance_tile > 0 && c.bootstrap < 2)
+    throw Error(ExitCode::Usage, "mlt: --mlt-target tile needs --mlt-bootstrap of at least 2");
   return c;
 }
 
@@ -243,8 +246,6 @@ void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
     by_depth[i % depths].push_back(target[i]);
     path_of[i % depths].push_back(uint32_t(i));
   }
-  if (by_depth[0].empty())
-    throw Error(ExitCode::Usage, "mlt: --mlt-target tile needs --mlt-bootstrap of at least 2");
   stats_.b_by_depth.assign(depths, 0.0);
   stats_.b_depth_standard_error.assign(depths, 0.0);
   double b = 0.0, variance = 0.0;

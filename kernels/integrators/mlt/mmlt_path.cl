@@ -115,8 +115,7 @@ inline PssPath mmlt_path(const SceneView* s, __constant const RenderParams* p,
   if (t_count == 1u) {
     u32 connections = 0u;
     path.L = bdpt_camera_connection(p, s, &y.sh, y.wo, &y.st, s_count - 1u,
-                                    sample_2d(sampler, stream_dim(bounce_dim(s_count - 1u, DIM_LT_LENS),
-                                                                  DIM_BDPT_LIGHT_STREAM)),
+                                    bdpt_light_sample_2d(sampler, bounce_dim(s_count - 1u, DIM_LT_LENS)),
                                     &path.pixel, rays, &connections);
   } else {
     path.L = mmlt_camera_strategy(p, s, sampler, s_count, t_count, &y, &path.pixel, rays);
