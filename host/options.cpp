@@ -181,6 +181,23 @@ struct Parser {
                    "[one per pixel, at most 65536]")
         ->type_name("N")
         ->check(CLI::Range(1u, 1u << 24).description(""));
+    app.add_option("--ic-error", o.ic_error,
+                   "ic: Ward's accuracy a: a record serves points where its error "
+                   "|x - xi| / Ri + sqrt(1 - n.ni) is below a; smaller is more records [0.2]")
+        ->type_name("A");
+    app.add_option("--ic-rays", o.ic_rays,
+                   "ic: stratified hemisphere rays per record [256]")
+        ->type_name("N");
+    app.add_option("--ic-min-spacing", o.ic_min_spacing,
+                   "ic: smallest validity radius a Ri of a record, in pixel footprints [1.5]")
+        ->type_name("PIXELS");
+    app.add_option("--ic-max-spacing", o.ic_max_spacing,
+                   "ic: largest validity radius a Ri of a record, in pixel footprints [32]")
+        ->type_name("PIXELS");
+    app.add_flag("--ic-no-gradients", o.ic_no_gradients,
+                 "ic: interpolate records without Ward and Heckbert's irradiance gradients");
+    app.add_flag("--ic-show-records", o.ic_show_records,
+                 "ic: paint the pixels whose camera ray placed a record red");
     stats_opt = app.add_option("--stats", stats_value,
                                "Write render statistics as JSON to FILE, or stdout when no FILE")
                     ->expected(0, 1)
@@ -313,6 +330,9 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
                            "--mlt-bootstrap",
                            "--mlt-chains"})
     o.mlt_set = o.mlt_set || p.app.count(name) > 0;
+  for (const char* name : {"--ic-error", "--ic-rays", "--ic-min-spacing", "--ic-max-spacing",
+                           "--ic-no-gradients", "--ic-show-records"})
+    o.ic_set = o.ic_set || p.app.count(name) > 0;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
   auto one_of = [](const char* option, const std::string& value,
                    std::initializer_list<const char*> names) {
@@ -391,6 +411,29 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
     if (o.sampler != "independent")
       throw Error(ExitCode::Usage, "--integrator mlt takes its random numbers from its chains: "
                                    "--sampler does not apply");
+  }
+  if (!reads(OPTIONS_IC) && o.ic_set)
+    throw Error(ExitCode::Usage, "--ic-error, --ic-rays, --ic-min-spacing, --ic-max-spacing, "
+                                 "--ic-no-gradients and --ic-show-records need --integrator ic");
+  if (reads(OPTIONS_IC)) {
+    if (!(o.ic_error > 0.0f && o.ic_error <= 1.0f))
+      throw Error(ExitCode::Usage, "--ic-error " + std::to_string(o.ic_error) +
+                                       ": expected 0 < A <= 1");
+    if (o.ic_rays < 1 || o.ic_rays > 16384)
+      throw Error(ExitCode::Usage, "--ic-rays " + std::to_string(o.ic_rays) +
+                                       ": expected 1 to 16384 rays per record");
+    if (!(o.ic_min_spacing > 0.0f) || !std::isfinite(o.ic_max_spacing))
+      throw Error(ExitCode::Usage, "--ic-min-spacing and --ic-max-spacing need positive, finite "
+                                   "pixel counts");
+    if (o.ic_min_spacing > o.ic_max_spacing)
+      throw Error(ExitCode::Usage, "--ic-min-spacing " + std::to_string(o.ic_min_spacing) +
+                                       " is above --ic-max-spacing " +
+                                       std::to_string(o.ic_max_spacing));
+    // The cache holds what a diffuse surface's BSDF samples find; the image's estimator
+    // choices are pt's, but the walk samples the BSDF itself.
+    if (o.hemisphere != "bsdf" || o.branching != 1)
+      throw Error(ExitCode::Usage, "--integrator ic samples the BSDF at every vertex: "
+                                   "--hemisphere must stay bsdf and --branching 1");
   }
   if (o.pm_filter != "cone" && o.pm_filter != "epanechnikov" && o.pm_filter != "box")
     throw Error(ExitCode::Usage, "--pm-filter " + o.pm_filter + ": expected cone, epanechnikov "

@@ -60,6 +60,14 @@ struct Options {
   uint32_t mlt_bootstrap = 100000;
   uint32_t mlt_chains = 0;         // 0: one per pixel, at most 65536 (and 256 MiB of state)
   bool mlt_set = false;
+  // Irradiance cache (ic). ic_set: one of the --ic-* options was given.
+  float ic_error = 0.2f;
+  uint32_t ic_rays = 256;
+  float ic_min_spacing = 1.5f;
+  float ic_max_spacing = 32.0f;
+  bool ic_no_gradients = false;
+  bool ic_show_records = false;
+  bool ic_set = false;
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR
   std::string reference;          // image to compare with (relMSE), empty: none

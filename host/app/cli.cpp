@@ -186,6 +186,12 @@ int run(const Options& opt) {
   settings.mlt.bootstrap = opt.mlt_bootstrap;
   settings.mlt.large_step = opt.mlt_large_step;
   settings.mlt.sigma = opt.mlt_sigma;
+  settings.ic.error = opt.ic_error;
+  settings.ic.rays = opt.ic_rays;
+  settings.ic.min_spacing = opt.ic_min_spacing;
+  settings.ic.max_spacing = opt.ic_max_spacing;
+  settings.ic.gradients = !opt.ic_no_gradients;
+  settings.ic.show_records = opt.ic_show_records;
   if (opt.bdpt_mosaic) return run_mosaic(opt, ctx, scene, settings, device.name);
   Renderer renderer(ctx, scene, settings);
   if (reference && (reference->width != renderer.width() || reference->height != renderer.height()))
@@ -342,6 +348,23 @@ int run(const Options& opt) {
         j["mlt"]["b_by_depth"] = m.b_by_depth;
         j["mlt"]["chains_by_depth"] = m.chains_by_depth;
       }
+    }
+    if (row.options & OPTIONS_IC) {
+      const IcStats& ic = st.ic;
+      j["ic"] = {{"error", opt.ic_error},
+                 {"records", ic.records},
+                 {"rays_per_record", ic.rays_per_record},
+                 {"placement_passes", ic.placement_passes},
+                 {"candidates", ic.candidates},
+                 {"build_seconds", ic.build_seconds},
+                 {"record_seconds", ic.record_seconds},
+                 {"records_per_second", ic.record_seconds > 0.0 ? double(ic.records) / ic.record_seconds : 0.0},
+                 {"lookups", ic.lookups},
+                 {"lookups_per_second", double(ic.lookups) / secs},
+                 {"records_per_lookup", ic.lookups ? double(ic.records_used) / double(ic.lookups) : 0.0},
+                 {"lookup_misses", ic.misses},
+                 {"gradients", !opt.ic_no_gradients},
+                 {"device_bytes", ic.device_bytes}};
     }
     // Rays of camera-side paths; photon rays are under "photons".
     j["rays"] = film.rays;

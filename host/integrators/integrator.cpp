@@ -1,6 +1,7 @@
 #include "integrators/integrator.h"
 
 #include "integrators/bdpt.h"
+#include "integrators/irradiance_cache.h"
 #include "integrators/light_tracer.h"
 #include "integrators/megakernel.h"
 #include "integrators/metropolis.h"
@@ -35,6 +36,9 @@ std::unique_ptr<Integrator> make_pm(const cl::Context& ctx, const SceneBuffers& 
 std::unique_ptr<Integrator> make_mlt(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
   return std::make_unique<Metropolis>(ctx, s, c.mlt);
 }
+std::unique_ptr<Integrator> make_ic(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
+  return std::make_unique<IrradianceCache>(ctx, s, c.ic);
+}
 std::unique_ptr<Integrator> make_sppm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
   return std::make_unique<Sppm>(ctx, s, c.photons);
 }
@@ -52,7 +56,7 @@ const std::vector<IntegratorInfo>& integrator_table() {
       {"sppm",   true,  F::Progressive, OPTIONS_PHOTONS | OPTIONS_SPPM,  true,  false, 0, false, make_sppm},
       {"vcm",    false, F::Splats,      OPTIONS_NONE,                    true,  true,  0, false, nullptr},
       {"mlt",    true,  F::Splats,      OPTIONS_MLT,                     true,  false, 0, false, make_mlt},
-      {"ic",     false, F::SampleSums,  OPTIONS_NONE,                    true,  false, 0, false, nullptr},
+      {"ic",     true,  F::SampleSums,  OPTIONS_IC,                      true,  false, 0, false, make_ic},
       {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, make_ao},
       {"direct", true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 1, false, make_direct},
   };

@@ -40,6 +40,20 @@ struct MetropolisStats {
   size_t device_bytes = 0;         // chain states and their vectors
 };
 
+// Irradiance cache figures of ic for --stats.
+struct IcStats {
+  uint64_t records = 0;
+  uint32_t rays_per_record = 0;     // M x N hemisphere rays
+  uint32_t placement_passes = 0;    // grid levels, coarse to fine
+  uint64_t candidates = 0;          // uncovered points the placement found (before thinning)
+  double build_seconds = 0.0;       // placement, records and grids, device and host
+  double record_seconds = 0.0;      // of which the records' hemisphere rays and sums
+  uint64_t lookups = 0;             // image samples that read the cache
+  uint64_t records_used = 0;        // records those lookups interpolated, in all
+  uint64_t misses = 0;              // lookups no record covered (path traced instead)
+  size_t device_bytes = 0;          // records, grid and the record rays' results
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
@@ -56,6 +70,7 @@ class Integrator {
   virtual uint64_t connections() const { return 0; }
   virtual PhotonStats photon_stats() const { return {}; }
   virtual MetropolisStats metropolis_stats() const { return {}; }
+  virtual IcStats ic_stats() const { return {}; }
 };
 
 // params with no samples per pass: a launch where every work-item loops over nothing, which
@@ -84,12 +99,23 @@ struct MltConfig {
   bool resample = true;
 };
 
+// ic's settings (--ic-*).
+struct IcConfig {
+  float error = 0.2f;         // a: Ward's accuracy, eps_i < a
+  float min_spacing = 1.5f;   // a record's validity radius a R_i, in pixel footprints: at least
+  float max_spacing = 32.0f;  //   ... and at most
+  uint32_t rays = 256;        // hemisphere rays per record (M x N, M = round(sqrt(rays / pi)))
+  bool gradients = true;      // extrapolate with Ward and Heckbert's gradients
+  bool show_records = false;  // pixels that placed a record render red
+};
+
 // Construction-time settings some integrators take.
 struct IntegratorConfig {
   size_t path_memory_bytes = size_t(256) << 20;  // bdpt: light vertex buffer budget
   uint64_t photons = 0;          // pm: global map paths; sppm: paths per pass (0: pixels)
   uint64_t caustic_photons = 0;  // pm: caustic map paths
   MltConfig mlt;
+  IcConfig ic;
 };
 
 // What an integrator's film holds, which decides what the film and the command line offer.
@@ -108,6 +134,7 @@ enum IntegratorOptions : unsigned {
   OPTIONS_BDPT = 1u << 3,     // --bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic, --bdpt-lvc, --bdpt-memory
   OPTIONS_AO = 1u << 4,       // --ao-radius
   OPTIONS_MLT = 1u << 5,      // --mlt-mode, --mlt-target, --mlt-large-step, --mlt-sigma, --mlt-bootstrap, --mlt-chains
+  OPTIONS_IC = 1u << 6,       // --ic-error, --ic-rays, --ic-min-spacing, --ic-max-spacing, --ic-no-gradients, --ic-show-records
 };
 
 // One row per integrator --integrator accepts: everything the options, the renderer, the

@@ -107,7 +107,7 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   integrator_ = make_integrator(
       settings_.integrator, ctx_, *scene_buffers_,
       IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons,
-                       settings_.mlt});
+                       settings_.mlt, settings_.ic});
   integrator_->warm_up(params_, *film_);
   ctx_.finish();
   stats_.kernel_seconds = seconds_since(t0);
@@ -192,6 +192,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   stats_.connections = integrator_->connections();
   stats_.photons = integrator_->photon_stats();
   stats_.metropolis = integrator_->metropolis_stats();
+  stats_.ic = integrator_->ic_stats();
   out.stats = stats_;
   return out;
 }

@@ -47,6 +47,7 @@ struct RenderSettings {
   float sppm_radius = 0.0f;         // sppm: initial radius; 0: 2 pixel footprints at the centre
   float sppm_alpha = 2.0f / 3.0f;
   MltConfig mlt;                    // mlt: chains, bootstrap, step sizes
+  IcConfig ic;                      // ic: accuracy, rays, spacing
   std::string camera;              // index or name; empty: the first camera or a default one
   std::string env_file;            // equirectangular environment map; empty: none
   float env_scale = 1.0f;          // multiplies the map
@@ -75,6 +76,7 @@ struct RenderStats {
   uint64_t connections = 0;      // bdpt: shadow rays of connection strategies
   PhotonStats photons;           // pm, sppm
   MetropolisStats metropolis;    // mlt
+  IcStats ic;                    // ic
 };
 
 struct RenderOutput {

@@ -79,6 +79,13 @@ inline float3 bsdf_eval_in_frame(const SurfaceHit* sh, const BsdfFrame* f, float
   return gltf_bsdf_eval(&sh->bsdf, wo_l, wi_l, mode) / c;
 }
 
+/* gltf_diffuse_factor at wo: the diffuse layer's f for directions on wo's side, its coat
+ * term at wi left out. */
+inline float3 bsdf_diffuse_factor(const SurfaceHit* sh, float3 wo) {
+  const BsdfFrame f = bsdf_frame(sh, wo);
+  return gltf_diffuse_factor(&sh->bsdf, bsdf_to_local(&f, wo));
+}
+
 /* Density of bsdf_sample at wi (solid angle), the delta lobes left out. */
 inline float bsdf_pdf_w(const SurfaceHit* sh, float3 wo, float3 wi) {
   const BsdfFrame f = bsdf_frame(sh, wo);

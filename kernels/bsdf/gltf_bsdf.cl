@@ -208,6 +208,19 @@ inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, int mode
   return gltf_eval_up(p, &L, gltf_flip(wo, flip), gltf_flip(wi, flip), mode);
 }
 
+/* The Lambertian factor kd(wo) of the diffuse layer with the coat's cos_i term left out:
+ * w_plastic (1 - max F(cos_o)) base / pi, so that f_diffuse(wo, wi) = kd(wo) (1 - max F(cos_i))
+ * <= kd(wo) on wo's side. The irradiance cache stands for kd E and path traces the rest,
+ * f - kd (kernels/integrators/ic/ic_path.cl); for a Lambertian surface the rest is 0. */
+inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
+  if (wo.z == 0.0f) return (float3)(0.0f);
+  if (gltf_is_lambert(p)) return p->base_color * INV_PI_F;
+  const GltfLobes L = gltf_lobes(p, fabs(wo.z), wo.z > 0.0f);
+  if (!(L.w_plastic > 0.0f)) return (float3)(0.0f);
+  return (L.w_plastic * (1.0f - max_component(gltf_coat(p, &L, fabs(wo.z)))) * INV_PI_F) *
+         p->base_color;
+}
+
 /* Density of gltf_bsdf_sample at wi, per steradian, the delta lobes left out. */
 inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
   if (wo.z == 0.0f) return 0.0f;

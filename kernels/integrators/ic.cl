@@ -1,0 +1,104 @@
+/* Entry points of the irradiance cache (--integrator ic, host/integrators/irradiance_cache.h):
+ *   ic_place          one work-item per point of a coarse-to-fine pixel grid: the camera ray
+ *                     through the pixel's centre to its first non-delta vertex; a vertex no
+ *                     record covers becomes a candidate record (appended);
+ *   ic_record_rays    one work-item per hemisphere ray of the batch's records;
+ *   ic_record_finish  one work-item per record of the batch: E, R and gradients;
+ *   ic_render         one work-item per pixel, samples_per_pass samples: the image
+ *                     (ic/ic_path.cl).
+ * The placement and record kernels take a RenderParams of their own (the independent
+ * sampler under a seed of the cache's), the image the render's. */
+#include "camera/pixel_ray.cl"
+#include "film/film.cl"
+#include "integrators/ic/records.cl"
+
+#define IC_CACHE_ARGS                                                                       \
+  __constant const IcParams *ic, __global const IcRecord *records, __global const u32 *starts, \
+      __global const u32 *entries
+
+inline IcCache ic_cache(__constant const IcParams* ic, __global const IcRecord* records,
+                        __global const u32* starts, __global const u32* entries) {
+  IcCache c;
+  c.ic = ic;
+  c.records = records;
+  c.starts = starts;
+  c.entries = entries;
+  return c;
+}
+
+__kernel void ic_place(SCENE_KERNEL_ARGS __constant const RenderParams* params, IC_CACHE_ARGS,
+                       __global IcRecord* candidates, volatile __global u32* count) {
+  const u32 g = get_global_id(0);
+  if (g >= ic->grid_w * ic->grid_h) return;
+  const SceneView scene = SCENE_VIEW();
+  const IcCache cache = ic_cache(ic, records, starts, entries);
+  const u32 x = min((g % ic->grid_w) * ic->step + ic->step / 2u, params->width - 1u);
+  const u32 y = min((g / ic->grid_w) * ic->step + ic->step / 2u, params->height - 1u);
+  const u32 pixel = y * params->width + x;
+  const Sampler sampler = sampler_init(params, pixel, 0u);
+  float3 org, dir;
+  jittered_pixel_ray(params, &sampler, x, y, (float2)(0.5f), &org, &dir);
+  PathWalk w = walk_from_camera(org, dir, 0u, 0u);
+  float3 L = (float3)(0.0f);
+  float travelled = 0.0f;
+  u32 rays = 0;
+  if (!ic_first_vertex(params, &scene, &sampler, &w, &L, &travelled, &rays)) return;
+  if (w.depth + 1u >= params->max_depth || is_black(bsdf_diffuse_factor(&w.sh, w.wo))) return;
+  if (ic_lookup(&cache, w.sh.p, w.sh.ns, w.depth).weight > 0.0f) return;
+  const u32 slot = atomic_inc(count);
+  if (slot >= ic->capacity) return;
+  __global IcRecord* c = &candidates[slot];
+  vstore3(w.sh.p, 0, c->p);
+  vstore3(w.sh.ns, 0, c->n);
+  c->r = ic_footprint(ic, travelled);
+  c->depth = w.depth;
+  c->pixel = pixel;
+}
+
+__kernel void ic_record_rays(SCENE_KERNEL_ARGS __constant const RenderParams* params,
+                             __constant const IcParams* ic, __global const IcRecord* records,
+                             __global float4* results) {
+  const u32 g = get_global_id(0);
+  const u32 per = ic->rays_theta * ic->rays_phi;
+  if (g >= ic->batch * per) return;
+  const SceneView scene = SCENE_VIEW();
+  const u32 r = ic->first + g / per, q = g % per;
+  const Sampler sampler = sampler_init(params, r, q);
+  u32 rays = 0;
+  results[g] = ic_record_ray(params, &scene, ic, &records[r], q, &sampler, &rays);
+}
+
+__kernel void ic_record_finish(__constant const IcParams* ic, __global IcRecord* records,
+                               __global const float4* results) {
+  const u32 g = get_global_id(0);
+  if (g >= ic->batch) return;
+  ic_finish_record(ic, &records[ic->first + g], results + (size_t)g * ic->rays_theta * ic->rays_phi);
+}
+
+__kernel void ic_render(SCENE_KERNEL_ARGS __constant const RenderParams* params, IC_CACHE_ARGS,
+                        __global const u32* marks, __global float4* film_sum,
+                        __global float4* film_sum_sq, __global u32* ray_counts,
+                        __global u32* lookup_counts) {
+  const u32 pixel = get_global_id(0);
+  if (pixel >= params->width * params->height) return;
+  const SceneView scene = SCENE_VIEW();
+  const IcCache cache = ic_cache(ic, records, starts, entries);
+  const u32 x = pixel % params->width, y = pixel / params->width;
+  const int marked = ic->show_records && marks[pixel];
+
+  FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
+  u32 rays = 0;
+  IcCounts counts = {0u, 0u, 0u};
+  for (u32 i = 0; i < params->samples_per_pass; ++i) {
+    const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
+    float3 org, dir;
+    pixel_ray(params, &sampler, x, y, &org, &dir);
+    const float3 L = ic_radiance(params, &scene, &cache, &sampler, org, dir, &rays, &counts);
+    film_add(&film, marked ? (float3)(1.0f, 0.0f, 0.0f) : L);
+  }
+  film_store(film_sum, film_sum_sq, pixel, &film);
+  ray_counts[pixel] += rays;
+  lookup_counts[3u * pixel] += counts.lookups;
+  lookup_counts[3u * pixel + 1u] += counts.used;
+  lookup_counts[3u * pixel + 2u] += counts.misses;
+}

@@ -1,0 +1,310 @@
+// The irradiance cache (--integrator ic) on the PoCL device:
+//   IcLookup         the kernel's lookup (grid, Ward's weights, the in-front test, depth,
+//                    gradient extrapolation) equals a host brute-force loop over all records,
+//                    for random records and query points;
+//   IcFurnace        in the furnace every record holds the same irradiance, so the image is
+//                    the closed form (t-test over independent caches);
+//   IcConsistency    on the Cornell box, relMSE against the 8 192-spp pt reference falls as
+//                    --ic-error falls (0.4, 0.2, 0.1); the image mean is within 2 % at the
+//                    default; gradients lower the error;
+//   IcOptions        usage errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <random>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "integrators/ic_grid.h"
+#include "integrators/irradiance_cache.h"
+#include "options.h"
+#include "render/renderer.h"
+#include "stats/image_stats.h"
+#include "support/device.h"
+#include "support/reference_match.h"
+#include "support/reference_render.h"
+#include "support/render.h"
+#include "support/scenes.h"
+#include "util/error.h"
+
+namespace clpt {
+namespace {
+
+glm::vec3 vec(const float* v) { return glm::vec3(v[0], v[1], v[2]); }
+
+// ---------------------------------------------------------------------------------------
+// IcLookup
+
+struct HostEstimate {
+  glm::dvec3 e{0.0};
+  double weight = 0.0;
+  uint32_t records = 0;
+  bool borderline = false;  // some record's error or in-front test within rounding of its bound
+};
+
+// lookup.cl's rule, written out again in double over every record.
+HostEstimate brute_force(const std::vector<dev::IcRecord>& records, const dev::IcParams& ic,
+                         glm::dvec3 x, glm::dvec3 n, uint32_t depth) {
+  HostEstimate h;
+  for (const dev::IcRecord& r : records) {
+    if (r.depth != depth) continue;
+    const glm::dvec3 xi = vec(r.p), ni = vec(r.n), d = x - xi;
+    const double cos_n = glm::dot(n, ni);
+    if (!(cos_n > 0.0)) continue;
+    const double eps = glm::length(d) / r.r + std::sqrt(std::max(0.0, 1.0 - cos_n));
+    const double front = glm::dot(d, 0.5 * (n + ni)) + 1e-3 * r.r;
+    if (std::fabs(eps - ic.error) < 1e-4 || std::fabs(front) < 1e-4 * r.r) h.borderline = true;
+    if (!(eps < ic.error) || front < 0.0) continue;
+    const double w = 1.0 / std::max(eps, 1e-6);
+    glm::dvec3 e = vec(r.e);
+    if (ic.gradients) {
+      const glm::dvec3 axis = glm::cross(ni, n);
+      for (int c = 0; c < 3; ++c)
+        e[c] += glm::dot(axis, glm::dvec3(vec(r.rot + 3 * c))) +
+                glm::dot(d, glm::dvec3(vec(r.trans + 3 * c)));
+      e = glm::max(e, glm::dvec3(0.0));
+    }
+    h.e += w * e;
+    h.weight += w;
+    ++h.records;
+  }
+  if (h.weight > 0.0) h.e /= h.weight;
+  return h;
+}
+
+// Records on three planes and in the open, with radii over two orders of magnitude (several
+// grid levels), two depths, and random irradiance and gradients.
+std::vector<dev::IcRecord> random_records(size_t count, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<dev::IcRecord> records(count);
+  for (size_t i = 0; i < count; ++i) {
+    dev::IcRecord& r = records[i];
+    glm::vec3 p(u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1), n;
+    switch (i % 4) {
+      case 0: p.z = 0.0f; n = glm::vec3(0, 0, 1); break;
+      case 1: p.x = 0.5f; n = glm::vec3(-1, 0, 0); break;
+      case 2: p.y = -0.25f; n = glm::vec3(0, 1, 0); break;
+      default: n = glm::normalize(glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f));
+    }
+    for (int a = 0; a < 3; ++a) {
+      r.p[a] = p[a];
+      r.n[a] = n[a];
+      r.e[a] = u(rng);
+    }
+    r.r = 0.02f * std::pow(100.0f, u(rng));  // 0.02 to 2
+    r.depth = i % 7 == 0 ? 1u : 0u;
+    r.pixel = uint32_t(i);
+    for (int k = 0; k < 9; ++k) {
+      r.rot[k] = u(rng) - 0.5f;
+      r.trans[k] = 2.0f * (u(rng) - 0.5f);
+    }
+  }
+  return records;
+}
+
+TEST(IcLookup, KernelMatchesBruteForce) {
+  cl::Context& ctx = test::device_context();
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const std::vector<dev::IcRecord> records = random_records(3000, rng);
+  for (const bool gradients : {false, true}) {
+    dev::IcParams ic{};
+    ic.error = 0.3f;
+    ic.gradients = gradients ? 1u : 0u;
+    const IcGrid grid = build_ic_grid(records, ic.error);
+    ic.level_mask = grid.level_mask;
+    ic.bucket_mask = grid.bucket_mask;
+    ic.inv_cell = grid.inv_cell;
+    ic.record_count = uint32_t(records.size());
+    EXPECT_GT(__builtin_popcount(grid.level_mask), 3) << "radii should span several levels";
+    // Queries near records (on their plane or off it, normals turned a little) and anywhere.
+    const uint32_t count = 4000;
+    std::vector<float> queries(8 * count);
+    std::vector<uint32_t> depths(count);
+    for (uint32_t i = 0; i < count; ++i) {
+      const dev::IcRecord& r = records[rng() % records.size()];
+      glm::vec3 x = vec(r.p), n = vec(r.n);
+      const float reach = ic.error * r.r;
+      x += reach * 1.2f * glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) * 2.0f;
+      if (i % 3 == 0) x += reach * 0.2f * (u(rng) - 0.5f) * n;  // a step off the surface
+      n = glm::normalize(n + 0.1f * glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f));
+      if (i % 10 == 0) x = glm::vec3(u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1);
+      depths[i] = i % 5 == 0 ? 1u : 0u;
+      uint32_t depth_bits = depths[i];
+      float w;
+      std::memcpy(&w, &depth_bits, sizeof(w));
+      const float q[8] = {x.x, x.y, x.z, w, n.x, n.y, n.z, 0.0f};
+      std::copy(q, q + 8, queries.begin() + 8 * i);
+    }
+    cl::Buffer ic_buf(ctx, sizeof(ic), CL_MEM_READ_ONLY, &ic);
+    cl::Buffer rec_buf = cl::Buffer::from_vector(ctx, records);
+    cl::Buffer starts = cl::Buffer::from_vector(ctx, grid.starts);
+    cl::Buffer entries = cl::Buffer::from_vector(ctx, grid.entries);
+    cl::Buffer q_buf = cl::Buffer::from_vector(ctx, queries);
+    cl::Buffer out(ctx, count * 4 * sizeof(float)), used(ctx, count * sizeof(uint32_t));
+    cl::Kernel k(test::test_program("kernels/ic_test.cl"), "ic_lookup_points");
+    k.args(0, ic_buf, rec_buf, starts, entries, q_buf, count, out, used);
+    k.launch(ctx, count);
+    const std::vector<float> est = out.read_vector<float>(4 * count);
+    const std::vector<uint32_t> n_used = used.read_vector<uint32_t>(count);
+    size_t compared = 0, covered = 0, bad = 0;
+    for (uint32_t i = 0; i < count; ++i) {
+      const glm::dvec3 x(queries[8 * i], queries[8 * i + 1], queries[8 * i + 2]);
+      const glm::dvec3 n(queries[8 * i + 4], queries[8 * i + 5], queries[8 * i + 6]);
+      const HostEstimate h = brute_force(records, ic, x, n, depths[i]);
+      if (h.borderline) continue;
+      ++compared;
+      if (h.records) ++covered;
+      const double w = est[4 * i + 3];
+      bool ok = n_used[i] == h.records && std::fabs(w - h.weight) <= 1e-3 * h.weight + 1e-6;
+      for (int c = 0; c < 3 && ok && h.records; ++c)
+        ok = std::fabs(est[4 * i + c] - h.e[c]) <= 1e-3 * (std::fabs(h.e[c]) + 1.0);
+      if (!ok && bad++ < 5)
+        ADD_FAILURE() << "query " << i << ": kernel " << n_used[i] << " records, weight " << w
+                      << ", e " << est[4 * i] << "; brute force " << h.records << ", "
+                      << h.weight << ", " << h.e.x;
+    }
+    EXPECT_EQ(bad, 0u);
+    EXPECT_GT(compared, count * 3 / 4);
+    EXPECT_GT(covered, compared / 3) << "too few queries find records to test much";
+    std::cout << "[ figures  ] ic lookup (gradients " << gradients << "): " << compared
+              << " queries compared, " << covered << " covered\n";
+  }
+}
+
+// The record's sums on a known radiance field, L(w) = 1 + w . g with every ray at distance
+// 1e6 (a field at infinity): E = pi + (2 pi / 3) g.n, R = 1e6, and for a rotation of the normal by d
+// towards tangent u, dE = (2 pi / 3) (g . u) d, i.e. grad_rot = (2 pi / 3) n x g_t (the
+// lookup's dE = grad_rot . (n_i x n)); a field at infinity does not change with x:
+// grad_trans = 0 (at distance 1 it would: the radiance is then painted on a unit hemisphere).
+TEST(IcLookup, RecordSumsOnALinearField) {
+  cl::Context& ctx = test::device_context();
+  dev::IcParams ic{};
+  ic.error = 0.5f;
+  ic.min_spacing = 0.0f;
+  ic.max_spacing = 1e9f;
+  IrradianceCache::strata(1024, &ic.rays_theta, &ic.rays_phi);
+  const glm::vec3 n = glm::normalize(glm::vec3(0.3f, -0.5f, 0.8f)), g(0.4f, 0.2f, -0.3f);
+  dev::IcRecord rec{};
+  for (int a = 0; a < 3; ++a) rec.n[a] = n[a];
+  rec.r = 1.0f;  // the footprint: bounds [0, 2e9]
+  cl::Buffer ic_buf(ctx, sizeof(ic), CL_MEM_READ_ONLY, &ic);
+  cl::Buffer rec_buf(ctx, sizeof(rec), CL_MEM_READ_WRITE, &rec);
+  cl::Buffer rays(ctx, size_t(ic.rays_theta) * ic.rays_phi * 16);
+  cl::Kernel k(test::test_program("kernels/ic_test.cl"), "ic_finish_linear");
+  k.args(0, ic_buf, rec_buf, rays, g.x, g.y, g.z);
+  k.launch(ctx, 1);
+  rec_buf.read(&rec, sizeof(rec));
+  const double pi = 3.14159265358979;
+  const double e = pi + 2.0 * pi / 3.0 * glm::dot(g, n);
+  const glm::vec3 g_t = g - glm::dot(g, n) * n;
+  const glm::vec3 rot = float(2.0 * pi / 3.0) * glm::cross(n, g_t);
+  EXPECT_NEAR(rec.r, 1e6, 1e6 * 1e-4);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(rec.e[c], e, 2e-3 * e) << "channel " << c;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(rec.rot[3 * c + a], rot[a], 0.02 * glm::length(rot)) << "channel " << c << " axis " << a;
+      EXPECT_NEAR(rec.trans[3 * c + a], 0.0, 1e-5) << "channel " << c << " axis " << a;
+    }
+  }
+  // grad_rot is tangent to the record's normal.
+  EXPECT_NEAR(glm::dot(vec(rec.rot), n), 0.0, 1e-4);
+}
+
+// ---------------------------------------------------------------------------------------
+// IcFurnace
+
+class IcFurnace : public ::testing::TestWithParam<test::FurnaceCase> {};
+
+TEST_P(IcFurnace, MatchesClosedForm) {
+  const test::FurnaceCase c = GetParam();
+  const Scene scene = test::furnace_scene(c.rho, 1.0f);
+  const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
+  RenderSettings s = test::render_settings("ic", 2, 16);
+  s.max_depth = c.max_depth;
+  s.ic.rays = 64;
+  // Each batch builds its own cache (its seed's), so the batches are independent.
+  const BatchMean bm = batch_mean(test::render_batches(scene, s, 24, 5100));
+  const double z = (bm.mean - expected) / bm.sigma;
+  EXPECT_LT(std::fabs(z), 4.0) << "mean " << bm.mean << " expected " << expected << " sigma "
+                               << bm.sigma;
+  EXPECT_LT(4.0 * bm.sigma, 0.01 * expected) << "too few samples for a meaningful test";
+  std::cout << "[ figures  ] ic furnace rho " << c.rho << " depth " << c.max_depth << ": mean "
+            << bm.mean << " expected " << expected << " sigma " << bm.sigma << " z " << z << "\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, IcFurnace,
+                         ::testing::Values(test::FurnaceCase{0.5f, 3}, test::FurnaceCase{0.8f, 8}),
+                         [](const auto& info) { return test::furnace_case_name(info.param); });
+
+// ---------------------------------------------------------------------------------------
+// IcConsistency
+
+TEST(IcConsistency, ErrorFallsWithIcErrorOnCornellBox) {
+  const Scene scene = test::cornell_box();
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
+  const double ref_mean = image_mean(ref.mean);
+  double previous = 0.0;
+  for (const float a : {0.4f, 0.2f, 0.1f}) {
+    RenderSettings s = test::render_settings("ic", 128, 32);
+    s.ic.error = a;
+    const FilmResult img = test::render(scene, s, 21);
+    const double rel_mse = compare_images(img.mean, ref.mean).rel_mse;
+    const double ratio = image_mean(img.mean) / ref_mean;
+    std::cout << "[ figures  ] ic cornell 32x32, a " << a << ": relMSE " << rel_mse
+              << ", mean / reference " << ratio << "\n";
+    if (previous > 0.0) {
+      EXPECT_LT(rel_mse, previous) << "a " << a;
+    }
+    previous = rel_mse;
+    if (a == 0.2f) {
+      EXPECT_NEAR(ratio, 1.0, 0.02);
+      s.ic.gradients = false;
+      const double without = compare_images(test::render(scene, s, 21).mean, ref.mean).rel_mse;
+      std::cout << "[ figures  ] ic cornell 32x32, a 0.2 without gradients: relMSE " << without
+                << "\n";
+      EXPECT_LT(rel_mse, without) << "gradients should lower the interpolation error";
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// IcOptions
+
+ExitCode parse_error(std::vector<const char*> args) {
+  args.insert(args.begin(), "clpt");
+  try {
+    (void)parse_options(int(args.size()), args.data());
+  } catch (const Error& e) {
+    return e.code();
+  }
+  return ExitCode::Ok;
+}
+
+TEST(IcOptions, BadValuesAreUsageErrors) {
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--ic-error", "0.1", "--ic-rays", "64",
+                         "--ic-min-spacing", "2", "--ic-max-spacing", "8", "--ic-no-gradients",
+                         "--ic-show-records"}),
+            ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--ic-error", "0"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--ic-error", "-0.2"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--ic-error", "1.5"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--ic-error", "nan"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--ic-rays", "0"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--ic-min-spacing", "4",
+                         "--ic-max-spacing", "2"}),
+            ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--ic-min-spacing", "0"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--ic-max-spacing", "inf"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--hemisphere", "cosine"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--branching", "2"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--ic-error", "0.1"}), ExitCode::Usage);  // not ic
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "pt", "--ic-show-records"}), ExitCode::Usage);
+}
+
+}  // namespace
+}  // namespace clpt
