@@ -7,8 +7,13 @@
 //   IcConsistency    on the Cornell box, relMSE against the 8 192-spp pt reference falls as
 //                    --ic-error falls (0.4, 0.2, 0.1); the image mean is within 2 % at the
 //                    default; gradients lower the error;
-//   IcOptions        usage errors.
+//   IcOptions        usage errors;
+//   IcCli            --stats' ic object, --ic-show-records' marks (one per record), and two
+//                    runs with one seed giving the same image (the cache is deterministic,
+//                    which a resumed render relies on).
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
@@ -18,7 +23,12 @@
 
 #include <glm/glm.hpp>
 
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
 #include "integrators/ic_grid.h"
+#include "io/image_io.h"
 #include "integrators/irradiance_cache.h"
 #include "options.h"
 #include "render/renderer.h"
@@ -27,6 +37,7 @@
 #include "support/reference_match.h"
 #include "support/reference_render.h"
 #include "support/render.h"
+#include "support/run.h"
 #include "support/scenes.h"
 #include "util/error.h"
 
@@ -304,6 +315,48 @@ TEST(IcOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--branching", "2"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--ic-error", "0.1"}), ExitCode::Usage);  // not ic
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "pt", "--ic-show-records"}), ExitCode::Usage);
+}
+
+// ---------------------------------------------------------------------------------------
+// IcCli
+
+TEST(IcCli, StatsMarksAndDeterminism) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("clpt_ic_cli_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string scene = std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf";
+  auto run = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> args = {scene, "--device", "pocl", "--integrator", "ic",
+                                      "--resolution", "32x32", "--spp", "2", "-q",
+                                      "-o", (dir / (name + ".exr")).string(),
+                                      "--stats", (dir / (name + ".json")).string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const test::RunResult r = test::run_clpt(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(test::read_file((dir / (name + ".json")).string()));
+  };
+  const nlohmann::json a = run("a", {}), b = run("b", {});
+  const nlohmann::json& ic = a["ic"];
+  const uint64_t records = ic["records"].get<uint64_t>();
+  EXPECT_GT(records, 10u);
+  EXPECT_LE(records, ic["candidates"].get<uint64_t>());
+  EXPECT_EQ(ic["rays_per_record"].get<uint32_t>(), 252u);  // 256 asked: 9 x 28
+  EXPECT_EQ(ic["placement_passes"].get<uint32_t>(), 3u);    // steps 4, 2, 1 for 32 pixels
+  EXPECT_GT(ic["lookups"].get<uint64_t>(), 32u * 32u);      // most of 2 samples per pixel
+  EXPECT_LE(ic["lookups"].get<uint64_t>(), 2u * 32u * 32u);
+  EXPECT_LT(ic["lookup_misses"].get<uint64_t>(), ic["lookups"].get<uint64_t>() / 10);
+  EXPECT_GT(ic["records_per_lookup"].get<double>(), 1.0);
+  EXPECT_GT(ic["device_bytes"].get<uint64_t>(), records * sizeof(dev::IcRecord));
+  EXPECT_EQ(b["ic"]["records"].get<uint64_t>(), records);
+  const Image ia = read_image(dir / "a.exr"), ib = read_image(dir / "b.exr");
+  EXPECT_EQ(ia.rgb, ib.rgb) << "one seed, one cache, one image";
+  const nlohmann::json m = run("marks", {"--ic-show-records"});
+  const Image im = read_image(dir / "marks.exr");
+  size_t marked = 0;
+  for (size_t i = 0; i < im.rgb.size(); i += 3)
+    marked += im.rgb[i] == 1.0f && im.rgb[i + 1] == 0.0f && im.rgb[i + 2] == 0.0f;
+  EXPECT_EQ(marked, m["ic"]["records"].get<uint64_t>()) << "a mark per record's pixel";
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

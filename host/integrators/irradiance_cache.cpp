@@ -15,6 +15,8 @@ static_assert(sizeof(dev::IcRecord) == 120, "IcRecord should stay 120 bytes");
 
 // Hemisphere rays of one record-ray launch: 2^21 results of 16 bytes (32 MiB).
 constexpr size_t kRaysPerLaunch = size_t(1) << 21;
+// Grid points of one placement launch: 2^18 candidates of 120 bytes (30 MiB) at most.
+constexpr uint32_t kPlaceChunk = uint32_t(1) << 18;
 
 // The cache's own sampler key: its rays must not repeat the image's.
 uint32_t cache_seed(uint32_t seed) { return seed * 0x9e3779b9u + 0x1c0ffee5u; }
@@ -156,18 +158,27 @@ void IrradianceCache::place(uint32_t step) {
   ic_.step = step;
   ic_.grid_w = (width_ + step - 1) / step;
   ic_.grid_h = (height_ + step - 1) / step;
-  ic_.capacity = ic_.grid_w * ic_.grid_h;
-  ic_params_.write(&ic_, sizeof(ic_));
+  // Grid points in launches of at most kPlaceChunk, so the candidate buffer stays small
+  // (each point can make one candidate) whatever the image size.
+  const uint32_t points = ic_.grid_w * ic_.grid_h;
+  ic_.capacity = std::min(points, kPlaceChunk);
   cl::Buffer candidates(ctx_, size_t(ic_.capacity) * sizeof(dev::IcRecord), CL_MEM_READ_WRITE,
                         nullptr, "irradiance cache candidates");
   cl::Buffer count(ctx_, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "candidate count");
-  count.fill_zero();
-  const cl_uint next = place_kernel_.args(place_arg_, place_params_);
-  bind_cache(place_kernel_, next);
-  place_kernel_.args(next + 4, candidates, count);
-  place_kernel_.launch(ctx_, ic_.capacity);
-  const uint32_t found = std::min(count.read_vector<uint32_t>(1)[0], ic_.capacity);
-  std::vector<dev::IcRecord> cand = candidates.read_vector<dev::IcRecord>(found);
+  std::vector<dev::IcRecord> cand;
+  for (uint32_t first = 0; first < points; first += ic_.capacity) {
+    ic_.grid_first = first;
+    ic_params_.write(&ic_, sizeof(ic_));
+    count.fill_zero();
+    const cl_uint next = place_kernel_.args(place_arg_, place_params_);
+    bind_cache(place_kernel_, next);
+    place_kernel_.args(next + 4, candidates, count);
+    place_kernel_.launch(ctx_, std::min(ic_.capacity, points - first));
+    const uint32_t found = std::min(count.read_vector<uint32_t>(1)[0], ic_.capacity);
+    const std::vector<dev::IcRecord> chunk = candidates.read_vector<dev::IcRecord>(found);
+    cand.insert(cand.end(), chunk.begin(), chunk.end());
+  }
+  const size_t found = cand.size();
   stats_.candidates += found;
   // Work-items append in no fixed order: sorted by pixel, the cache is the same every run.
   std::sort(cand.begin(), cand.end(), [](const dev::IcRecord& a, const dev::IcRecord& b) {

@@ -28,8 +28,8 @@ inline IcCache ic_cache(__constant const IcParams* ic, __global const IcRecord* 
 
 __kernel void ic_place(SCENE_KERNEL_ARGS __constant const RenderParams* params, IC_CACHE_ARGS,
                        __global IcRecord* candidates, volatile __global u32* count) {
-  const u32 g = get_global_id(0);
-  if (g >= ic->grid_w * ic->grid_h) return;
+  const u32 g = ic->grid_first + get_global_id(0);
+  if (get_global_id(0) >= ic->capacity || g >= ic->grid_w * ic->grid_h) return;
   const SceneView scene = SCENE_VIEW();
   const IcCache cache = ic_cache(ic, records, starts, entries);
   const u32 x = min((g % ic->grid_w) * ic->step + ic->step / 2u, params->width - 1u);

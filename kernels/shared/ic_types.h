@@ -42,8 +42,9 @@ typedef struct IcParams {
   u32 grid_w, grid_h;   /* ic_place: grid points per row and column */
   u32 first;            /* ic_record_*: the batch's first record ... */
   u32 batch;            /* ... and its record count */
-  u32 capacity;         /* ic_place: candidates the candidate buffer holds */
-  u32 pad[3];
+  u32 capacity;         /* ic_place: candidates the candidate buffer holds ... */
+  u32 grid_first;       /* ... for grid points grid_first .. grid_first + capacity - 1 */
+  u32 pad[2];
 } IcParams;
 
 #define IC_MAX_LEVELS 24u
