@@ -355,6 +355,7 @@ int run(const Options& opt) {
                  {"records", ic.records},
                  {"rays_per_record", ic.rays_per_record},
                  {"placement_passes", ic.placement_passes},
+                 {"refinements", ic.refinements},
                  {"candidates", ic.candidates},
                  {"build_seconds", ic.build_seconds},
                  {"record_seconds", ic.record_seconds},

@@ -45,6 +45,7 @@ struct IcStats {
   uint64_t records = 0;
   uint32_t rays_per_record = 0;     // M x N hemisphere rays
   uint32_t placement_passes = 0;    // grid levels, coarse to fine
+  uint32_t refinements = 0;         // rounds of --ic-rays more rays for every record
   uint64_t candidates = 0;          // uncovered points the placement found (before thinning)
   double build_seconds = 0.0;       // placement, records and grids, device and host
   double record_seconds = 0.0;      // of which the records' hemisphere rays and sums
@@ -107,7 +108,13 @@ struct IcConfig {
   uint32_t rays = 256;        // hemisphere rays per record (M x N, M = round(sqrt(rays / pi)))
   bool gradients = true;      // extrapolate with Ward and Heckbert's gradients
   bool show_records = false;  // pixels that placed a record render red
+  // Seconds the cache may spend refining its records (another --ic-rays per record per
+  // round) after placement; the renderer gives it kIcRefineShare of --time, 0 without.
+  double refine_seconds = 0.0;
 };
+
+// The share of --time the irradiance cache spends refining its records.
+constexpr double kIcRefineShare = 0.25;
 
 // Construction-time settings some integrators take.
 struct IntegratorConfig {

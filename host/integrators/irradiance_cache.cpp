@@ -11,7 +11,7 @@
 namespace clpt {
 namespace {
 
-static_assert(sizeof(dev::IcRecord) == 120, "IcRecord should stay 120 bytes");
+static_assert(sizeof(dev::IcRecord) == 136, "IcRecord should stay 136 bytes");
 
 // Hemisphere rays of one record-ray launch: 2^21 results of 16 bytes (32 MiB).
 constexpr size_t kRaysPerLaunch = size_t(1) << 21;
@@ -142,6 +142,16 @@ void IrradianceCache::build(const dev::RenderParams& params) {
   for (; step >= 1; step /= 2) {
     place(step);
     ++stats_.placement_passes;
+  }
+  // Under --time, every record takes another batch of rays while its share of the time
+  // lasts: the records' noise, which no number of image samples averages away, falls.
+  if (config_.refine_seconds > 0.0 && !records_.empty()) {
+    while (seconds_since(t0) < config_.refine_seconds) {
+      compute_records(0, records_.size());
+      ++stats_.refinements;
+    }
+    records_buf_.read(records_.data(), records_.size() * sizeof(dev::IcRecord));
+    upload_grid();
   }
   std::vector<uint32_t> marks(pixels_, 0u);
   for (const dev::IcRecord& r : records_)

@@ -104,10 +104,12 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   // kernel for its work-group size at the first launch, which belongs to start-up, not to
   // the first pass's timing.
   t0 = Clock::now();
+  IcConfig ic = settings_.ic;
+  if (settings_.time_limit > 0.0) ic.refine_seconds = kIcRefineShare * settings_.time_limit;
   integrator_ = make_integrator(
       settings_.integrator, ctx_, *scene_buffers_,
       IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons,
-                       settings_.mlt, settings_.ic});
+                       settings_.mlt, ic});
   integrator_->warm_up(params_, *film_);
   ctx_.finish();
   stats_.kernel_seconds = seconds_since(t0);

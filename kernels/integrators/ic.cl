@@ -16,6 +16,8 @@
   __constant const IcParams *ic, __global const IcRecord *records, __global const u32 *starts, \
       __global const u32 *entries
 
+#define IC_PLACE_MARGIN 0.7f
+
 inline IcCache ic_cache(__constant const IcParams* ic, __global const IcRecord* records,
                         __global const u32* starts, __global const u32* entries) {
   IcCache c;
@@ -44,7 +46,11 @@ __kernel void ic_place(SCENE_KERNEL_ARGS __constant const RenderParams* params, 
   u32 rays = 0;
   if (!ic_first_vertex(params, &scene, &sampler, &w, &L, &travelled, &rays)) return;
   if (w.depth + 1u >= params->max_depth || is_black(bsdf_diffuse_factor(&w.sh, w.wo))) return;
-  if (ic_lookup(&cache, w.sh.p, w.sh.ns, w.depth).weight > 0.0f) return;
+  /* Covered with a margin: a centre just inside a record's bound leaves the rest of the
+   * pixel outside it (the image's samples are jittered), and such points would be path
+   * traced (10 % of the lookups at 32 x 32 without the margin). */
+  if (ic_lookup_within(&cache, IC_PLACE_MARGIN * ic->error, w.sh.p, w.sh.ns, w.depth).weight > 0.0f)
+    return;
   const u32 slot = atomic_inc(count);
   if (slot >= ic->capacity) return;
   __global IcRecord* c = &candidates[slot];
@@ -53,6 +59,12 @@ __kernel void ic_place(SCENE_KERNEL_ARGS __constant const RenderParams* params, 
   c->r = ic_footprint(ic, travelled);
   c->depth = w.depth;
   c->pixel = pixel;
+  for (int k = 0; k < 9; ++k) c->rot[k] = c->trans[k] = 0.0f;
+  vstore3((float3)(0.0f), 0, c->e);
+  c->footprint = c->r;
+  c->inv_r_sum = 0.0f;
+  c->rays = 0u;
+  c->pad = 0u;
 }
 
 __kernel void ic_record_rays(SCENE_KERNEL_ARGS __constant const RenderParams* params,
@@ -63,7 +75,8 @@ __kernel void ic_record_rays(SCENE_KERNEL_ARGS __constant const RenderParams* pa
   if (g >= ic->batch * per) return;
   const SceneView scene = SCENE_VIEW();
   const u32 r = ic->first + g / per, q = g % per;
-  const Sampler sampler = sampler_init(params, r, q);
+  /* A record's later batches draw the sample indices after its earlier rays'. */
+  const Sampler sampler = sampler_init(params, r, records[r].rays + q);
   u32 rays = 0;
   results[g] = ic_record_ray(params, &scene, ic, &records[r], q, &sampler, &rays);
 }

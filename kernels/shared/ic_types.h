@@ -9,7 +9,7 @@
 
 CLPT_BEGIN_SHARED
 
-/* One record of Ward's cache: 16-byte rows, 120 bytes. */
+/* One record of Ward's cache: 136 bytes. */
 typedef struct IcRecord {
   float p[3];     /* where it was computed */
   float r;        /* R_i: harmonic mean distance of its hemisphere rays, clamped so that its
@@ -21,6 +21,11 @@ typedef struct IcRecord {
   u32 pixel;      /* the pixel whose camera ray found p */
   float rot[9];   /* rotational gradient, one world-space vector per channel (r, g, b) */
   float trans[9]; /* translational gradient, likewise */
+  float footprint;  /* the pixel footprint at p (from the candidate's r) */
+  float inv_r_sum;  /* sum of 1 / r_j over all its rays so far */
+  u32 rays;         /* hemisphere rays so far: e, rot and trans are their means, batch by
+                     * batch (a record refines while --time leaves it a share) */
+  u32 pad;
 } IcRecord;
 
 /* The cache's kernels' parameters, beside RenderParams. */

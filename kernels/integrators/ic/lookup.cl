@@ -7,7 +7,8 @@
  * in front of x: (x - x_i) . (n + n_i) / 2 >= -IC_IN_FRONT_TOLERANCE R_i (Ward's test: a
  * record above x's surface sees light x does not, the step in a staircase). The estimate is
  *     E(x) = sum_i w_i (E_i + (n_i x n) . grad_rot E_i + (x - x_i) . grad_trans E_i) / sum_i w_i
- * with the gradient terms only under --ic-gradients (each channel clamped at 0). eps_i < a
+ * with the gradient terms unless --ic-no-gradients (the translational one capped, each
+ * channel clamped at 0). eps_i < a
  * implies |x - x_i| < a R_i, so the records a query can use are those whose validity sphere
  * (radius a R_i) holds x: the grid of kernels/spatial/sphere_grid.cl indexes those spheres.
  * The host test (tests/ic_test.cpp) repeats this by brute force over all records. */
@@ -35,16 +36,15 @@ typedef struct IcEstimate {
   u32 records;    /* how many contributed */
 } IcEstimate;
 
-/* Record i's weight at (x, n, depth), 0 when it does not contribute. */
-inline float ic_record_weight(__constant const IcParams* ic, __global const IcRecord* r,
-                              float3 x, float3 n, u32 depth) {
+/* Record i's weight at (x, n, depth) for the error bound a, 0 when it does not contribute. */
+inline float ic_record_weight(float a, __global const IcRecord* r, float3 x, float3 n, u32 depth) {
   if (r->depth != depth) return 0.0f;
   const float3 xi = vload3(0, r->p), ni = vload3(0, r->n);
   const float cos_n = dot(n, ni);
   if (!(cos_n > 0.0f)) return 0.0f;
   const float3 d = x - xi;
   const float eps = length(d) / r->r + sqrt(fmax(0.0f, 1.0f - cos_n));
-  if (!(eps < ic->error)) return 0.0f;
+  if (!(eps < a)) return 0.0f;
   if (dot(d, 0.5f * (n + ni)) < -IC_IN_FRONT_TOLERANCE * r->r) return 0.0f;
   return 1.0f / fmax(eps, IC_MIN_EPS);
 }
@@ -57,14 +57,22 @@ inline float3 ic_record_irradiance(__constant const IcParams* ic, __global const
   const float3 axis = cross(vload3(0, r->n), n), d = x - vload3(0, r->p);
   e += (float3)(dot(axis, vload3(0, r->rot)), dot(axis, vload3(1, r->rot)),
                 dot(axis, vload3(2, r->rot)));
-  e += (float3)(dot(d, vload3(0, r->trans)), dot(d, vload3(1, r->trans)),
-                dot(d, vload3(2, r->trans)));
+  /* The translational gradient, capped so that it changes E's luminance by at most E's
+   * over the distance R_i (at most a E over the validity radius): where the spacing clamp
+   * keeps R above the gradient limit E / |grad| (records at corners, whose gradients are
+   * large and noisy), the uncapped gradient painted bright and dark specks along the edges. */
+  const float3 t0 = vload3(0, r->trans), t1 = vload3(1, r->trans), t2 = vload3(2, r->trans);
+  const float3 g_lum = 0.2126f * t0 + 0.7152f * t1 + 0.0722f * t2;
+  const float e_lum = luminance(vload3(0, r->e)), g_len = length(g_lum) * r->r;
+  const float cap = g_len > e_lum ? e_lum / g_len : 1.0f;
+  e += cap * (float3)(dot(d, t0), dot(d, t1), dot(d, t2));
   return fmax(e, (float3)(0.0f));
 }
 
 /* The cache's estimate at x (normal n, oriented as the record normals are: to the viewer's
- * side) for a vertex with `depth` bounces before it. */
-inline IcEstimate ic_lookup(const IcCache* c, float3 x, float3 n, u32 depth) {
+ * side) for a vertex with `depth` bounces before it, from the records with eps < a (the
+ * image: --ic-error; the placement asks for a margin, kernels/integrators/ic.cl). */
+inline IcEstimate ic_lookup_within(const IcCache* c, float a, float3 x, float3 n, u32 depth) {
   IcEstimate est;
   est.e = (float3)(0.0f);
   est.weight = 0.0f;
@@ -81,7 +89,7 @@ inline IcEstimate ic_lookup(const IcCache* c, float3 x, float3 n, u32 depth) {
        * counts at its own level only. */
       if (entry >> IC_ENTRY_LEVEL_SHIFT != level) continue;
       __global const IcRecord* r = &c->records[entry & IC_ENTRY_INDEX_MASK];
-      const float w = ic_record_weight(c->ic, r, x, n, depth);
+      const float w = ic_record_weight(a, r, x, n, depth);
       if (!(w > 0.0f)) continue;
       est.e += w * ic_record_irradiance(c->ic, r, x, n);
       est.weight += w;
@@ -90,6 +98,10 @@ inline IcEstimate ic_lookup(const IcCache* c, float3 x, float3 n, u32 depth) {
   }
   if (est.weight > 0.0f) est.e /= est.weight;
   return est;
+}
+
+inline IcEstimate ic_lookup(const IcCache* c, float3 x, float3 n, u32 depth) {
+  return ic_lookup_within(c, c->ic->error, x, n, depth);
 }
 
 #endif

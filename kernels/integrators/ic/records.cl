@@ -16,7 +16,7 @@
  * v_k- that of its lower edge 2 pi k/N (Ward and Heckbert 1992, in the notation of Krivanek
  * et al.'s 2008 course notes). The rotational gradient is the derivative of E for a rotation
  * about the axis n x n' (dE = grad_rot . (n x n')); the lookup takes n_i x n. R is then
- * clamped so that the validity radius a R lies within [min, max] spacing pixel footprints
+ * limited by the gradient (R <= E / |grad_trans E|, Krivanek et al. 2008) and clamped so that the validity radius a R lies within [min, max] spacing pixel footprints
  * (Tabellion and Lamorlette 2004 clamp in pixels likewise). */
 #ifndef CLPT_INTEGRATORS_IC_RECORDS_CL
 #define CLPT_INTEGRATORS_IC_RECORDS_CL
@@ -58,8 +58,9 @@ inline float4 ic_record_ray(__constant const RenderParams* p, const SceneView* s
   return (float4)(is_finite3(L) ? L : (float3)(0.0f), w.hit.t);
 }
 
-/* The record from its rays' results (M N of them, row j = 0 first): E, R and gradients.
- * rec holds p, n, depth, pixel and, in r, the pixel footprint at p. */
+/* The record from its rays' results (M N of them, row j = 0 first): E, R and gradients,
+ * averaged with the record's earlier batches (rec->rays of them so far). A new record holds
+ * p, n, depth, pixel, rays = 0 and, in r, the pixel footprint at p. */
 inline void ic_finish_record(__constant const IcParams* ic, __global IcRecord* rec,
                              __global const float4* ray) {
   const u32 m = ic->rays_theta, nphi = ic->rays_phi;
@@ -105,21 +106,40 @@ inline void ic_finish_record(__constant const IcParams* ic, __global IcRecord* r
       trans[c] += ac * u_k + zc * v_lo;
     }
   }
+  /* This batch's estimates, then the running means with the batches before. */
   const float3 n = vload3(0, rec->n);
   float3 t, b;
   make_basis(n, &t, &b);
+  const u32 before = rec->rays, now = m * nphi;
+  const float w_old = (float)before / (float)(before + now), w_new = 1.0f - w_old;
   for (int c = 0; c < 3; ++c) {
-    const float3 rw = share * (rot[c].x * t + rot[c].y * b);
-    const float3 tw = trans[c].x * t + trans[c].y * b;
-    vstore3(is_finite3(rw) ? rw : (float3)(0.0f), c, rec->rot);
-    vstore3(is_finite3(tw) ? tw : (float3)(0.0f), c, rec->trans);
+    float3 rw = share * (rot[c].x * t + rot[c].y * b);
+    float3 tw = trans[c].x * t + trans[c].y * b;
+    rw = is_finite3(rw) ? rw : (float3)(0.0f);
+    tw = is_finite3(tw) ? tw : (float3)(0.0f);
+    /* A new record's old values are not read: they need not be numbers. */
+    vstore3(before ? w_old * vload3(c, rec->rot) + w_new * rw : rw, c, rec->rot);
+    vstore3(before ? w_old * vload3(c, rec->trans) + w_new * tw : tw, c, rec->trans);
   }
-  vstore3(share * e, 0, rec->e);
-  const float footprint = rec->r;
-  const float lo = ic->min_spacing * footprint / ic->error;
-  const float hi = ic->max_spacing * footprint / ic->error;
-  const float harmonic = inv_r > 0.0f ? (float)(m * nphi) / inv_r : INFINITY;
-  rec->r = clamp(harmonic, lo, hi);
+  vstore3(before ? w_old * vload3(0, rec->e) + w_new * (share * e) : share * e, 0, rec->e);
+  if (before == 0u) {
+    rec->footprint = rec->r; /* a candidate's r is its footprint */
+    rec->inv_r_sum = 0.0f;
+  }
+  rec->inv_r_sum += inv_r;
+  rec->rays = before + now;
+  const float lo = ic->min_spacing * rec->footprint / ic->error;
+  const float hi = ic->max_spacing * rec->footprint / ic->error;
+  const float harmonic = rec->inv_r_sum > 0.0f ? (float)rec->rays / rec->inv_r_sum : INFINITY;
+  /* The gradient limit: R <= E / |grad_trans E| (luminance), so the extrapolation changes
+   * E by at most a E over the validity radius a R. Without it a record near a corner, whose
+   * translational gradient is large and noisy (its 1 / min(r) terms), paints a blotch. */
+  const float3 lum = (float3)(0.2126f, 0.7152f, 0.0722f);
+  const float3 g_lum = lum.x * vload3(0, rec->trans) + lum.y * vload3(1, rec->trans) +
+                       lum.z * vload3(2, rec->trans);
+  const float e_lum = dot(lum, vload3(0, rec->e)), g_len = length(g_lum);
+  const float limit = g_len > 0.0f ? e_lum / g_len : INFINITY;
+  rec->r = clamp(fmin(harmonic, limit), lo, hi);
 }
 
 #endif
