@@ -429,6 +429,12 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--ic-min-spacing " + std::to_string(o.ic_min_spacing) +
                                        " is above --ic-max-spacing " +
                                        std::to_string(o.ic_max_spacing));
+    // Under --time the records refine for as many rounds as a quarter of the time allows,
+    // so a resumed render's cache would not be the interrupted one's.
+    if (o.time_limit > 0.0 && (!o.checkpoint.empty() || !o.resume.empty()))
+      throw Error(ExitCode::Usage, "--integrator ic with --time refines its cache for a share "
+                                   "of the time, which a resumed render cannot repeat: use "
+                                   "--spp with --checkpoint and --resume");
     // The cache holds what a diffuse surface's BSDF samples find; the image's estimator
     // choices are pt's, but the walk samples the BSDF itself.
     if (o.hemisphere != "bsdf" || o.branching != 1)

@@ -342,6 +342,10 @@ TEST(IcOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--ic-max-spacing", "inf"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--hemisphere", "cosine"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--branching", "2"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--time", "5", "--checkpoint", "c.ckpt"}),
+            ExitCode::Usage);  // the refinement's rounds depend on the clock
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic", "--spp", "5", "--checkpoint", "c.ckpt"}),
+            ExitCode::Ok);
   EXPECT_EQ(parse_error({"s.gltf", "--ic-error", "0.1"}), ExitCode::Usage);  // not ic
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "pt", "--ic-show-records"}), ExitCode::Usage);
 }
