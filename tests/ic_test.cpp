@@ -10,7 +10,7 @@
 //                    within 2 % at a 0.2; gradients lower the error;
 //                    the glossy-and-glass box near its pt reference (mean 2 %, blocks 10 %);
 //   IcOptions        usage errors;
-//   IcCli            --stats' ic object, --ic-show-records' marks (one per record), and two
+//   IcCli            --stats' ic object, --ic-show-records' marks (a pixel per record), and two
 //                    runs with one seed giving the same image (the cache is deterministic,
 //                    which a resumed render relies on).
 #include <gtest/gtest.h>
@@ -406,7 +406,7 @@ TEST(IcCli, StatsMarksAndDeterminism) {
   EXPECT_GT(records, 10u);
   EXPECT_LE(records, ic["candidates"].get<uint64_t>());
   EXPECT_EQ(ic["rays_per_record"].get<uint32_t>(), 252u);  // 256 asked: 9 x 28
-  EXPECT_EQ(ic["placement_passes"].get<uint32_t>(), 3u);    // steps 4, 2, 1 for 32 pixels
+  EXPECT_EQ(ic["placement_passes"].get<uint32_t>(), 4u);  // steps 4, 2, 1, then 1 jittered
   EXPECT_GT(ic["lookups"].get<uint64_t>(), 32u * 32u);      // most of 2 samples per pixel
   EXPECT_LE(ic["lookups"].get<uint64_t>(), 2u * 32u * 32u);
   EXPECT_LT(ic["lookup_misses"].get<uint64_t>(), ic["lookups"].get<uint64_t>() / 10);
@@ -420,7 +420,11 @@ TEST(IcCli, StatsMarksAndDeterminism) {
   size_t marked = 0;
   for (size_t i = 0; i < im.rgb.size(); i += 3)
     marked += im.rgb[i] == 1.0f && im.rgb[i + 1] == 0.0f && im.rgb[i + 2] == 0.0f;
-  EXPECT_EQ(marked, m["ic"]["records"].get<uint64_t>()) << "a mark per record's pixel";
+  // A mark per record's pixel: the centre passes give each pixel at most one record, the
+  // jittered pass may add a second to a pixel.
+  const uint64_t marked_records = m["ic"]["records"].get<uint64_t>();
+  EXPECT_LE(marked, marked_records);
+  EXPECT_GT(marked, marked_records * 3 / 4);
   std::filesystem::remove_all(dir);
 }
 

@@ -143,6 +143,12 @@ void IrradianceCache::build(const dev::RenderParams& params) {
     place(step);
     ++stats_.placement_passes;
   }
+  // One more pass at every pixel through a random point in it: the image's samples are
+  // jittered, and a centre's record need not cover the whole pixel (curved surfaces).
+  ic_.jitter = 1;
+  place(1);
+  ic_.jitter = 0;
+  ++stats_.placement_passes;
   // Under --time, every record takes another batch of rays while its share of the time
   // lasts: the records' noise, which no number of image samples averages away, falls.
   if (config_.refine_seconds > 0.0 && !records_.empty()) {

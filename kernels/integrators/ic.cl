@@ -37,9 +37,12 @@ __kernel void ic_place(SCENE_KERNEL_ARGS __constant const RenderParams* params, 
   const u32 x = min((g % ic->grid_w) * ic->step + ic->step / 2u, params->width - 1u);
   const u32 y = min((g / ic->grid_w) * ic->step + ic->step / 2u, params->height - 1u);
   const u32 pixel = y * params->width + x;
-  const Sampler sampler = sampler_init(params, pixel, 0u);
+  /* Pixel centres; the last pass (jitter 1) a random point in each pixel, sample index 1,
+   * where the image's jittered samples would find no record. */
+  const Sampler sampler = sampler_init(params, pixel, ic->jitter);
   float3 org, dir;
-  jittered_pixel_ray(params, &sampler, x, y, (float2)(0.5f), &org, &dir);
+  jittered_pixel_ray(params, &sampler, x, y,
+                     ic->jitter ? sample_2d(&sampler, DIM_PIXEL) : (float2)(0.5f), &org, &dir);
   PathWalk w = walk_from_camera(org, dir, 0u, 0u);
   float3 L = (float3)(0.0f);
   float travelled = 0.0f;

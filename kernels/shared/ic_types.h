@@ -49,7 +49,8 @@ typedef struct IcParams {
   u32 batch;            /* ... and its record count */
   u32 capacity;         /* ic_place: candidates the candidate buffer holds ... */
   u32 grid_first;       /* ... for grid points grid_first .. grid_first + capacity - 1 */
-  u32 pad[2];
+  u32 jitter;           /* ic_place: 0 pixel centres; 1 a random point in each pixel */
+  u32 pad;
 } IcParams;
 
 #define IC_MAX_LEVELS 24u
