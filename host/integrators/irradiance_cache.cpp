@@ -54,18 +54,22 @@ IrradianceCache::IrradianceCache(const cl::Context& ctx, const SceneBuffers& sce
   ic_.gradients = config.gradients ? 1u : 0u;
   ic_.show_records = config.show_records ? 1u : 0u;
   stats_.rays_per_record = ic_.rays_theta * ic_.rays_phi;
-  upload_grid();  // empty: the warm-up reads no record
+  upload_records();  // empty: the warm-up reads no record
+  upload_grid();
 }
 
-void IrradianceCache::bind_cache(cl::Kernel& kernel, cl_uint first) {
-  kernel.args(first, ic_params_, records_buf_, starts_, entries_);
+cl_uint IrradianceCache::bind_cache(cl::Kernel& kernel, cl_uint first) {
+  return kernel.args(first, ic_params_, records_buf_, starts_, entries_);
+}
+
+void IrradianceCache::upload_records() {
+  records_buf_ = records_.empty()
+                     ? cl::Buffer(ctx_, sizeof(dev::IcRecord))
+                     : cl::Buffer::from_vector(ctx_, records_, CL_MEM_READ_WRITE, "irradiance records");
 }
 
 void IrradianceCache::upload_grid() {
   grid_ = build_ic_grid(records_, ic_.error);
-  records_buf_ = records_.empty()
-                     ? cl::Buffer(ctx_, sizeof(dev::IcRecord))
-                     : cl::Buffer::from_vector(ctx_, records_, CL_MEM_READ_WRITE, "irradiance records");
   starts_ = cl::Buffer::from_vector(ctx_, grid_.starts, CL_MEM_READ_ONLY, "irradiance cache grid");
   entries_ = grid_.entries.empty()
                  ? cl::Buffer(ctx_, sizeof(uint32_t))
@@ -95,8 +99,8 @@ void IrradianceCache::warm_up(const dev::RenderParams& params, Film& film) {
   ic_params_.write(&idle, sizeof(idle));
   cl::Buffer candidates(ctx_, sizeof(dev::IcRecord)), count(ctx_, sizeof(uint32_t));
   results_ = cl::Buffer(ctx_, sizeof(float) * 4);
-  bind_cache(place_kernel_, place_kernel_.args(place_arg_, place_params_));
-  place_kernel_.args(place_arg_ + 5, candidates, count);
+  place_kernel_.args(bind_cache(place_kernel_, place_kernel_.args(place_arg_, place_params_)),
+                     candidates, count);
   place_kernel_.launch(ctx_, pixels_);
   rays_kernel_.args(rays_arg_, place_params_, ic_params_, records_buf_, results_);
   rays_kernel_.launch(ctx_, pixels_);
@@ -106,9 +110,8 @@ void IrradianceCache::warm_up(const dev::RenderParams& params, Film& film) {
 }
 
 void IrradianceCache::launch_render(Film& film) {
-  const cl_uint next = render_kernel_.args(render_arg_, params_);
-  bind_cache(render_kernel_, next);
-  render_kernel_.args(next + 4, marks_, film.sum(), film.sum_sq(), film.ray_counts(),
+  const cl_uint next = bind_cache(render_kernel_, render_kernel_.args(render_arg_, params_));
+  render_kernel_.args(next, marks_, film.sum(), film.sum_sq(), film.ray_counts(),
                       lookup_counts_);
   render_kernel_.launch(ctx_, film.pixels());
 }
@@ -186,9 +189,8 @@ void IrradianceCache::place(uint32_t step) {
     ic_.grid_first = first;
     ic_params_.write(&ic_, sizeof(ic_));
     count.fill_zero();
-    const cl_uint next = place_kernel_.args(place_arg_, place_params_);
-    bind_cache(place_kernel_, next);
-    place_kernel_.args(next + 4, candidates, count);
+    place_kernel_.args(bind_cache(place_kernel_, place_kernel_.args(place_arg_, place_params_)),
+                       candidates, count);
     place_kernel_.launch(ctx_, std::min(ic_.capacity, points - first));
     const uint32_t found = std::min(count.read_vector<uint32_t>(1)[0], ic_.capacity);
     const std::vector<dev::IcRecord> chunk = candidates.read_vector<dev::IcRecord>(found);
@@ -240,8 +242,10 @@ void IrradianceCache::place(uint32_t step) {
   }
   const size_t added = records_.size() - first;
   if (added == 0) return;
-  // Keep the candidates' footprints (the record kernels replace r with R) and compute.
-  records_buf_ = cl::Buffer::from_vector(ctx_, records_, CL_MEM_READ_WRITE, "irradiance records");
+  // The candidates go up with the records (their r is the footprint, which the record
+  // kernels replace with R); the finished records come back for the grid, which the host
+  // builds; the device's copy of the records is already the final one.
+  upload_records();
   compute_records(first, added);
   records_buf_.read(records_.data() + first, added * sizeof(dev::IcRecord),
                     first * sizeof(dev::IcRecord));

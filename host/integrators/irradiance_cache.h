@@ -34,8 +34,10 @@ class IrradianceCache final : public Integrator {
   void place(uint32_t step);
   void launch_render(Film& film);
   void compute_records(size_t first, size_t count);
-  void upload_grid();
-  void bind_cache(cl::Kernel& kernel, cl_uint first);
+  void upload_records();  // records_ to the device
+  void upload_grid();     // the grid over records_ to the device
+  // Binds the cache's four arguments from `first`; returns the next free index.
+  cl_uint bind_cache(cl::Kernel& kernel, cl_uint first);
 
   const cl::Context& ctx_;
   IcConfig config_;

@@ -18,16 +18,6 @@
 
 #define IC_PLACE_MARGIN 0.7f
 
-inline IcCache ic_cache(__constant const IcParams* ic, __global const IcRecord* records,
-                        __global const u32* starts, __global const u32* entries) {
-  IcCache c;
-  c.ic = ic;
-  c.records = records;
-  c.starts = starts;
-  c.entries = entries;
-  return c;
-}
-
 __kernel void ic_place(SCENE_KERNEL_ARGS __constant const RenderParams* params, IC_CACHE_ARGS,
                        __global IcRecord* candidates, volatile __global u32* count) {
   const u32 g = ic->grid_first + get_global_id(0);

@@ -10,11 +10,7 @@ __kernel void ic_lookup_points(__constant const IcParams* ic, __global const IcR
                                __global u32* used) {
   const u32 i = get_global_id(0);
   if (i >= count) return;
-  IcCache c;
-  c.ic = ic;
-  c.records = records;
-  c.starts = starts;
-  c.entries = entries;
+  const IcCache c = ic_cache(ic, records, starts, entries);
   const float4 q = queries[2u * i];
   const IcEstimate est = ic_lookup(&c, q.xyz, queries[2u * i + 1u].xyz, as_uint(q.w));
   out[i] = (float4)(est.e, est.weight);

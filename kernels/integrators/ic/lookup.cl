@@ -30,6 +30,22 @@ typedef struct IcCache {
   __global const u32* entries;
 } IcCache;
 
+inline IcCache ic_cache(__constant const IcParams* ic, __global const IcRecord* records,
+                        __global const u32* starts, __global const u32* entries) {
+  IcCache c;
+  c.ic = ic;
+  c.records = records;
+  c.starts = starts;
+  c.entries = entries;
+  return c;
+}
+
+/* The luminance of a per-channel gradient (three world vectors, r g b): luminance()'s
+ * weights applied to the vectors. */
+inline float3 ic_luminance_gradient(__global const float* g) {
+  return 0.2126f * vload3(0, g) + 0.7152f * vload3(1, g) + 0.0722f * vload3(2, g);
+}
+
 typedef struct IcEstimate {
   float3 e;       /* the interpolated irradiance (valid when weight > 0) */
   float weight;   /* sum of the contributing records' weights; 0: no record covers x */
@@ -62,8 +78,8 @@ inline float3 ic_record_irradiance(__constant const IcParams* ic, __global const
    * keeps R above the gradient limit E / |grad| (records at corners, whose gradients are
    * large and noisy), the uncapped gradient painted bright and dark specks along the edges. */
   const float3 t0 = vload3(0, r->trans), t1 = vload3(1, r->trans), t2 = vload3(2, r->trans);
-  const float3 g_lum = 0.2126f * t0 + 0.7152f * t1 + 0.0722f * t2;
-  const float e_lum = luminance(vload3(0, r->e)), g_len = length(g_lum) * r->r;
+  const float e_lum = luminance(vload3(0, r->e));
+  const float g_len = length(ic_luminance_gradient(r->trans)) * r->r;
   const float cap = g_len > e_lum ? e_lum / g_len : 1.0f;
   e += cap * (float3)(dot(d, t0), dot(d, t1), dot(d, t2));
   return fmax(e, (float3)(0.0f));

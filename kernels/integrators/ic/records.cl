@@ -98,13 +98,12 @@ inline void ic_finish_record(__constant const IcParams* ic, __global IcRecord* r
         azimuthal += ((cos_lo - cos_hi) / (sin_t * r_side)) * (L - side.xyz);
     }
     const float3 radial_w = (2.0f * PI_F / (float)nphi) * radial;
-    for (int c = 0; c < 3; ++c) {
-      const float rc = c == 0 ? rot_k.x : c == 1 ? rot_k.y : rot_k.z;
-      const float ac = c == 0 ? radial_w.x : c == 1 ? radial_w.y : radial_w.z;
-      const float zc = c == 0 ? azimuthal.x : c == 1 ? azimuthal.y : azimuthal.z;
-      rot[c] += rc * v_k;
-      trans[c] += ac * u_k + zc * v_lo;
-    }
+    rot[0] += rot_k.x * v_k;
+    rot[1] += rot_k.y * v_k;
+    rot[2] += rot_k.z * v_k;
+    trans[0] += radial_w.x * u_k + azimuthal.x * v_lo;
+    trans[1] += radial_w.y * u_k + azimuthal.y * v_lo;
+    trans[2] += radial_w.z * u_k + azimuthal.z * v_lo;
   }
   /* This batch's estimates, then the running means with the batches before. */
   const float3 n = vload3(0, rec->n);
@@ -134,10 +133,8 @@ inline void ic_finish_record(__constant const IcParams* ic, __global IcRecord* r
   /* The gradient limit: R <= E / |grad_trans E| (luminance), so the extrapolation changes
    * E by at most a E over the validity radius a R. Without it a record near a corner, whose
    * translational gradient is large and noisy (its 1 / min(r) terms), paints a blotch. */
-  const float3 lum = (float3)(0.2126f, 0.7152f, 0.0722f);
-  const float3 g_lum = lum.x * vload3(0, rec->trans) + lum.y * vload3(1, rec->trans) +
-                       lum.z * vload3(2, rec->trans);
-  const float e_lum = dot(lum, vload3(0, rec->e)), g_len = length(g_lum);
+  const float e_lum = luminance(vload3(0, rec->e));
+  const float g_len = length(ic_luminance_gradient(rec->trans));
   const float limit = g_len > 0.0f ? e_lum / g_len : INFINITY;
   rec->r = clamp(fmin(harmonic, limit), lo, hi);
 }
