@@ -33,10 +33,10 @@
 #include "integrators/ic_grid.h"
 #include "io/image_io.h"
 #include "integrators/irradiance_cache.h"
-#include "options.h"
 #include "render/renderer.h"
 #include "stats/image_stats.h"
 #include "support/device.h"
+#include "support/parse_options.h"
 #include "support/reference_match.h"
 #include "support/reference_render.h"
 #include "support/render.h"
@@ -346,15 +346,7 @@ TEST(IcConsistency, GlossyAndGlassBoxNearPt) {
 // ---------------------------------------------------------------------------------------
 // IcOptions
 
-ExitCode parse_error(std::vector<const char*> args) {
-  args.insert(args.begin(), "clpt");
-  try {
-    (void)parse_options(int(args.size()), args.data());
-  } catch (const Error& e) {
-    return e.code();
-  }
-  return ExitCode::Ok;
-}
+using test::parse_error;
 
 TEST(IcOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "ic"}), ExitCode::Ok);

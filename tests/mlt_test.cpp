@@ -28,13 +28,13 @@
 #include <glm/glm.hpp>
 
 #include "integrators/metropolis.h"
-#include "options.h"
 #include "render/renderer.h"
 #include "shared/mlt_types.h"
 #include "stats/image_stats.h"
 #include "support/block_test.h"
 #include "support/chi2.h"
 #include "support/device.h"
+#include "support/parse_options.h"
 #include "support/reference_match.h"
 #include "support/reference_render.h"
 #include "support/scenes.h"
@@ -383,15 +383,7 @@ TEST(MltStartUp, WithoutResamplingShortRunsAreBiased) {
 }
 
 // ---- Options. ----
-ExitCode parse_error(std::vector<const char*> args) {
-  args.insert(args.begin(), "clpt");
-  try {
-    (void)parse_options(int(args.size()), args.data());
-  } catch (const Error& e) {
-    return e.code();
-  }
-  return ExitCode::Ok;
-}
+using test::parse_error;
 
 TEST(MltOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-large-step", "1.5"}), ExitCode::Usage);
