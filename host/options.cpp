@@ -118,7 +118,8 @@ struct Parser {
         ->type_name("M")
         ->check(CLI::Range(0u, 64u).description(""));
     app.add_option("--bdpt-memory", o.bdpt_memory_mib,
-                   "bdpt: light vertex buffer per pass in MiB; larger images go in tiles [256]")
+                   "bdpt, vcm: light vertex buffer per pass in MiB; larger images go in tiles "
+                   "[256]")
         ->type_name("MIB")
         ->check(CLI::Range(1u, 1u << 20).description(""));
     app.add_option("--photons", o.photons,
@@ -198,6 +199,21 @@ struct Parser {
                  "ic: interpolate records without Ward and Heckbert's irradiance gradients");
     app.add_flag("--ic-show-records", o.ic_show_records,
                  "ic: paint the pixels whose camera ray placed a record red");
+    app.add_option("--vcm-mode", o.vcm_mode,
+                   "vcm: the techniques of the one estimator: vcm (connections and merging), "
+                   "bpt (connections: bdpt), ppm (merging: photon mapping), lt or pt [vcm]")
+        ->type_name("MODE");
+    app.add_option("--vcm-radius", o.vcm_radius,
+                   "vcm: the first pass's merge radius [1 pixel footprint at the scene's centre]")
+        ->type_name("DIST")
+        ->check(CLI::PositiveNumber.description(""));
+    app.add_flag("--vcm-merged", o.vcm_merged,
+                 "vcm: add a 'merged' layer to the EXR: the part of each pixel that merging "
+                 "contributed");
+    app.add_option("--vcm-alpha", o.vcm_alpha,
+                   "vcm: radius of pass i is r (i + 1)^((alpha - 1) / 2) [0.75]")
+        ->type_name("A")
+        ->check(CLI::Range(0.01f, 1.0f).description(""));
     stats_opt = app.add_option("--stats", stats_value,
                                "Write render statistics as JSON to FILE, or stdout when no FILE")
                     ->expected(0, 1)
@@ -333,6 +349,8 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
   for (const char* name : {"--ic-error", "--ic-rays", "--ic-min-spacing", "--ic-max-spacing",
                            "--ic-no-gradients", "--ic-show-records"})
     o.ic_set = o.ic_set || p.app.count(name) > 0;
+  for (const char* name : {"--vcm-mode", "--vcm-radius", "--vcm-alpha", "--vcm-merged"})
+    o.vcm_set = o.vcm_set || p.app.count(name) > 0;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
   auto one_of = [](const char* option, const std::string& value,
                    std::initializer_list<const char*> names) {
@@ -441,6 +459,10 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--integrator ic samples the BSDF at every vertex: "
                                    "--hemisphere must stay bsdf and --branching 1");
   }
+  if (!reads(OPTIONS_VCM) && o.vcm_set)
+    throw Error(ExitCode::Usage, "--vcm-mode, --vcm-radius, --vcm-alpha and --vcm-merged need --integrator "
+                                 "vcm");
+  if (reads(OPTIONS_VCM)) one_of("--vcm-mode", o.vcm_mode, {"vcm", "bpt", "ppm", "lt", "pt"});
   if (o.pm_filter != "cone" && o.pm_filter != "epanechnikov" && o.pm_filter != "box")
     throw Error(ExitCode::Usage, "--pm-filter " + o.pm_filter + ": expected cone, epanechnikov "
                                  "or box");

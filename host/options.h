@@ -68,6 +68,12 @@ struct Options {
   bool ic_no_gradients = false;
   bool ic_show_records = false;
   bool ic_set = false;
+  // Vertex connection and merging (vcm). vcm_set: one of the --vcm-* options was given.
+  std::string vcm_mode = "vcm";
+  float vcm_radius = 0.0f;         // 0: one pixel footprint at the scene's centre
+  float vcm_alpha = 0.75f;
+  bool vcm_merged = false;         // EXR layer "merged": what merging contributed
+  bool vcm_set = false;
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR
   std::string reference;          // image to compare with (relMSE), empty: none

@@ -71,6 +71,10 @@ mlt_lens     | scenes/cornell_box.gltf | --integrator mlt --mlt-mode pssmlt --ml
 mmlt         | scenes/cornell_box.gltf | --integrator mlt --mlt-bootstrap 5000
 mmlt_caustic | scenes/caustic.gltf     | --integrator mlt --mlt-bootstrap 5000 --mlt-chains 500
 mmlt_env     | scenes/cornell_box.gltf | --integrator mlt --mlt-bootstrap 5000 --max-depth 3 --background 0.2,0.3,0.4
+vcm          | scenes/cornell_box.gltf | --integrator vcm
+vcm_caustic  | scenes/caustic.gltf     | --integrator vcm --mis balance
+vcm_ppm      | scenes/cornell_box.gltf | --integrator vcm --vcm-mode ppm
+vcm_pt       | scenes/indirect.gltf    | --integrator vcm --vcm-mode pt
 sh_alpha_pt     | @scenes/AlphaBlendModeTest/glTF-Binary/AlphaBlendModeTest.glb | --integrator pt --background 1,1,1
 sh_alpha_lt     | @scenes/AlphaBlendModeTest/glTF-Binary/AlphaBlendModeTest.glb | --integrator lt --background 1,1,1
 sh_alpha_bdpt   | @scenes/AlphaBlendModeTest/glTF-Binary/AlphaBlendModeTest.glb | --integrator bdpt --background 1,1,1

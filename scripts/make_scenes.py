@@ -890,6 +890,69 @@ def make_indirect(out_dir):
 
 
 # ---------------------------------------------------------------------------------------------
+# Glass-room benchmark (vcm, issue 18): the indirect room's walls and block with a glass
+# sphere on the block and a small light above it, so that one image has diffuse
+# inter-reflection (bdpt's strength), a caustic on the block (light tracing's) and that caustic
+# seen through the sphere (E S S D S S L: merging's alone)
+
+GLASS_ROOM_SPHERE_CENTRE = (0.8, 1.15, -1.1)   # resting on the block's top (y = 0.8)
+GLASS_ROOM_SPHERE_RADIUS = 0.35
+GLASS_ROOM_LIGHT_CENTRE = (0.3, 2.5, -0.6)     # 0.1 m under the ceiling, up and to the side
+GLASS_ROOM_LIGHT_SIZE = 0.1                    # square, facing down
+GLASS_ROOM_LIGHT_RADIANCE = 1000.0
+GLASS_ROOM_CAMERA = (-0.6, 1.6, 2.2)
+GLASS_ROOM_TARGET = (0.6, 0.9, -1.1)
+GLASS_ROOM_YFOV_DEG = 50.0
+
+
+def make_glass_room(out_dir):
+    doc = Document("clpt scripts/make_scenes.py (glass room benchmark)")
+    a = ROOM_ALBEDO
+    doc.add_material("wall", (a, a, a))
+    doc.add_glass_material("glass", CAUSTIC_GLASS_IOR)
+    doc.add_material("light", (0.78, 0.78, 0.78), (GLASS_ROOM_LIGHT_RADIANCE,) * 3, double_sided=False)
+
+    room = Mesh("room", "wall")
+    add_box(room, ROOM_LO, ROOM_HI, outward=False)
+    doc.add_mesh(room)
+    block = Mesh("block", "wall")
+    add_box(block, *ROOM_BLOCK, outward=True, skip=("-y",))
+    doc.add_mesh(block)
+    sphere = Mesh("glass_sphere", "glass")
+    uv_sphere(sphere, GLASS_ROOM_SPHERE_CENTRE, GLASS_ROOM_SPHERE_RADIUS,
+              CAUSTIC_SPHERE_SEGMENTS, CAUSTIC_SPHERE_RINGS)
+    doc.add_mesh(sphere)
+    light = Mesh("light", "light")
+    cx, cy, cz = GLASS_ROOM_LIGHT_CENTRE
+    s = 0.5 * GLASS_ROOM_LIGHT_SIZE
+    add_quad(light, [(cx - s, cy, cz - s), (cx + s, cy, cz - s), (cx + s, cy, cz + s), (cx - s, cy, cz + s)],
+             (0.0, -1.0, 0.0))  # emits downward only
+    doc.add_mesh(light)
+
+    doc.add_perspective_camera("glass_room_camera", list(GLASS_ROOM_CAMERA),
+                               math.radians(GLASS_ROOM_YFOV_DEG), 1.0, 0.01,
+                               rotation=look_at_rotation(GLASS_ROOM_CAMERA, GLASS_ROOM_TARGET))
+    path = os.path.join(out_dir, "glass_room.gltf")
+    write_gltf(doc.finish(), path)
+    res = validate(path)
+    area, radiance, power, normal = emitter_summary(res, "light")
+    assert abs(area - GLASS_ROOM_LIGHT_SIZE ** 2) < 1e-7 and normal == (0.0, -1.0, 0.0)
+    # the sphere rests on the block, inside its top face; light and camera inside the room
+    assert abs(GLASS_ROOM_SPHERE_CENTRE[1] - GLASS_ROOM_SPHERE_RADIUS - ROOM_BLOCK[1][1]) < 1e-12
+    for k in (0, 2):
+        assert ROOM_BLOCK[0][k] < GLASS_ROOM_SPHERE_CENTRE[k] - GLASS_ROOM_SPHERE_RADIUS
+        assert GLASS_ROOM_SPHERE_CENTRE[k] + GLASS_ROOM_SPHERE_RADIUS < ROOM_BLOCK[1][k]
+    for p in (GLASS_ROOM_LIGHT_CENTRE, GLASS_ROOM_CAMERA):
+        assert all(ROOM_LO[k] < p[k] < ROOM_HI[k] for k in range(3))
+    print(f"{path}: {res['triangles']} triangles (room {len(room.triangles)}, block {len(block.triangles)}, "
+          f"glass_sphere {len(sphere.triangles)}, light {len(light.triangles)})")
+    print(f"  light {GLASS_ROOM_LIGHT_SIZE} m square at {GLASS_ROOM_LIGHT_CENTRE} facing down, radiance "
+          f"{radiance[0]:g} W/m^2/sr, power {power[0]:.2f} W; glass sphere r {GLASS_ROOM_SPHERE_RADIUS} "
+          f"on the block")
+    return res
+
+
+# ---------------------------------------------------------------------------------------------
 # Door-ajar benchmark: two rooms, the lamp in one, the camera in the other, light through a
 # door left slightly open (Veach 1997's hard case for path tracing, built anew here)
 
@@ -987,6 +1050,7 @@ def main(argv=None):
     make_caustic(out_dir)
     make_indirect(out_dir)
     make_door(out_dir)
+    make_glass_room(out_dir)
     return 0
 
 

@@ -6,7 +6,12 @@
 //       coat, roughness 0.3; the Cornell box with a rough glass sphere), each strategy's
 //       recursive weight (the integrator's calls replayed over the path's own vertices)
 //       equals (n_i p_i)^b / sum_j (n_j p_j)^b from the per-vertex area densities, the
-//       weights of a path sum to 1, for the power (b = 2) and balance (b = 1) heuristics.
+//       weights of a path sum to 1, for the power (b = 2) and balance (b = 1) heuristics;
+//       and with vertex merging (vcm's weights, Georgiev 2012; the *_vcm cases, eta =
+//       pi r^2 N_light of about 0.4, where merges and connections both take a share) every
+//       connection strategy's and every merge's (at x_1 .. x_(m-1)) recursive weight equals
+//       the explicit one, and all of them together sum to 1: MIS's partition of unity over
+//       both techniques.
 //
 // Conventions (pbrt's; mis.cl's header): x0 the pinhole, xm on the light; strategy (s, t)
 // takes s vertices from the light end and t from the camera end, s + t = m + 1. For m >= 2
@@ -14,7 +19,10 @@
 // pinhole. Camera strategies take one sample per pixel, with x1's density per pixel
 // (width * height times the whole film's); light tracing takes N_light = width * height
 // light paths per pixel sample. The strategy (1, 1), left out by the integrator, exists only
-// for m = 1, which has the single strategy (0, 2) and is not sampled here.
+// for m = 1, which has the single strategy (0, 2) and is not sampled here. Merging at x_k
+// takes the camera subpath's x_1 .. x_k and the light subpath's x_m .. x_k; its density is a
+// connection's times pi r^2 N_merge times the light subpath's density of x_k (eta times the
+// product of both subpaths' densities).
 //
 // Every distance, direction and density is recomputed from the vertex positions for both
 // sides, so the two computations see the same numbers and agree to float rounding (about
@@ -51,6 +59,9 @@ constexpr int kStatusOk = 1, kStatusCameraInvalid = 2, kStatusNoLightPdf = 3;
 constexpr uint32_t kPaths = 1u << 17;
 constexpr uint32_t kWidth = 40, kHeight = 30;  // N_light = 1200: light tracing gets weight
 constexpr size_t kMinPerLength = 100;          // paths of each length 2..5
+// vcm's eta = pi r^2 N_light for r = 0.01 (the box is 0.55 wide): merges and connections
+// both take a share of the paths of 3 and more edges.
+constexpr float kEta = 3.14159265f * 0.01f * 0.01f * float(kWidth * kHeight);
 
 const cl::Program& mis_program() {
   return test::test_program("kernels/bdpt_mis_test.cl");
@@ -95,15 +106,16 @@ struct MisCase {
   Scene (*scene)();
   uint32_t heuristic;       // dev::MIS_POWER or dev::MIS_BALANCE
   size_t min_refracting;    // paths that must pass through a surface (the glass sphere)
+  float eta = 0.0f;         // vcm: pi r^2 N_merge; 0: bdpt (no merging)
 };
 void PrintTo(const MisCase& c, std::ostream* os) { *os << c.name; }
 
 struct PathRecords {
-  std::vector<float> rec, rec_raw, pcam, plight;
+  std::vector<float> rec, rec_raw, rec_vm, pcam, plight;
   std::vector<int> meta;
 };
 
-PathRecords run_paths(const Scene& scene, uint32_t heuristic) {
+PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta) {
   cl::Context& ctx = test::device_context();
   const Bvh bvh = build_bvh(scene.positions, scene.triangles);
   const FlatScene flat = flatten_scene(scene, bvh);
@@ -125,35 +137,53 @@ PathRecords run_paths(const Scene& scene, uint32_t heuristic) {
   const size_t floats = size_t(kPaths) * kSlots;
   cl::Buffer rec(ctx, floats * sizeof(float), CL_MEM_WRITE_ONLY, nullptr, "rec");
   cl::Buffer rec_raw(ctx, floats * sizeof(float), CL_MEM_WRITE_ONLY, nullptr, "rec_raw");
+  cl::Buffer rec_vm(ctx, floats * sizeof(float), CL_MEM_WRITE_ONLY, nullptr, "rec_vm");
   cl::Buffer pcam(ctx, floats * sizeof(float), CL_MEM_WRITE_ONLY, nullptr, "pcam");
   cl::Buffer plight(ctx, floats * sizeof(float), CL_MEM_WRITE_ONLY, nullptr, "plight");
   cl::Buffer meta(ctx, size_t(kPaths) * 4 * sizeof(int), CL_MEM_WRITE_ONLY, nullptr, "meta");
   cl::Kernel k(mis_program(), "bdpt_mis_paths");
   const cl_uint a = buffers.bind(k, 0);
-  k.args(a, params, kPaths, rec, rec_raw, pcam, plight, meta);
+  k.args(a, params, kPaths, eta, rec, rec_raw, rec_vm, pcam, plight, meta);
   k.launch(ctx, kPaths);
   return {rec.read_vector<float>(floats), rec_raw.read_vector<float>(floats),
-          pcam.read_vector<float>(floats),
+          rec_vm.read_vector<float>(floats), pcam.read_vector<float>(floats),
           plight.read_vector<float>(floats), meta.read_vector<int>(size_t(kPaths) * 4)};
 }
 
 // The explicit weights of path (m, pcam, plight): strategy s has density
 //   prod_{i=1}^{t-1} pcam_i (pcam_1 per pixel) * prod_{j=m-s+1}^{m} plight_j,  t = m + 1 - s,
-// with n = N_light samples for t = 1 and 1 otherwise.
-std::array<double, kSlots> explicit_weights(int m, const float* pcam, const float* plight,
-                                            double n_light, double exponent) {
-  std::array<double, kSlots> w{};
+// with n = N_light samples for t = 1 and 1 otherwise; with eta > 0 also merging at x_k,
+// k = 1 .. m - 1 (in vm[k]), n p = eta prod_{i=1}^{k} pcam_i prod_{j=k}^{m} plight_j.
+struct ExplicitWeights {
+  std::array<double, kSlots> vc{}, vm{};
+};
+ExplicitWeights explicit_weights(int m, const float* pcam, const float* plight, double n_light,
+                                 double exponent, double eta) {
+  ExplicitWeights w;
   double sum = 0.0;
+  const auto camera_prefix = [&](int last) {
+    double p = 1.0;
+    for (int i = 1; i <= last; ++i) p *= i == 1 ? n_light * double(pcam[1]) : double(pcam[i]);
+    return p;
+  };
+  const auto light_suffix = [&](int first) {
+    double p = 1.0;
+    for (int j = first; j <= m; ++j) p *= double(plight[j]);
+    return p;
+  };
   for (int s = 0; s <= m; ++s) {
     const int t = m + 1 - s;
-    double p = 1.0;
-    for (int i = 1; i <= t - 1; ++i) p *= i == 1 ? n_light * double(pcam[1]) : double(pcam[i]);
-    for (int j = m - s + 1; j <= m; ++j) p *= double(plight[j]);
     const double n = t == 1 ? n_light : 1.0;
-    w[s] = std::pow(n * p, exponent);
-    sum += w[s];
+    w.vc[s] = std::pow(n * camera_prefix(t - 1) * light_suffix(m - s + 1), exponent);
+    sum += w.vc[s];
   }
-  for (int s = 0; s <= m; ++s) w[s] /= sum;
+  if (eta > 0.0)
+    for (int k = 1; k <= m - 1; ++k) {
+      w.vm[k] = std::pow(eta * camera_prefix(k) * light_suffix(k), exponent);
+      sum += w.vm[k];
+    }
+  for (int s = 0; s <= m; ++s) w.vc[s] /= sum;
+  for (int k = 1; k <= m - 1; ++k) w.vm[k] /= sum;
   return w;
 }
 
@@ -161,12 +191,13 @@ class BdptMis : public ::testing::TestWithParam<MisCase> {};
 
 TEST_P(BdptMis, RecursiveEqualsExplicit) {
   const MisCase& c = GetParam();
-  const PathRecords r = run_paths(c.scene(), c.heuristic);
+  const PathRecords r = run_paths(c.scene(), c.heuristic, c.eta);
   const double n_light = double(kWidth) * kHeight;
   const double exponent = c.heuristic == dev::MIS_BALANCE ? 1.0 : 2.0;
 
   std::array<size_t, kMaxEdges + 1> per_length{};
   std::array<double, kSlots> mean_weight{};  // of paths of 4 edges, by s
+  double mean_merge_weight = 0.0;            // ... and of all their merges together
   size_t ok = 0, camera_invalid = 0, no_light_pdf = 0, failures = 0, checked = 0, refracting = 0;
   double max_abs = 0.0, max_rel = 0.0, max_sum_dev = 0.0;
   // The integrator's own inputs (rec_raw): hit.t, ray directions, bs.pdf_w.
@@ -187,32 +218,43 @@ TEST_P(BdptMis, RecursiveEqualsExplicit) {
     const float* pl = &r.plight[size_t(i) * kSlots];
     max_dt = std::max(max_dt, double(pc[0]));
     max_dpdf = std::max(max_dpdf, double(pl[0]));
-    const auto w = explicit_weights(m, pc, pl, n_light, exponent);
+    const float* vm = &r.rec_vm[size_t(i) * kSlots];
+    const ExplicitWeights w = explicit_weights(m, pc, pl, n_light, exponent, c.eta);
     double sum = 0.0, raw_sum = 0.0;
-    for (int s = 0; s <= m; ++s) {
-      sum += rec[s];
-      raw_sum += raw[s];
-      if (m == 4) mean_weight[s] += rec[s];
+    // One weight against its explicit value; `what` names the technique for the report.
+    const auto check = [&](float recursive, double expected, const std::string& what) {
       ++checked;
-      const double abs_dev = std::fabs(double(rec[s]) - w[s]);
+      const double abs_dev = std::fabs(double(recursive) - expected);
       max_abs = std::max(max_abs, abs_dev);
-      raw_max_abs = std::max(raw_max_abs, std::fabs(double(raw[s]) - w[s]));
-      if (w[s] > 1e-3) max_rel = std::max(max_rel, abs_dev / w[s]);
-      const bool bad = !std::isfinite(rec[s]) || (abs_dev > 1e-3 * w[s] && abs_dev > 1e-5);
+      if (expected > 1e-3) max_rel = std::max(max_rel, abs_dev / expected);
+      const bool bad = !std::isfinite(recursive) || (abs_dev > 1e-3 * expected && abs_dev > 1e-5);
       if (bad && ++failures <= 10) {
         std::ostringstream os;
-        os << "path " << i << ", m = " << m << ", strategy s = " << s << " t = " << m + 1 - s
-           << ": recursive " << rec[s] << ", explicit " << w[s] << "\n  pcam:";
+        os << "path " << i << ", m = " << m << ", " << what << ": recursive " << recursive
+           << ", explicit " << expected << "\n  pcam:";
         for (int j = 1; j <= m; ++j) os << " " << pc[j];
         os << "\n  plight:";
         for (int j = 1; j <= m; ++j) os << " " << pl[j];
         os << "\n  recursive:";
         for (int t = 0; t <= m; ++t) os << " " << rec[t];
         os << "\n  explicit: ";
-        for (int t = 0; t <= m; ++t) os << " " << w[t];
+        for (int t = 0; t <= m; ++t) os << " " << w.vc[t];
         ADD_FAILURE() << os.str();
       }
+    };
+    for (int s = 0; s <= m; ++s) {
+      sum += rec[s];
+      raw_sum += raw[s];
+      if (m == 4) mean_weight[s] += rec[s];
+      raw_max_abs = std::max(raw_max_abs, std::fabs(double(raw[s]) - w.vc[s]));
+      check(rec[s], w.vc[s], "strategy s = " + std::to_string(s) + " t = " + std::to_string(m + 1 - s));
     }
+    if (c.eta > 0.0f)
+      for (int k = 1; k <= m - 1; ++k) {
+        sum += vm[k];
+        if (m == 4) mean_merge_weight += vm[k];
+        check(vm[k], w.vm[k], "merge at x_" + std::to_string(k));
+      }
     max_sum_dev = std::max(max_sum_dev, std::fabs(sum - 1.0));
     raw_max_sum_dev = std::max(raw_max_sum_dev, std::fabs(raw_sum - 1.0));
     if (!(std::fabs(sum - 1.0) <= 1e-4) && ++failures <= 10)
@@ -226,9 +268,13 @@ TEST_P(BdptMis, RecursiveEqualsExplicit) {
       << ", max rel (explicit > 1e-3) " << max_rel << ", max |sum - 1| " << max_sum_dev
       << "; mean weight by s = 0..4 at 4 edges:";
   for (int s = 0; s <= 4; ++s) fig << " " << (per_length[4] ? mean_weight[s] / per_length[4] : 0.0);
+  if (c.eta > 0.0f)
+    fig << ", merges " << (per_length[4] ? mean_merge_weight / per_length[4] : 0.0) << " (eta "
+        << c.eta << ")";
   fig << "; skipped: camera_connect invalid " << camera_invalid << ", no light pdf " << no_light_pdf;
   std::cout << fig.str() << "\n";
-  std::cout << "[ figures  ] " << c.name << " with the ray's hit.t and bs.pdf_w: max |rec - explicit| "
+  if (c.eta == 0.0f)  // rec_raw holds the connection strategies only
+    std::cout << "[ figures  ] " << c.name << " with the ray's hit.t and bs.pdf_w: max |rec - explicit| "
             << raw_max_abs << ", max |sum - 1| " << raw_max_sum_dev << " (inputs off by up to "
             << max_dt << " in distance, " << max_dpdf << " in pdf, relative)\n";
 
@@ -247,7 +293,10 @@ INSTANTIATE_TEST_SUITE_P(
                       MisCase{"glossy_power", glossy_box, dev::MIS_POWER, 0},
                       MisCase{"glossy_balance", glossy_box, dev::MIS_BALANCE, 0},
                       MisCase{"glass_sphere_power", glass_sphere_box, dev::MIS_POWER, 100},
-                      MisCase{"glass_sphere_balance", glass_sphere_box, dev::MIS_BALANCE, 100}),
+                      MisCase{"glass_sphere_balance", glass_sphere_box, dev::MIS_BALANCE, 100},
+                      MisCase{"cornell_power_vcm", test::cornell_box, dev::MIS_POWER, 0, kEta},
+                      MisCase{"glossy_balance_vcm", glossy_box, dev::MIS_BALANCE, 0, kEta},
+                      MisCase{"glass_sphere_power_vcm", glass_sphere_box, dev::MIS_POWER, 100, kEta}),
     [](const ::testing::TestParamInfo<MisCase>& info) { return std::string(info.param.name); });
 
 }  // namespace

@@ -107,6 +107,9 @@ TEST(IntegratorTable, RowsSayWhatTheReadmeSays) {
       {"bdpt", FilmKind::Splats, clpt::OPTIONS_BDPT, true, true},
       {"pm", FilmKind::SampleSums, clpt::OPTIONS_PHOTONS | clpt::OPTIONS_PM, true, false},
       {"sppm", FilmKind::Progressive, clpt::OPTIONS_PHOTONS | clpt::OPTIONS_SPPM, true, false},
+      {"vcm", FilmKind::Splats, clpt::OPTIONS_VCM, true, true},
+      {"mlt", FilmKind::Splats, clpt::OPTIONS_MLT, true, false},
+      {"ic", FilmKind::SampleSums, clpt::OPTIONS_IC, true, false},
       {"ao", FilmKind::SampleSums, clpt::OPTIONS_AO, false, false},
       {"direct", FilmKind::SampleSums, clpt::OPTIONS_NONE, true, false},
   };

@@ -21,6 +21,7 @@
 #include "scene/gltf_loader.h"
 #include "integrators/integrator.h"
 #include "shared/photon_types.h"
+#include "shared/vcm_types.h"
 #include "stats/image_stats.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -192,6 +193,13 @@ int run(const Options& opt) {
   settings.ic.max_spacing = opt.ic_max_spacing;
   settings.ic.gradients = !opt.ic_no_gradients;
   settings.ic.show_records = opt.ic_show_records;
+  settings.vcm.mode = opt.vcm_mode == "bpt"   ? dev::VCM_MODE_BPT
+                      : opt.vcm_mode == "ppm" ? dev::VCM_MODE_PPM
+                      : opt.vcm_mode == "lt"  ? dev::VCM_MODE_LT
+                      : opt.vcm_mode == "pt"  ? dev::VCM_MODE_PT
+                                              : dev::VCM_MODE_VCM;
+  settings.vcm.radius = opt.vcm_radius;
+  settings.vcm.alpha = opt.vcm_alpha;
   if (opt.bdpt_mosaic) return run_mosaic(opt, ctx, scene, settings, device.name);
   Renderer renderer(ctx, scene, settings);
   if (reference && (reference->width != renderer.width() || reference->height != renderer.height()))
@@ -269,6 +277,9 @@ int run(const Options& opt) {
     std::vector<NamedChannel> layers;
     if (opt.variance)
       layers.push_back({kVarianceLayer, variance_of_mean(film.variance, film.samples_per_pixel)});
+    if (opt.vcm_merged)
+      for (const NamedChannel& l : out.layers)
+        if (l.name == "merged") layers.push_back(l);
     write_image(opt.output, film.mean, meta, layers);
   } else {
     log::warn("no sample was taken; " + opt.output + " was not written");
@@ -366,6 +377,23 @@ int run(const Options& opt) {
                  {"lookup_misses", ic.misses},
                  {"gradients", !opt.ic_no_gradients},
                  {"device_bytes", ic.device_bytes}};
+    }
+    if (row.options & OPTIONS_VCM) {
+      const VcmStats& v = st.vcm;
+      j["vcm"] = {{"mode", opt.vcm_mode},
+                  {"passes", v.passes},
+                  {"tiles_per_pass", v.tiles},
+                  {"first_radius", v.first_radius},
+                  {"last_radius", v.last_radius},
+                  {"alpha", opt.vcm_alpha},
+                  {"light_vertices", v.light_vertices},
+                  {"connections", v.connections},
+                  {"connections_per_second", double(v.connections) / secs},
+                  {"merges", v.merges},
+                  {"merges_per_second", double(v.merges) / secs},
+                  {"grids", v.grids},
+                  {"grid_seconds", v.grid_seconds},
+                  {"device_bytes", v.device_bytes}};
     }
     // Rays of camera-side paths; photon rays are under "photons".
     j["rays"] = film.rays;

@@ -7,6 +7,7 @@
 #include "integrators/metropolis.h"
 #include "integrators/photon_mapper.h"
 #include "integrators/sppm.h"
+#include "integrators/vcm.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -39,6 +40,9 @@ std::unique_ptr<Integrator> make_mlt(const cl::Context& ctx, const SceneBuffers&
 std::unique_ptr<Integrator> make_ic(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
   return std::make_unique<IrradianceCache>(ctx, s, c.ic);
 }
+std::unique_ptr<Integrator> make_vcm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
+  return std::make_unique<VertexConnectionMerging>(ctx, s, c.vcm, c.path_memory_bytes);
+}
 std::unique_ptr<Integrator> make_sppm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
   return std::make_unique<Sppm>(ctx, s, c.photons);
 }
@@ -54,7 +58,7 @@ const std::vector<IntegratorInfo>& integrator_table() {
       {"bdpt",   true,  F::Splats,      OPTIONS_BDPT,                    true,  true,  0, false, make_bdpt},
       {"pm",     true,  F::SampleSums,  OPTIONS_PHOTONS | OPTIONS_PM,    true,  false, 0, false, make_pm},
       {"sppm",   true,  F::Progressive, OPTIONS_PHOTONS | OPTIONS_SPPM,  true,  false, 0, false, make_sppm},
-      {"vcm",    false, F::Splats,      OPTIONS_NONE,                    true,  true,  0, false, nullptr},
+      {"vcm",    true,  F::Splats,      OPTIONS_VCM,                     true,  true,  0, false, make_vcm},
       {"mlt",    true,  F::Splats,      OPTIONS_MLT,                     true,  false, 0, false, make_mlt},
       {"ic",     true,  F::SampleSums,  OPTIONS_IC,                      true,  false, 0, false, make_ic},
       {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, make_ao},

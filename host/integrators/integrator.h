@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cl/program.h"
+#include "io/image_io.h"
 #include "render/film.h"
 #include "render/scene_buffers.h"
 #include "shared/render_types.h"
@@ -55,6 +56,19 @@ struct IcStats {
   size_t device_bytes = 0;          // records, grid and the record rays' results
 };
 
+// Vertex connection and merging figures of vcm for --stats.
+struct VcmStats {
+  uint64_t light_vertices = 0;    // stored (all passes)
+  uint64_t connections = 0;       // shadow rays of connection strategies (NEE, t = 1, s, t >= 2)
+  uint64_t merges = 0;            // light vertices merged at camera vertices
+  uint32_t passes = 0;            // one merge radius each
+  uint32_t tiles = 0;             // per pass (the light vertex buffer's budget)
+  uint64_t grids = 0;             // grids built
+  double grid_seconds = 0.0;      // building them (device)
+  float first_radius = 0.0f, last_radius = 0.0f;
+  size_t device_bytes = 0;
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
@@ -72,6 +86,13 @@ class Integrator {
   virtual PhotonStats photon_stats() const { return {}; }
   virtual MetropolisStats metropolis_stats() const { return {}; }
   virtual IcStats ic_stats() const { return {}; }
+  virtual VcmStats vcm_stats() const { return {}; }
+  // Extra images an integrator offers beside the film's (vcm: "merged", the part of the image
+  // merging contributed), as means over `spp` samples per pixel; none by default.
+  virtual std::vector<NamedChannel> layers(uint64_t spp) const {
+    (void)spp;
+    return {};
+  }
 };
 
 // params with no samples per pass: a launch where every work-item loops over nothing, which
@@ -116,6 +137,13 @@ struct IcConfig {
 // The share of --time the irradiance cache spends refining its records.
 constexpr double kIcRefineShare = 0.25;
 
+// vcm's settings (--vcm-*).
+struct VcmConfig {
+  uint32_t mode = 0;        // dev::VcmMode (--vcm-mode)
+  float radius = 0.0f;      // the first pass's merge radius (the renderer's default: a pixel footprint)
+  float alpha = 0.75f;      // radius_i = radius (i + 1)^((alpha - 1) / 2)
+};
+
 // Construction-time settings some integrators take.
 struct IntegratorConfig {
   size_t path_memory_bytes = size_t(256) << 20;  // bdpt: light vertex buffer budget
@@ -123,6 +151,7 @@ struct IntegratorConfig {
   uint64_t caustic_photons = 0;  // pm: caustic map paths
   MltConfig mlt;
   IcConfig ic;
+  VcmConfig vcm;
 };
 
 // What an integrator's film holds, which decides what the film and the command line offer.
@@ -142,6 +171,7 @@ enum IntegratorOptions : unsigned {
   OPTIONS_AO = 1u << 4,       // --ao-radius
   OPTIONS_MLT = 1u << 5,      // --mlt-mode, --mlt-target, --mlt-large-step, --mlt-sigma, --mlt-bootstrap, --mlt-chains
   OPTIONS_IC = 1u << 6,       // --ic-error, --ic-rays, --ic-min-spacing, --ic-max-spacing, --ic-no-gradients, --ic-show-records
+  OPTIONS_VCM = 1u << 7,      // --vcm-mode, --vcm-radius, --vcm-alpha
 };
 
 // One row per integrator --integrator accepts: everything the options, the renderer, the

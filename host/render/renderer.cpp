@@ -106,10 +106,14 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   t0 = Clock::now();
   IcConfig ic = settings_.ic;
   if (settings_.time_limit > 0.0) ic.refine_seconds = kIcRefineShare * settings_.time_limit;
+  VcmConfig vcm = settings_.vcm;
+  // One pixel footprint at the scene's centre: half sppm's default radius (the --vcm-radius
+  // sweep in docs/BENCHMARKS.md, session 11).
+  if (!(vcm.radius > 0.0f)) vcm.radius = 0.5f * params_.sppm_radius;
   integrator_ = make_integrator(
       settings_.integrator, ctx_, *scene_buffers_,
       IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons,
-                       settings_.mlt, ic});
+                       settings_.mlt, ic, vcm});
   integrator_->warm_up(params_, *film_);
   ctx_.finish();
   stats_.kernel_seconds = seconds_since(t0);
@@ -195,6 +199,8 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   stats_.photons = integrator_->photon_stats();
   stats_.metropolis = integrator_->metropolis_stats();
   stats_.ic = integrator_->ic_stats();
+  stats_.vcm = integrator_->vcm_stats();
+  out.layers = integrator_->layers(done);
   out.stats = stats_;
   return out;
 }

@@ -48,6 +48,7 @@ struct RenderSettings {
   float sppm_alpha = 2.0f / 3.0f;
   MltConfig mlt;                    // mlt: chains, bootstrap, step sizes
   IcConfig ic;                      // ic: accuracy, rays, spacing
+  VcmConfig vcm;                    // vcm: mode, radius (0: a pixel footprint at the centre), alpha
   std::string camera;              // index or name; empty: the first camera or a default one
   std::string env_file;            // equirectangular environment map; empty: none
   float env_scale = 1.0f;          // multiplies the map
@@ -77,12 +78,14 @@ struct RenderStats {
   PhotonStats photons;           // pm, sppm
   MetropolisStats metropolis;    // mlt
   IcStats ic;                    // ic
+  VcmStats vcm;                  // vcm
 };
 
 struct RenderOutput {
   FilmResult film;
   RenderStats stats;
   bool interrupted = false;  // stopped by the stop flag before the target was reached
+  std::vector<NamedChannel> layers;  // the integrator's extra images (Integrator::layers)
 };
 
 class Renderer {

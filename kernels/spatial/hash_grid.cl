@@ -1,11 +1,11 @@
-/* A hashed uniform grid over photons, rebuilt every SPPM pass (Hachisuka and Jensen 2009
- * hash visible points; clpt hashes the pass's photons and lets each pixel gather, so no
- * pixel statistic needs an atomic). Cells are cubes of side 1 / inv_cell; cell (i, j, k)
- * lives in bucket hash(i, j, k) & mask (Teschner et al. 2003's primes), and each bucket is a
- * linked list threaded through the photons: heads[bucket] and next[photon] hold a photon
- * index + 1, 0 ending the list. Insertion is one atomic exchange per photon. Buckets are
- * shared by cells that collide, so a query skips photons whose own cell is not the one it
- * asked for (each photon is then met once). */
+/* A hashed uniform grid over points, rebuilt every pass: sppm's photons (Hachisuka and
+ * Jensen 2009 hash visible points; clpt hashes the pass's photons and lets each pixel gather,
+ * so no pixel statistic needs an atomic) and vcm's light vertices. Cells are cubes of side
+ * 1 / inv_cell; cell (i, j, k) lives in bucket hash(i, j, k) & mask (Teschner et al. 2003's
+ * primes), and each bucket is a linked list threaded through the points: heads[bucket] and
+ * next[point] hold a point index + 1, 0 ending the list. Insertion is one atomic exchange
+ * per point. Buckets are shared by cells that collide, so a query skips points whose own
+ * cell is not the one it asked for (each point is then met once). */
 #ifndef CLPT_PHOTON_HASH_GRID_CL
 #define CLPT_PHOTON_HASH_GRID_CL
 
@@ -18,10 +18,15 @@ inline u32 grid_bucket(int3 c, u32 mask) {
   return (((u32)c.x * 73856093u) ^ ((u32)c.y * 19349663u) ^ ((u32)c.z * 83492791u)) & mask;
 }
 
+/* Point i at position p joins its cell's bucket list. */
+inline void grid_insert_point(float3 p, u32 i, float inv_cell, u32 mask,
+                              volatile __global u32* heads, __global u32* next) {
+  next[i] = atomic_xchg(&heads[grid_bucket(grid_cell(p, inv_cell), mask)], i + 1u);
+}
+
 inline void grid_insert(__global const Photon* photons, u32 i, float inv_cell, u32 mask,
                         volatile __global u32* heads, __global u32* next) {
-  const int3 c = grid_cell(vload3(0, photons[i].p), inv_cell);
-  next[i] = atomic_xchg(&heads[grid_bucket(c, mask)], i + 1u);
+  grid_insert_point(vload3(0, photons[i].p), i, inv_cell, mask, heads, next);
 }
 
 #endif

@@ -17,7 +17,11 @@
  *   - plight[i], i = 1 .. m: the area density with which the light subpath samples xi
  *     (plight[m]: light_illuminate's / light_emit's density of the point, pdf_select / area);
  *   - pcam[0], plight[0]: the largest relative difference along the path between hit.t and
- *     the vertex distance, and between bs.pdf_w and bsdf_pdf_w between the vertices.
+ *     the vertex distance, and between bs.pdf_w and bsdf_pdf_w between the vertices;
+ *   - with merging (eta > 0: vcm's weights, eta = pi r^2 N_merge), rec_vm[k], k = 1 .. m - 1:
+ *     the recursive weight of merging the light subpath's vertex x_k at the camera
+ *     subpath's x_k, as kernels/integrators/vcm/vcm_path.cl computes it; every strategy's
+ *     weight (rec) then carries the merging terms too.
  * The host forms the explicit weights from pcam and plight in double precision.
  *
  * Slot layout: MIS_TEST_SLOTS floats per work-item for each of rec, rec_raw, pcam, plight;
@@ -58,7 +62,8 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
                                    const float3* x, const SurfaceHit* vc, const SurfaceHit* vl,
                                    const SubpathState* lstate, u32 light_tri, float3 dir0,
                                    const float* hit_t, const float3* wo_cam, const float* fwd_cam,
-                                   const float3* wi_cam, int raw, float* rec) {
+                                   const float3* wi_cam, int raw, const MisMerge* mm, float* rec,
+                                   float* rec_vm) {
   SubpathState st;
   st.beta = (float3)(1.0f);
   st.dvcm = bdpt_mis(params, 1.0f / camera_ray_pdf_w(&params->camera, raw ? dir0 : mis_test_dir(x[0], x[1])));
@@ -75,6 +80,12 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
       break;
     }
     const SurfaceHit* sh = &vc[k];
+    {
+      /* Merging light vertex x_k (state lstate[k], arrived from x(k+1)) at camera vertex x_k. */
+      const float3 y_wo = mis_test_dir(x[k], x[k + 1]);
+      rec_vm[k] = vcm_weight_merge(params, mm, &st, &lstate[k], bsdf_pdf_w(sh, wo, y_wo),
+                                   bsdf_pdf_w(sh, y_wo, wo));
+    }
     if (k == m - 1) {
       /* s = 1: next-event estimation that picked the path's own light point xm. */
       const float3 d = x[m] - x[k];
@@ -84,7 +95,7 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
       /* light_illuminate's pdf_w for that point: pdf_select dist^2 / (area cos_light). */
       const float pdf_w = q.direct * dist * dist / q.cos_light;
       const float direct_w = q.finite ? q.direct * dist * dist / q.cos_light : q.direct;
-      rec[1] = bdpt_weight_nee(params, &st, pdf_w, 0, direct_w, q.emit_w, q.cos_light,
+      rec[1] = bdpt_weight_nee(params, mm, &st, pdf_w, 0, direct_w, q.emit_w, q.cos_light,
                                bsdf_pdf_w(sh, wo, wi), bsdf_pdf_w(sh, wi, wo), fabs(dot(sh->ng, wi)));
     } else {
       /* s = m - k >= 2: a connection to light vertex x(k+1), as bdpt_connect makes it. */
@@ -94,26 +105,32 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
       const float dist2 = dot(d, d);
       const float3 dc = d / sqrt(dist2);
       const float cos_cam = fabs(dot(sh->ng, dc)), cos_l = fabs(dot(y->ng, dc));
-      rec[m - k] = bdpt_weight_connect(params, &st, &lstate[k + 1],
+      rec[m - k] = bdpt_weight_connect(params, mm, &st, &lstate[k + 1],
                                        bsdf_pdf_w(sh, wo, dc) * cos_l / dist2, bsdf_pdf_w(sh, dc, wo),
                                        bsdf_pdf_w(y, y_wo, -dc) * cos_cam / dist2,
                                        bsdf_pdf_w(y, -dc, y_wo));
     }
     const float3 wi = raw ? wi_cam[k] : mis_test_dir(x[k], x[k + 1]);
     const float fwd = raw ? fwd_cam[k] : bsdf_pdf_w(sh, wo, wi);
-    bdpt_mis_scatter(params, &st, fwd, bsdf_pdf_w(sh, wi, wo), fabs(dot(sh->ng, wi)), 0);
+    bdpt_mis_scatter(params, mm, &st, fwd, bsdf_pdf_w(sh, wi, wo), fabs(dot(sh->ng, wi)), 0);
   }
 }
 
 __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 n,
-                             __global float* rec_out, __global float* rec_raw_out,
-                             __global float* pcam_out,
+                             float eta, __global float* rec_out, __global float* rec_raw_out,
+                             __global float* rec_vm_out, __global float* pcam_out,
                              __global float* plight_out, __global int* meta) {
   const u32 gid = get_global_id(0);
   if (gid >= n) return;
   const SceneView s = SCENE_VIEW();
+  MisMerge mm = mis_no_merging();
+  if (eta > 0.0f) {
+    mm.vm = bdpt_mis(params, eta);
+    mm.vc = bdpt_mis(params, 1.0f / eta);
+  }
   for (int i = 0; i < MIS_TEST_SLOTS; ++i) {
     rec_out[gid * MIS_TEST_SLOTS + i] = 0.0f;
+    rec_vm_out[gid * MIS_TEST_SLOTS + i] = 0.0f;
     rec_raw_out[gid * MIS_TEST_SLOTS + i] = 0.0f;
     pcam_out[gid * MIS_TEST_SLOTS + i] = 0.0f;
     plight_out[gid * MIS_TEST_SLOTS + i] = 0.0f;
@@ -225,7 +242,7 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
     st.beta = (float3)(1.0f);
     st.dvcm = bdpt_mis(params, q.direct / q.emit_w);
     st.dvc = (e.is_delta_pos || e.is_delta_dir) ? 0.0f : bdpt_mis(params, q.cos_light / q.emit_w);
-    st.dvm = 0.0f;
+    st.dvm = st.dvc * mm.vc;
     for (int depth = 1; depth <= m - 1; ++depth) {
       const int j = m - depth;
       const float3 wo = mis_test_dir(x[j], x[j + 1]);
@@ -242,10 +259,10 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
         }
         const float camera_pdf_a = c.pdf_w * fabs(dot(vl[1].ng, c.wi)) / (c.dist * c.dist);
         const float rev = bsdf_pdf_w(&vl[1], c.wi, wo);
-        rec[m] = bdpt_weight_camera(params, &st, camera_pdf_a, rev);
+        rec[m] = bdpt_weight_camera(params, &mm, &st, camera_pdf_a, rev);
       } else {
         const float3 wi = mis_test_dir(x[j], x[j - 1]);
-        bdpt_mis_scatter(params, &st, bsdf_pdf_w(&vl[j], wo, wi), bsdf_pdf_w(&vl[j], wi, wo),
+        bdpt_mis_scatter(params, &mm, &st, bsdf_pdf_w(&vl[j], wo, wi), bsdf_pdf_w(&vl[j], wi, wo),
                          fabs(dot(vl[j].ng, wi)), 0);
       }
     }
@@ -254,12 +271,15 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
   /* 4. The camera subpath's MIS state along x1, ..., xm and the strategies s < m that end
    * at its vertices: with every input recomputed from the vertex positions (rec, the test
    * proper), and with the ray's own inputs as the integrator has them (rec_raw). */
-  float rec_raw[MIS_TEST_SLOTS];
-  for (int i = 0; i < MIS_TEST_SLOTS; ++i) rec_raw[i] = rec[i];
+  float rec_raw[MIS_TEST_SLOTS], rec_vm[MIS_TEST_SLOTS], rec_vm_raw[MIS_TEST_SLOTS];
+  for (int i = 0; i < MIS_TEST_SLOTS; ++i) {
+    rec_raw[i] = rec[i];
+    rec_vm[i] = rec_vm_raw[i] = 0.0f;
+  }
   mis_test_camera_replay(params, &s, m, x, vc, vl, lstate, light_tri, dir0, hit_t, wo_cam,
-                         fwd_cam, wi_cam, 0, rec);
+                         fwd_cam, wi_cam, 0, &mm, rec, rec_vm);
   mis_test_camera_replay(params, &s, m, x, vc, vl, lstate, light_tri, dir0, hit_t, wo_cam,
-                         fwd_cam, wi_cam, 1, rec_raw);
+                         fwd_cam, wi_cam, 1, &mm, rec_raw, rec_vm_raw);
 
   /* Slot 0 of pcam and plight (unused by the weights): how far the integrator's own inputs
    * are from those recomputed from the positions (relative: hit.t against the distance,
@@ -280,6 +300,7 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
   for (int i = 0; i < MIS_TEST_SLOTS; ++i) {
     rec_out[gid * MIS_TEST_SLOTS + i] = rec[i];
     rec_raw_out[gid * MIS_TEST_SLOTS + i] = rec_raw[i];
+    rec_vm_out[gid * MIS_TEST_SLOTS + i] = rec_vm[i];
     pcam_out[gid * MIS_TEST_SLOTS + i] = pcam[i];
     plight_out[gid * MIS_TEST_SLOTS + i] = plight[i];
   }

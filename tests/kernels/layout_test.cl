@@ -5,6 +5,7 @@
 #include "shared/photon_types.h"
 #include "shared/render_types.h"
 #include "shared/scene_types.h"
+#include "shared/vcm_types.h"
 
 __kernel void shared_layout(__global u32* out) {
   if (get_global_id(0) != 0) return;

@@ -20,9 +20,9 @@
 #include "light/light.cl"
 
 /* s = 1 at camera vertex sh (oriented to wo), k = its index. */
-inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, const Sampler* sampler,
-                       const SurfaceHit* sh, float3 wo, const SubpathState* st, u32 k, u32* rays,
-                       u32* connections) {
+inline float3 bdpt_nee(__constant const RenderParams* p, const MisMerge* m, const SceneView* s,
+                       const Sampler* sampler, const SurfaceHit* sh, float3 wo,
+                       const SubpathState* st, u32 k, u32* rays, u32* connections) {
   if (s->num_lights == 0u) return (float3)(0.0f);
   if (bdpt_strategy_weight(p, 1u, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
   const LightSample ls = light_illuminate(s, sh->p, sample_1d(sampler, bounce_dim(k - 1u, DIM_LIGHT_SELECT)),
@@ -32,7 +32,7 @@ inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, con
   if (is_black(f)) return (float3)(0.0f);
   const LightPdfs q = light_pdfs_sample(s, &ls);
   const float direct_w = q.finite ? q.direct * ls.dist * ls.dist / q.cos_light : q.direct;
-  const float w = bdpt_weight_nee(p, st, ls.pdf_w, ls.is_delta, direct_w, q.emit_w, q.cos_light,
+  const float w = bdpt_weight_nee(p, m, st, ls.pdf_w, ls.is_delta, direct_w, q.emit_w, q.cos_light,
                                   bsdf_pdf_w(sh, wo, ls.wi), bsdf_pdf_w(sh, ls.wi, wo),
                                   fabs(dot(sh->ng, ls.wi)));
   ++*rays;
@@ -44,10 +44,11 @@ inline float3 bdpt_nee(__constant const RenderParams* p, const SceneView* s, con
 
 /* s >= 2: camera vertex sh (oriented to wo, index k) joined to light vertex y (oriented to
  * y_wo, subpath state ls) of a light subpath with s_count vertices up to it. */
-inline float3 bdpt_connect_vertex(__constant const RenderParams* p, const SceneView* s,
-                                  const SurfaceHit* sh, float3 wo, const SubpathState* st, u32 k,
-                                  const SurfaceHit* y, float3 y_wo, const SubpathState* ls,
-                                  u32 s_count, u32* rays, u32* connections) {
+inline float3 bdpt_connect_vertex(__constant const RenderParams* p, const MisMerge* m,
+                                  const SceneView* s, const SurfaceHit* sh, float3 wo,
+                                  const SubpathState* st, u32 k, const SurfaceHit* y, float3 y_wo,
+                                  const SubpathState* ls, u32 s_count, u32* rays,
+                                  u32* connections) {
   if (s_count + k - 1u > p->max_depth) return (float3)(0.0f);
   if (bdpt_strategy_weight(p, s_count, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
   const float3 d = y->p - sh->p;
@@ -61,7 +62,7 @@ inline float3 bdpt_connect_vertex(__constant const RenderParams* p, const SceneV
       bsdf_eval_cos(y, y_wo, -dir, TRANSPORT_IMPORTANCE) * shading_correction(y, y_wo, -dir);
   if (is_black(f_light)) return (float3)(0.0f);
   const float cos_cam = fabs(dot(sh->ng, dir)), cos_light = fabs(dot(y->ng, dir));
-  const float w = bdpt_weight_connect(p, st, ls, bsdf_pdf_w(sh, wo, dir) * cos_light / dist2,
+  const float w = bdpt_weight_connect(p, m, st, ls, bsdf_pdf_w(sh, wo, dir) * cos_light / dist2,
                                       bsdf_pdf_w(sh, dir, wo),
                                       bsdf_pdf_w(y, y_wo, -dir) * cos_cam / dist2,
                                       bsdf_pdf_w(y, -dir, y_wo));
@@ -74,19 +75,15 @@ inline float3 bdpt_connect_vertex(__constant const RenderParams* p, const SceneV
 }
 
 /* s >= 2 with a stored light vertex v. */
-inline float3 bdpt_connect(__constant const RenderParams* p, const SceneView* s, const SurfaceHit* sh,
-                           float3 wo, const SubpathState* st, u32 k, __global const PathVertex* v,
-                           u32* rays, u32* connections) {
+inline float3 bdpt_connect(__constant const RenderParams* p, const MisMerge* m, const SceneView* s,
+                           const SurfaceHit* sh, float3 wo, const SubpathState* st, u32 k,
+                           __global const PathVertex* v, u32* rays, u32* connections) {
   const u32 s_count = v->depth + 1u;
   if (s_count + k - 1u > p->max_depth) return (float3)(0.0f);
   if (bdpt_strategy_weight(p, s_count, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
   const SurfaceHit y = path_vertex_surface(v);
-  SubpathState ls;
-  ls.beta = vload3(0, v->beta);
-  ls.dvcm = v->dvcm;
-  ls.dvc = v->dvc;
-  ls.dvm = v->dvm;
-  return bdpt_connect_vertex(p, s, sh, wo, st, k, &y, vload3(0, v->wo), &ls, s_count, rays,
+  const SubpathState ls = path_vertex_state(v);
+  return bdpt_connect_vertex(p, m, s, sh, wo, st, k, &y, vload3(0, v->wo), &ls, s_count, rays,
                              connections);
 }
 
@@ -144,6 +141,7 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
   float3 org, dir;
   pixel_ray(p, sampler, x, y, &org, &dir);
   SubpathState st = bdpt_camera_start(p, dir);
+  const MisMerge none = mis_no_merging();
   float3 L = (float3)(0.0f);
   PathWalk w = walk_from_camera(org, dir, 0u, 0u);
   for (;;) {
@@ -159,23 +157,23 @@ inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView
     bdpt_gather_emitter(p, s, &st, sh, wo, k, &L);
     if (k > p->max_depth) break;
     if (bsdf_has_smooth_lobe(sh)) {
-      L += st.beta * bdpt_nee(p, s, sampler, sh, wo, &st, k, rays, connections);
+      L += st.beta * bdpt_nee(p, &none, s, sampler, sh, wo, &st, k, rays, connections);
       if (p->bdpt_lvc == 0u) {
         for (u32 i = 0u; i < count; ++i)
-          L += st.beta * bdpt_connect(p, s, sh, wo, &st, k, lv + i, rays, connections);
+          L += st.beta * bdpt_connect(p, &none, s, sh, wo, &st, k, lv + i, rays, connections);
       } else if (count > 0u) {
         float3 cached = (float3)(0.0f);
         for (u32 m = 0u; m < p->bdpt_lvc; ++m) {
           const float u = sample_1d(sampler, stream_dim(bounce_dim(k - 1u, DIM_LVC_PICK), m));
           const u32 i = min((u32)(u * (float)count), count - 1u);
-          cached += bdpt_connect(p, s, sh, wo, &st, k, lv + i, rays, connections);
+          cached += bdpt_connect(p, &none, s, sh, wo, &st, k, lv + i, rays, connections);
         }
         L += st.beta * cached * ((float)count / ((float)p->bdpt_lvc * (float)paths));
       }
     }
     const BsdfSample bs = walk_sample_bsdf(sampler, &w);
     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
-    bdpt_mis_scatter_sample(p, &st, &w.sh, w.wo, &bs);
+    bdpt_mis_scatter_sample(p, &none, &st, &w.sh, w.wo, &bs);
   }
   return L;
 }

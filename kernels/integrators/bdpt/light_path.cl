@@ -33,10 +33,10 @@ inline float2 bdpt_light_sample_2d(const Sampler* sampler, u32 dim) {
  * to the camera through lens point u_lens. Returns its weighted contribution to the film and
  * sets *pixel to where it lands; 0 when the strategy is off, the camera cannot see the vertex
  * or the shadow ray is blocked. */
-inline float3 bdpt_camera_connection(__constant const RenderParams* p, const SceneView* s,
-                                     const SurfaceHit* sh, float3 wo, const SubpathState* st,
-                                     u32 depth, float2 u_lens, u32* pixel, u32* rays,
-                                     u32* connections) {
+inline float3 bdpt_camera_connection(__constant const RenderParams* p, const MisMerge* m,
+                                     const SceneView* s, const SurfaceHit* sh, float3 wo,
+                                     const SubpathState* st, u32 depth, float2 u_lens, u32* pixel,
+                                     u32* rays, u32* connections) {
   const float strategy = bdpt_strategy_weight(p, depth + 1u, 1u, 1.0f);
   if (strategy == 0.0f) return (float3)(0.0f);
   const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
@@ -45,7 +45,7 @@ inline float3 bdpt_camera_connection(__constant const RenderParams* p, const Sce
   if (is_black(f)) return (float3)(0.0f);
   const float camera_pdf_a = c.pdf_w * fabs(dot(sh->ng, c.wi)) / (c.dist * c.dist);
   const float rev = bsdf_pdf_w(sh, c.wi, wo);
-  const float w = bdpt_strategy_weight(p, depth + 1u, 1u, bdpt_weight_camera(p, st, camera_pdf_a, rev));
+  const float w = bdpt_strategy_weight(p, depth + 1u, 1u, bdpt_weight_camera(p, m, st, camera_pdf_a, rev));
   ++*rays;
   ++*connections;
   const float3 org = offset_ray_origin_towards(sh->p, sh->ng, c.wi);
@@ -60,16 +60,18 @@ inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneVie
                                 u32 depth, float2 u_lens, __global float4* splat, u32* rays,
                                 u32* connections) {
   u32 pixel = 0u;
-  const float3 L = bdpt_camera_connection(p, s, sh, wo, st, depth, u_lens, &pixel, rays, connections);
+  const MisMerge none = mis_no_merging();
+  const float3 L =
+      bdpt_camera_connection(p, &none, s, sh, wo, st, depth, u_lens, &pixel, rays, connections);
   if (!is_black(L)) film_splat(splat, pixel, L);
 }
 
 /* The start of a light subpath: a light, a point on it and a direction from the light stream's
  * dimensions, the subpath state at the light (vertex_mis.cl) in *st, the emission's densities
  * in *q. Returns 0 when nothing is emitted. */
-inline int bdpt_light_start(__constant const RenderParams* p, const SceneView* s,
-                            const Sampler* sampler, SubpathState* st, LightPdfs* q,
-                            PathWalk* w) {
+inline int bdpt_light_start(__constant const RenderParams* p, const MisMerge* m,
+                            const SceneView* s, const Sampler* sampler, SubpathState* st,
+                            LightPdfs* q, PathWalk* w) {
   if (s->num_lights == 0u) return 0;
   const LightEmission e = light_emit(s, bdpt_light_sample_1d(sampler, bounce_dim(0u, DIM_LIGHT_SELECT)),
                                      bdpt_light_sample_2d(sampler, DIM_LT_EMIT_POS),
@@ -79,7 +81,7 @@ inline int bdpt_light_start(__constant const RenderParams* p, const SceneView* s
   st->beta = e.Le * (e.cos_light / q->emit_w);
   st->dvcm = bdpt_mis(p, q->direct / q->emit_w);
   st->dvc = (e.is_delta_pos || e.is_delta_dir) ? 0.0f : bdpt_mis(p, q->cos_light / q->emit_w);
-  st->dvm = 0.0f;
+  st->dvm = st->dvc * m->vc;
   *w = walk_from_light(e.p, light_emission_origin(s, &e), e.dir, st->beta, DIM_BDPT_LIGHT_STREAM,
                        WALK_RR_PATH);
   return 1;
@@ -107,7 +109,8 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
   SubpathState st;
   LightPdfs q;
   PathWalk w;
-  if (!bdpt_light_start(p, s, sampler, &st, &q, &w)) return 0u;
+  const MisMerge none = mis_no_merging();
+  if (!bdpt_light_start(p, &none, s, sampler, &st, &q, &w)) return 0u;
   u32 stored = 0u;
   while (w.depth <= p->max_depth && walk_next(s, &w, rays)) {
     const u32 depth = w.depth;
@@ -124,7 +127,7 @@ inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
     if (depth >= p->max_depth) break;
     const BsdfSample bs = walk_sample_bsdf(sampler, &w);
     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
-    bdpt_mis_scatter_sample(p, &st, &w.sh, w.wo, &bs);
+    bdpt_mis_scatter_sample(p, &none, &st, &w.sh, w.wo, &bs);
   }
   return stored;
 }

@@ -38,7 +38,8 @@ inline int mmlt_light_vertex(__constant const RenderParams* p, const SceneView* 
                              const Sampler* sampler, u32 depth, MmltLightVertex* y, u32* rays) {
   LightPdfs q;
   PathWalk w;
-  if (!bdpt_light_start(p, s, sampler, &y->st, &q, &w)) return 0;
+  const MisMerge none = mis_no_merging();
+  if (!bdpt_light_start(p, &none, s, sampler, &y->st, &q, &w)) return 0;
   w.roulette = WALK_RR_NONE;
   while (walk_next(s, &w, rays)) {
     bdpt_light_arrive(p, &y->st, &w, q.finite);
@@ -50,7 +51,7 @@ inline int mmlt_light_vertex(__constant const RenderParams* p, const SceneView* 
     }
     const BsdfSample bs = walk_sample_bsdf(sampler, &w);
     if (!walk_scatter(p, s, sampler, &w, &bs)) return 0;
-    bdpt_mis_scatter_sample(p, &y->st, &w.sh, w.wo, &bs);
+    bdpt_mis_scatter_sample(p, &none, &y->st, &w.sh, w.wo, &bs);
   }
   return 0;
 }
@@ -69,6 +70,7 @@ inline float3 mmlt_camera_strategy(__constant const RenderParams* p, const Scene
                                    const Sampler* sampler, u32 s_count, u32 t_count,
                                    const MmltLightVertex* y, u32* pixel, u32* rays) {
   u32 connections = 0u;
+  const MisMerge none = mis_no_merging();
   float3 org, dir;
   *pixel = film_sample_ray(p, sampler, &org, &dir);
   SubpathState st = bdpt_camera_start(p, dir);
@@ -90,13 +92,13 @@ inline float3 mmlt_camera_strategy(__constant const RenderParams* p, const Scene
         return L;
       }
       if (!bsdf_has_smooth_lobe(&w.sh)) return (float3)(0.0f);
-      if (s_count == 1u) return st.beta * bdpt_nee(p, s, sampler, &w.sh, w.wo, &st, k, rays, &connections);
-      return st.beta * bdpt_connect_vertex(p, s, &w.sh, w.wo, &st, k, &y->sh, y->wo, &y->st,
-                                           s_count, rays, &connections);
+      if (s_count == 1u) return st.beta * bdpt_nee(p, &none, s, sampler, &w.sh, w.wo, &st, k, rays, &connections);
+      return st.beta * bdpt_connect_vertex(p, &none, s, &w.sh, w.wo, &st, k, &y->sh, y->wo,
+                                           &y->st, s_count, rays, &connections);
     }
     const BsdfSample bs = walk_sample_bsdf(sampler, &w);
     if (!walk_scatter(p, s, sampler, &w, &bs)) return (float3)(0.0f);
-    bdpt_mis_scatter_sample(p, &st, &w.sh, w.wo, &bs);
+    bdpt_mis_scatter_sample(p, &none, &st, &w.sh, w.wo, &bs);
   }
 }
 
@@ -114,7 +116,8 @@ inline PssPath mmlt_path(const SceneView* s, __constant const RenderParams* p,
   if (s_count >= 2u && !mmlt_light_vertex(p, s, sampler, s_count - 1u, &y, rays)) return path;
   if (t_count == 1u) {
     u32 connections = 0u;
-    path.L = bdpt_camera_connection(p, s, &y.sh, y.wo, &y.st, s_count - 1u,
+    const MisMerge none = mis_no_merging();
+    path.L = bdpt_camera_connection(p, &none, s, &y.sh, y.wo, &y.st, s_count - 1u,
                                     bdpt_light_sample_2d(sampler, bounce_dim(s_count - 1u, DIM_LT_LENS)),
                                     &path.pixel, rays, &connections);
   } else {

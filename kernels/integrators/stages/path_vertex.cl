@@ -11,7 +11,7 @@ typedef struct SubpathState {
   float3 beta;    /* throughput */
   float dvcm;     /* dVCM: the reverse pdf ratios of the strategies that end here */
   float dvc;      /* dVC: the partial sum for vertex connection */
-  float dvm;      /* dVM: the partial sum for vertex merging (0 until merging exists) */
+  float dvm;      /* dVM: the partial sum for vertex merging (vcm) */
 } SubpathState;
 
 inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* sh, float3 wo,
@@ -34,6 +34,16 @@ inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* sh, floa
   v->front = sh->front;
   v->depth = depth;
   v->material = sh->material;
+}
+
+/* The subpath state stored with a vertex. */
+inline SubpathState path_vertex_state(__global const PathVertex* v) {
+  SubpathState st;
+  st.beta = vload3(0, v->beta);
+  st.dvcm = v->dvcm;
+  st.dvc = v->dvc;
+  st.dvm = v->dvm;
+  return st;
 }
 
 /* The SurfaceHit a stored vertex stands for: enough for bsdf_eval_cos, bsdf_pdf_w and

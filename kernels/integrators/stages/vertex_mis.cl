@@ -1,20 +1,27 @@
 /* Bidirectional MIS weights in O(1) per strategy, after Georgiev, "Implementing Vertex
- * Connection and Merging" (2012), with merging left out (dVM is carried, its factor is 0).
+ * Connection and Merging" (2012): the connection strategies of bdpt, and with vertex merging
+ * (vcm, kernels/integrators/vcm.cl) the merging ones too. Without merging (bdpt, mmlt) the
+ * MisMerge factors are 0 and the weights are bdpt's.
  *
  * A path x0 ... xk can be sampled by k + 2 strategies (s light vertices, t camera vertices,
  * s + t = k + 1). The balance or power heuristic weight of one of them is 1 / sum_i (p_i/p_s)^b,
  * and the ratios p_i / p_s telescope: each subpath carries, at its last vertex, two partial
  * sums (dVCM, dVC) from which a strategy's weight needs only the densities at the connection.
  * The quantities (per subpath, updated as it is traced):
- *   start (light):   dVCM = direct / emit_w, dVC = cos_light / emit_w (0 for delta lights)
- *   start (camera):  dVCM = N_light / pdf_camera_pixel = 1 / pdf_camera_film, dVC = 0
+ *   start (light):   dVCM = direct / emit_w, dVC = cos_light / emit_w (0 for delta lights),
+ *                    dVM = dVC * vc
+ *   start (camera):  dVCM = N_light / pdf_camera_pixel = 1 / pdf_camera_film, dVC = dVM = 0
  *   each hit, distance d, cosine cos_in at the hit:  dVCM *= d^2 (not after an infinite light's
- *                    first segment), then dVCM /= cos_in, dVC /= cos_in
+ *                    first segment), then dVCM, dVC, dVM /= cos_in
  *   each non-delta scattering with pdfs fwd (sampled) and rev (the reverse direction),
  *                    cos_out at the vertex:
- *                    dVC = cos_out / fwd * (dVC * rev + dVCM), dVCM = 1 / fwd
- *   each delta scattering: dVCM = 0, dVC *= cos_out
- * all raised to the heuristic's power. Densities convert between solid angle and area with
+ *                    dVC = cos_out / fwd * (dVC * rev + dVCM + vm),
+ *                    dVM = cos_out / fwd * (dVM * rev + dVCM * vc + 1), dVCM = 1 / fwd
+ *   each delta scattering: dVCM = 0, dVC *= cos_out, dVM *= cos_out
+ * all raised to the heuristic's power. vm = eta and vc = 1 / eta (raised likewise) are
+ * MisMerge's factors, eta = pi r^2 N_merge the ratio of a merge's density to a connection's
+ * at the same vertex (N_merge light paths merged with each camera path, radius r); vm is 0
+ * without merging, vc 0 without connections. Densities convert between solid angle and area with
  * geometric-normal cosines; Russian roulette stays out of the weights (a partition of unity
  * over strategies is all the estimator needs, as in pbrt-v3's BDPT).
  *
@@ -33,6 +40,19 @@ inline float bdpt_mis(__constant const RenderParams* p, float x) {
   return p->mis == MIS_BALANCE ? x : x * x;
 }
 
+/* The merging factors of the header: vm = mis(eta), vc = mis(1 / eta); both 0 for bdpt. */
+typedef struct MisMerge {
+  float vm;
+  float vc;
+} MisMerge;
+
+inline MisMerge mis_no_merging(void) {
+  MisMerge m;
+  m.vm = 0.0f;
+  m.vc = 0.0f;
+  return m;
+}
+
 /* Arrival at a hit at distance dist under cosine cos_in (geometric); `scale_by_distance` is 0
  * only for the first segment of a light path from an infinite light. */
 inline void bdpt_mis_arrive(__constant const RenderParams* p, SubpathState* st, float dist,
@@ -46,24 +66,26 @@ inline void bdpt_mis_arrive(__constant const RenderParams* p, SubpathState* st, 
 
 /* Scattering into a direction of density fwd (rev: the reverse direction's density), leaving
  * under cosine cos_out (geometric); delta: the direction came from a Dirac lobe. */
-inline void bdpt_mis_scatter(__constant const RenderParams* p, SubpathState* st, float fwd,
-                             float rev, float cos_out, int delta) {
+inline void bdpt_mis_scatter(__constant const RenderParams* p, const MisMerge* m,
+                             SubpathState* st, float fwd, float rev, float cos_out, int delta) {
   if (delta) {
     st->dvcm = 0.0f;
     st->dvc *= bdpt_mis(p, cos_out);
     st->dvm *= bdpt_mis(p, cos_out);
     return;
   }
-  st->dvc = bdpt_mis(p, cos_out / fwd) * (st->dvc * bdpt_mis(p, rev) + st->dvcm);
-  st->dvm = 0.0f;
+  const float g = bdpt_mis(p, cos_out / fwd), r = bdpt_mis(p, rev);
+  st->dvc = g * (st->dvc * r + st->dvcm + m->vm);
+  st->dvm = g * (st->dvm * r + st->dvcm * m->vc + 1.0f);
   st->dvcm = bdpt_mis(p, 1.0f / fwd);
 }
 
 /* The MIS update of a subpath scattering at vertex sh (oriented to wo) into bs; the walk
  * (stages/walk.cl) does the rest of the scattering. */
-inline void bdpt_mis_scatter_sample(__constant const RenderParams* p, SubpathState* st,
-                                    const SurfaceHit* sh, float3 wo, const BsdfSample* bs) {
-  bdpt_mis_scatter(p, st, bs->pdf_w, bs->is_delta ? bs->pdf_w : bsdf_pdf_w(sh, bs->wi, wo),
+inline void bdpt_mis_scatter_sample(__constant const RenderParams* p, const MisMerge* m,
+                                    SubpathState* st, const SurfaceHit* sh, float3 wo,
+                                    const BsdfSample* bs) {
+  bdpt_mis_scatter(p, m, st, bs->pdf_w, bs->is_delta ? bs->pdf_w : bsdf_pdf_w(sh, bs->wi, wo),
                    fabs(dot(sh->ng, bs->wi)), bs->is_delta);
 }
 
@@ -80,32 +102,46 @@ inline float bdpt_weight_hit_light(__constant const RenderParams* p, const Subpa
  * SmallVCM's convention (a point light's delta position: selection * d^2); fwd, rev: the
  * camera vertex's BSDF densities towards the light and back; cos_here: geometric cosine at
  * the camera vertex. */
-inline float bdpt_weight_nee(__constant const RenderParams* p, const SubpathState* cam, float pdf_w,
-                             int delta, float direct_w, float emit_w, float cos_light, float fwd,
-                             float rev, float cos_here) {
+inline float bdpt_weight_nee(__constant const RenderParams* p, const MisMerge* m,
+                             const SubpathState* cam, float pdf_w, int delta, float direct_w,
+                             float emit_w, float cos_light, float fwd, float rev, float cos_here) {
   const float w_light = delta ? 0.0f : bdpt_mis(p, fwd / pdf_w);
-  const float w_camera =
-      bdpt_mis(p, emit_w * cos_here / (direct_w * cos_light)) * (cam->dvcm + cam->dvc * bdpt_mis(p, rev));
+  const float w_camera = bdpt_mis(p, emit_w * cos_here / (direct_w * cos_light)) *
+                         (cam->dvcm + cam->dvc * bdpt_mis(p, rev) + m->vm);
   return 1.0f / (w_light + 1.0f + w_camera);
 }
 
 /* t = 1: a light vertex connected to the camera. camera_pdf_a: the density with which a camera
  * ray would find the vertex, per unit area and per light path (pdf_camera_film cos / d^2);
  * rev: the vertex's density of scattering back along the light subpath given the camera side. */
-inline float bdpt_weight_camera(__constant const RenderParams* p, const SubpathState* light,
-                                float camera_pdf_a, float rev) {
-  const float w_light = bdpt_mis(p, camera_pdf_a) * (light->dvcm + light->dvc * bdpt_mis(p, rev));
+inline float bdpt_weight_camera(__constant const RenderParams* p, const MisMerge* m,
+                                const SubpathState* light, float camera_pdf_a, float rev) {
+  const float w_light =
+      bdpt_mis(p, camera_pdf_a) * (light->dvcm + light->dvc * bdpt_mis(p, rev) + m->vm);
   return 1.0f / (w_light + 1.0f);
 }
 
 /* s >= 2, t >= 2: camera vertex and light vertex joined by an edge. *_fwd_a: each end's BSDF
  * density of sampling the other end, per unit area; *_rev: each end's density of scattering
  * back along its own subpath given the edge. */
-inline float bdpt_weight_connect(__constant const RenderParams* p, const SubpathState* cam,
-                                 const SubpathState* light, float cam_fwd_a, float cam_rev,
-                                 float light_fwd_a, float light_rev) {
-  const float w_light = bdpt_mis(p, cam_fwd_a) * (light->dvcm + light->dvc * bdpt_mis(p, light_rev));
-  const float w_camera = bdpt_mis(p, light_fwd_a) * (cam->dvcm + cam->dvc * bdpt_mis(p, cam_rev));
+inline float bdpt_weight_connect(__constant const RenderParams* p, const MisMerge* m,
+                                 const SubpathState* cam, const SubpathState* light,
+                                 float cam_fwd_a, float cam_rev, float light_fwd_a,
+                                 float light_rev) {
+  const float w_light =
+      bdpt_mis(p, cam_fwd_a) * (light->dvcm + light->dvc * bdpt_mis(p, light_rev) + m->vm);
+  const float w_camera =
+      bdpt_mis(p, light_fwd_a) * (cam->dvcm + cam->dvc * bdpt_mis(p, cam_rev) + m->vm);
+  return 1.0f / (w_light + 1.0f + w_camera);
+}
+
+/* Merging a light vertex (state light) at camera vertex cam: fwd, rev the camera vertex's
+ * BSDF densities towards the light vertex's incoming direction and back (solid angle). */
+inline float vcm_weight_merge(__constant const RenderParams* p, const MisMerge* m,
+                              const SubpathState* cam, const SubpathState* light, float fwd,
+                              float rev) {
+  const float w_light = light->dvcm * m->vc + light->dvm * bdpt_mis(p, fwd);
+  const float w_camera = cam->dvcm * m->vc + cam->dvm * bdpt_mis(p, rev);
   return 1.0f / (w_light + 1.0f + w_camera);
 }
 

@@ -1,0 +1,183 @@
+#include "integrators/vcm.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shared/bdpt_types.h"
+#include "util/error.h"
+#include "util/timer.h"
+
+namespace clpt {
+
+VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const SceneBuffers& scene,
+                                                 const VcmConfig& config, size_t memory_bytes)
+    : ctx_(ctx),
+      config_(config),
+      budget_(memory_bytes),
+      program_(ctx, "integrators/vcm.cl"),
+      light_kernel_(program_, "vcm_light"),
+      insert_kernel_(program_, "vcm_grid_insert"),
+      camera_kernel_(program_, "vcm_camera"),
+      params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
+      vcm_params_(ctx, sizeof(dev::VcmParams), CL_MEM_READ_ONLY, nullptr, "VCM parameters") {
+  if (!(config_.radius > 0.0f) || !std::isfinite(config_.radius))
+    throw Error(ExitCode::Usage, "vcm needs a positive merge radius");
+  light_arg_ = scene.bind(light_kernel_, 0);
+  camera_arg_ = scene.bind(camera_kernel_, 0);
+}
+
+size_t VertexConnectionMerging::tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels) {
+  const size_t per_path =
+      size_t(capacity) * (sizeof(dev::PathVertex) + 3 * sizeof(uint32_t)) + sizeof(uint32_t);
+  return std::clamp<size_t>(budget_bytes / per_path, 1, std::max<size_t>(pixels, 1));
+}
+
+float VertexConnectionMerging::radius(float r0, float alpha, uint32_t pass) {
+  return r0 * static_cast<float>(std::pow(double(pass) + 1.0, 0.5 * (double(alpha) - 1.0)));
+}
+
+dev::VcmParams VertexConnectionMerging::pass_params(const VcmConfig& c, uint32_t mis, float r,
+                                                    uint32_t paths, uint32_t mask) {
+  const auto heuristic = [mis](double x) { return float(mis == dev::MIS_BALANCE ? x : x * x); };
+  const double eta = 3.14159265358979323846 * double(r) * double(r) * double(std::max(paths, 1u));
+  dev::VcmParams v{};
+  v.mode = c.mode;
+  v.radius = r;
+  const bool merging = c.mode == dev::VCM_MODE_VCM || c.mode == dev::VCM_MODE_PPM;
+  const bool connecting = c.mode == dev::VCM_MODE_VCM || c.mode == dev::VCM_MODE_BPT;
+  v.mis_vm = merging ? heuristic(eta) : 0.0f;
+  v.mis_vc = connecting ? heuristic(1.0 / eta) : 0.0f;
+  v.vm_normalization = float(1.0 / eta);
+  v.inv_cell = 1.0f / (2.0f * r);
+  v.mask = mask;
+  v.light_paths = paths;
+  return v;
+}
+
+dev::RenderParams VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& film) {
+  if (!film.splats()) throw Error(ExitCode::Usage, "vcm needs a film with splats");
+  dev::RenderParams p = params;
+  p.light_vertex_capacity = vertex_capacity(p.max_depth);
+  const size_t pixels = film.pixels();
+  if (pixels_ != pixels) {
+    const auto counts = [&](const char* what) {
+      cl::Buffer b(ctx_, pixels * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, what);
+      b.fill_zero();
+      return b;
+    };
+    connection_counts_ = counts("VCM connection counts");
+    stored_counts_ = counts("VCM light vertex counts per pixel");
+    merge_counts_ = counts("VCM merge counts");
+    merge_sum_ = cl::Buffer(ctx_, pixels * 4 * sizeof(float), CL_MEM_READ_WRITE, nullptr,
+                            "VCM merged radiance");
+    merge_sum_.fill_zero();
+    pixels_ = pixels;
+    width_ = film.width();
+  }
+  const size_t tile = tile_paths(budget_, p.light_vertex_capacity, pixels);
+  if (p.light_vertex_capacity != capacity_ || tile != tile_) {
+    const size_t slots = tile * p.light_vertex_capacity;
+    vertices_ = cl::Buffer(ctx_, slots * sizeof(dev::PathVertex), CL_MEM_READ_WRITE, nullptr,
+                           "VCM light vertices");
+    vertex_counts_ = cl::Buffer(ctx_, tile * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
+                                "VCM light vertex counts");
+    next_ = cl::Buffer(ctx_, slots * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM grid links");
+    size_t buckets = 1024;
+    while (buckets < slots) buckets *= 2;
+    heads_ = cl::Buffer(ctx_, buckets * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM grid");
+    mask_ = static_cast<uint32_t>(buckets - 1);
+    capacity_ = p.light_vertex_capacity;
+    tile_ = tile;
+  }
+  stats_.device_bytes = vertices_.size() + vertex_counts_.size() + next_.size() + heads_.size() +
+                        connection_counts_.size() + stored_counts_.size() + merge_counts_.size() +
+                        merge_sum_.size();
+  params_.write(&p, sizeof(p));
+  return p;
+}
+
+void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& film) {
+  const dev::RenderParams p = prepare(params, film);
+  const dev::VcmParams v = pass_params(config_, p.mis, config_.radius, 1, mask_);
+  vcm_params_.write(&v, sizeof(v));
+  const uint32_t none = 0;
+  light_kernel_.args(light_arg_, params_, vcm_params_, none, none, none, vertices_, vertex_counts_,
+                     film.splat(), film.ray_counts(), connection_counts_, stored_counts_);
+  light_kernel_.launch(ctx_, 1);
+  insert_kernel_.args(0, params_, vcm_params_, none, vertices_, vertex_counts_, heads_, next_);
+  insert_kernel_.launch(ctx_, 1);
+  camera_kernel_.args(camera_arg_, params_, vcm_params_, none, none, none, vertices_,
+                      vertex_counts_, heads_, next_, film.sum(), film.sum_sq(), merge_sum_,
+                      film.ray_counts(), connection_counts_, merge_counts_);
+  camera_kernel_.launch(ctx_, 1);
+}
+
+void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t sample,
+                                          uint32_t first, uint32_t count, float r, Film& film) {
+  const uint32_t mode = config_.mode;
+  const dev::VcmParams v = pass_params(config_, p.mis, r, count, mask_);
+  vcm_params_.write(&v, sizeof(v));
+  if (mode != dev::VCM_MODE_PT) {
+    light_kernel_.args(light_arg_, params_, vcm_params_, sample, first, count, vertices_,
+                       vertex_counts_, film.splat(), film.ray_counts(), connection_counts_,
+                       stored_counts_);
+    light_kernel_.launch(ctx_, count);
+  }
+  if (mode == dev::VCM_MODE_VCM || mode == dev::VCM_MODE_PPM) {
+    const auto t0 = Clock::now();
+    heads_.fill_zero();
+    insert_kernel_.args(0, params_, vcm_params_, count, vertices_, vertex_counts_, heads_, next_);
+    insert_kernel_.launch(ctx_, size_t(count) * capacity_);
+    ctx_.finish();
+    stats_.grid_seconds += seconds_since(t0);
+    ++stats_.grids;
+  }
+  camera_kernel_.args(camera_arg_, params_, vcm_params_, sample, first, count, vertices_,
+                      vertex_counts_, heads_, next_, film.sum(), film.sum_sq(), merge_sum_,
+                      film.ray_counts(), connection_counts_, merge_counts_);
+  camera_kernel_.launch(ctx_, count);
+}
+
+void VertexConnectionMerging::render_pass(const dev::RenderParams& params, Film& film) {
+  const dev::RenderParams p = prepare(params, film);
+  const size_t pixels = film.pixels();
+  for (uint32_t i = 0; i < p.samples_per_pass; ++i) {
+    const uint32_t sample = p.sample_offset + i;
+    const float r = radius(config_.radius, config_.alpha, sample);
+    if (stats_.passes == 0) stats_.first_radius = r;
+    stats_.last_radius = r;
+    ++stats_.passes;
+    for (size_t offset = 0; offset < pixels; offset += tile_) {
+      const auto count = static_cast<uint32_t>(std::min(tile_, pixels - offset));
+      launch_tile(p, sample, static_cast<uint32_t>(offset), count, r, film);
+    }
+  }
+  stats_.tiles = static_cast<uint32_t>((pixels + tile_ - 1) / tile_);
+}
+
+uint64_t VertexConnectionMerging::connections() const {
+  if (!pixels_) return 0;
+  uint64_t n = 0;
+  for (uint32_t c : connection_counts_.read_vector<uint32_t>(pixels_)) n += c;
+  return n;
+}
+
+VcmStats VertexConnectionMerging::vcm_stats() const {
+  VcmStats s = stats_;
+  if (!pixels_) return s;
+  for (uint32_t c : stored_counts_.read_vector<uint32_t>(pixels_)) s.light_vertices += c;
+  for (uint32_t c : merge_counts_.read_vector<uint32_t>(pixels_)) s.merges += c;
+  s.connections = connections();
+  return s;
+}
+
+std::vector<NamedChannel> VertexConnectionMerging::layers(uint64_t spp) const {
+  if (!pixels_ || spp == 0 || !width_) return {};
+  const std::vector<float> sum = merge_sum_.read_vector<float>(pixels_ * 4);
+  Image merged(width_, static_cast<uint32_t>(pixels_ / width_));
+  for (size_t i = 0; i < pixels_; ++i)
+    for (int c = 0; c < 3; ++c) merged.rgb[3 * i + c] = float(double(sum[4 * i + c]) / double(spp));
+  return {{"merged", merged}};
+}
+
+}  // namespace clpt

@@ -1,0 +1,68 @@
+// Vertex connection and merging (--integrator vcm, kernels/integrators/vcm.cl; Georgiev et
+// al. 2012, docs/concepts/vcm.md). Per sample index one pass with its own merge radius
+// r_i = r_0 (i + 1)^((alpha - 1) / 2) (Knaus and Zwicker 2011's rate, as SmallVCM), and per
+// tile of pixel indices three kernels: vcm_light traces one light subpath per pixel index
+// (camera connections splatted, vertices stored), vcm_grid_insert hashes the tile's vertices
+// into a grid of cells 2r wide, vcm_camera traces one camera subpath per pixel that connects
+// to its own light subpath and merges with the whole tile's. Tiles are as large as the
+// memory budget allows (vertices, grid links and buckets); eta = pi r^2 (paths of the tile)
+// so a merge's normalisation and its MIS weights are right for any tile size.
+// Like bdpt, its film has splats: no per-pixel variance, sums not bit-reproducible.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "integrators/integrator.h"
+#include "shared/vcm_types.h"
+
+namespace clpt {
+
+class VertexConnectionMerging final : public Integrator {
+ public:
+  VertexConnectionMerging(const cl::Context& ctx, const SceneBuffers& scene, const VcmConfig& config,
+                          size_t memory_bytes);
+  const char* name() const override { return "vcm"; }
+  void warm_up(const dev::RenderParams& params, Film& film) override;
+  void render_pass(const dev::RenderParams& params, Film& film) override;
+  const cl::BuildInfo& build_info() const override { return program_.build_info(); }
+  uint64_t connections() const override;
+  VcmStats vcm_stats() const override;
+  // "merged": the radiance merging added, per pixel, over spp passes.
+  std::vector<NamedChannel> layers(uint64_t spp) const override;
+
+  // Light vertices stored per light path: one per bounce (at least 1).
+  static uint32_t vertex_capacity(uint32_t max_depth) { return max_depth > 1 ? max_depth : 1; }
+  // Paths per tile within a budget: each path's vertices, their grid links and the grid's
+  // buckets (at most two per slot), and its vertex count.
+  static size_t tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels);
+  // Pass i's merge radius.
+  static float radius(float r0, float alpha, uint32_t pass);
+  // The pass's VcmParams for a tile of `paths` light paths.
+  static dev::VcmParams pass_params(const VcmConfig& c, uint32_t mis, float radius, uint32_t paths,
+                                    uint32_t mask);
+
+ private:
+  dev::RenderParams prepare(const dev::RenderParams& params, Film& film);
+  void launch_tile(const dev::RenderParams& p, uint32_t sample, uint32_t first, uint32_t count,
+                   float r, Film& film);
+
+  const cl::Context& ctx_;
+  VcmConfig config_;
+  size_t budget_;
+  cl::Program program_;
+  cl::Kernel light_kernel_, insert_kernel_, camera_kernel_;
+  cl::Buffer params_, vcm_params_;
+  cl::Buffer vertices_, vertex_counts_, heads_, next_;
+  // Per pixel index, allocated with the first pass.
+  cl::Buffer connection_counts_, stored_counts_, merge_counts_, merge_sum_;
+  size_t pixels_ = 0;
+  uint32_t width_ = 0;
+  uint32_t capacity_ = 0;
+  size_t tile_ = 0;
+  uint32_t mask_ = 0;
+  cl_uint light_arg_ = 0, camera_arg_ = 0;
+  VcmStats stats_;
+};
+
+}  // namespace clpt

@@ -1,0 +1,74 @@
+/* Entry points of vertex connection and merging (--integrator vcm,
+ * kernels/integrators/vcm/vcm_path.cl). Per sample index (one pass, one merge radius), over
+ * a tile of pixel indices [path_offset, path_offset + path_count):
+ *   vcm_light        one light subpath per pixel index: camera connections splatted, its
+ *                    vertices stored in its own light_vertex_capacity slots;
+ *   vcm_grid_insert  every stored vertex of the tile into the hashed grid (one work-item per
+ *                    slot; empty slots skipped);
+ *   vcm_camera       one camera subpath per pixel: connections to its own light subpath,
+ *                    merges with the whole tile's, added to the film (and the merged part to
+ *                    merge_sum, for the picture of what merging contributes).
+ * Ray counts, strategy shadow rays (connection_counts), stored light vertices and merges are
+ * counted per pixel index for --stats. */
+#include "film/film.cl"
+#include "integrators/vcm/vcm_path.cl"
+
+__kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
+                        __constant const VcmParams* vcm, u32 sample_index, u32 path_offset,
+                        u32 path_count, __global PathVertex* vertices, __global u32* vertex_counts,
+                        __global float4* splat, __global u32* ray_counts,
+                        __global u32* connection_counts, __global u32* stored_counts) {
+  const u32 i = get_global_id(0);
+  if (i >= path_count) return;
+  const u32 path = path_offset + i;
+  const SceneView scene = SCENE_VIEW();
+  const Sampler sampler = sampler_init(params, path, sample_index);
+  u32 rays = 0, connections = 0;
+  const u32 stored = vcm_light_path(params, vcm, &scene, &sampler,
+                                    vertices + (size_t)i * params->light_vertex_capacity, splat,
+                                    &rays, &connections);
+  vertex_counts[i] = stored;
+  ray_counts[path] += rays;
+  connection_counts[path] += connections;
+  stored_counts[path] += stored;
+}
+
+__kernel void vcm_grid_insert(__constant const RenderParams* params, __constant const VcmParams* vcm,
+                              u32 path_count, __global const PathVertex* vertices,
+                              __global const u32* vertex_counts, volatile __global u32* heads,
+                              __global u32* next) {
+  const u32 slot = get_global_id(0);
+  const u32 capacity = params->light_vertex_capacity;
+  if (slot >= path_count * capacity) return;
+  if (slot % capacity >= vertex_counts[slot / capacity]) return;
+  grid_insert_point(vload3(0, vertices[slot].p), slot, vcm->inv_cell, vcm->mask, heads, next);
+}
+
+__kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params,
+                         __constant const VcmParams* vcm, u32 sample_index, u32 path_offset,
+                         u32 path_count, __global const PathVertex* vertices,
+                         __global const u32* vertex_counts, __global const u32* heads,
+                         __global const u32* next, __global float4* film_sum,
+                         __global float4* film_sum_sq, __global float4* merge_sum,
+                         __global u32* ray_counts, __global u32* connection_counts,
+                         __global u32* merge_counts) {
+  const u32 i = get_global_id(0);
+  if (i >= path_count) return;
+  const u32 pixel = path_offset + i;
+  const SceneView scene = SCENE_VIEW();
+  const Sampler sampler = sampler_init(params, pixel, sample_index);
+  u32 rays = 0, connections = 0, merges = 0;
+  FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
+  float3 merged;
+  const float3 L = vcm_camera_path(
+      params, vcm, &scene, &sampler, pixel % params->width, pixel / params->width,
+      vertices + (size_t)i * params->light_vertex_capacity,
+      vcm->mode == VCM_MODE_LT || vcm->mode == VCM_MODE_PT ? 0u : vertex_counts[i], vertices,
+      heads, next, &merged, &rays, &connections, &merges);
+  film_add(&film, L);
+  film_store(film_sum, film_sum_sq, pixel, &film);
+  if (is_finite3(merged)) merge_sum[pixel].xyz += merged;
+  ray_counts[pixel] += rays;
+  connection_counts[pixel] += connections;
+  merge_counts[pixel] += merges;
+}

@@ -1,0 +1,33 @@
+/* Vertex connection and merging's own parameters (--integrator vcm, kernels/integrators/vcm.cl,
+ * docs/concepts/vcm.md), written by the host (host/integrators/vcm.cpp) for each tile of each
+ * pass beside the common RenderParams. */
+#ifndef CLPT_SHARED_VCM_TYPES_H
+#define CLPT_SHARED_VCM_TYPES_H
+
+#include "shared/compat.h"
+
+CLPT_BEGIN_SHARED
+
+/* --vcm-mode: which techniques of the one estimator run (SmallVCM's modes). */
+enum VcmMode {
+  VCM_MODE_VCM = 0, /* connections and merging, all MIS-weighted */
+  VCM_MODE_BPT = 1, /* connections only: bidirectional path tracing (bdpt's weights) */
+  VCM_MODE_PPM = 2, /* merging only, at the first non-delta camera vertex: photon mapping */
+  VCM_MODE_LT = 3,  /* light subpaths connected to the camera, unweighted: light tracing */
+  VCM_MODE_PT = 4   /* camera subpaths with next-event estimation: path tracing */
+};
+
+typedef struct VcmParams {
+  u32 mode;               /* VcmMode */
+  float radius;           /* this pass's merge radius r */
+  float mis_vm;           /* MisMerge.vm = mis(eta), eta = pi r^2 light_paths; 0 without merging */
+  float mis_vc;           /* MisMerge.vc = mis(1 / eta); 0 without connections */
+  float vm_normalization; /* 1 / eta: a merge's density kernel over the light paths */
+  float inv_cell;         /* the light vertex grid's cells are 2r wide */
+  u32 mask;               /* its buckets - 1 */
+  u32 light_paths;        /* light subpaths of the tile (N_merge: each camera path merges with all) */
+} VcmParams;
+
+CLPT_END_SHARED
+
+#endif
