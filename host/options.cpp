@@ -113,7 +113,7 @@ struct Parser {
                  "bdpt: every strategy for paths of 0 to 4 bounces in one image: row = "
                  "bounces, column = S; --spp per cell, --time split over the cells");
     app.add_option("--bdpt-lvc", o.bdpt_lvc,
-                   "bdpt: light vertex caching, M connections per camera vertex to random "
+                   "bdpt, vcm: light vertex caching, M connections per camera vertex to random "
                    "cached light vertices instead of its own light subpath's; 0 is off [0]")
         ->type_name("M")
         ->check(CLI::Range(0u, 64u).description(""));
@@ -466,10 +466,11 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
   if (o.pm_filter != "cone" && o.pm_filter != "epanechnikov" && o.pm_filter != "box")
     throw Error(ExitCode::Usage, "--pm-filter " + o.pm_filter + ": expected cone, epanechnikov "
                                  "or box");
-  if ((!o.bdpt_strategy.empty() || o.bdpt_unweighted || o.bdpt_mosaic || o.bdpt_lvc) &&
-      !reads(OPTIONS_BDPT))
-    throw Error(ExitCode::Usage, "--bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic and "
-                                 "--bdpt-lvc need --integrator bdpt");
+  if ((!o.bdpt_strategy.empty() || o.bdpt_unweighted || o.bdpt_mosaic) && !reads(OPTIONS_BDPT))
+    throw Error(ExitCode::Usage, "--bdpt-strategy, --bdpt-unweighted and --bdpt-mosaic need "
+                                 "--integrator bdpt");
+  if (o.bdpt_lvc && !reads(OPTIONS_LVC))
+    throw Error(ExitCode::Usage, "--bdpt-lvc needs --integrator bdpt or vcm");
   if (o.bdpt_unweighted && o.bdpt_strategy.empty() && !o.bdpt_mosaic)
     throw Error(ExitCode::Usage, "--bdpt-unweighted needs --bdpt-strategy S,T or --bdpt-mosaic");
   if (o.bdpt_mosaic && !o.bdpt_strategy.empty())

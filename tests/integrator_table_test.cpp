@@ -66,7 +66,9 @@ TEST(IntegratorTable, OptionGroupsBelongToTheirRows) {
       {clpt::OPTIONS_PM, {"--knn", "10"}},
       {clpt::OPTIONS_PM, {"--final-gather", "2"}},
       {clpt::OPTIONS_SPPM, {"--sppm-alpha", "0.5"}},
-      {clpt::OPTIONS_BDPT, {"--bdpt-lvc", "2"}},
+      {clpt::OPTIONS_LVC, {"--bdpt-lvc", "2"}},
+      {clpt::OPTIONS_VCM, {"--vcm-mode", "bpt"}},
+      {clpt::OPTIONS_VCM, {"--vcm-merged"}},
       {clpt::OPTIONS_BDPT, {"--bdpt-strategy", "2,2"}},
       {clpt::OPTIONS_AO, {"--ao-radius", "0.5"}},
   };
@@ -104,10 +106,10 @@ TEST(IntegratorTable, RowsSayWhatTheReadmeSays) {
   const std::vector<Promise> promises = {
       {"pt", FilmKind::SampleSums, clpt::OPTIONS_NONE, true, false},
       {"lt", FilmKind::Splats, clpt::OPTIONS_NONE, true, true},
-      {"bdpt", FilmKind::Splats, clpt::OPTIONS_BDPT, true, true},
+      {"bdpt", FilmKind::Splats, clpt::OPTIONS_BDPT | clpt::OPTIONS_LVC, true, true},
       {"pm", FilmKind::SampleSums, clpt::OPTIONS_PHOTONS | clpt::OPTIONS_PM, true, false},
       {"sppm", FilmKind::Progressive, clpt::OPTIONS_PHOTONS | clpt::OPTIONS_SPPM, true, false},
-      {"vcm", FilmKind::Splats, clpt::OPTIONS_VCM, true, true},
+      {"vcm", FilmKind::Splats, clpt::OPTIONS_VCM | clpt::OPTIONS_LVC, true, true},
       {"mlt", FilmKind::Splats, clpt::OPTIONS_MLT, true, false},
       {"ic", FilmKind::SampleSums, clpt::OPTIONS_IC, true, false},
       {"ao", FilmKind::SampleSums, clpt::OPTIONS_AO, false, false},

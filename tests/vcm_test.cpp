@@ -8,7 +8,8 @@
 //                        modes agree with pt's reference mean;
 //   CrossIntegrator      vcm against the 8 192-spp pt reference of the Cornell box (block
 //                        means, per-pixel z, image mean), also in tiles of ~100 light paths
-//                        (eta = pi r^2 paths of the tile), and on the glossy-and-glass box;
+//                        (eta = pi r^2 paths of the tile), with light vertex caching, and on
+//                        the glossy-and-glass box;
 //   VcmOptions, VcmCli   usage errors; --stats figures (merges, light vertices, the radius
 //                        shrinking pass by pass); the --vcm-merged layer.
 // The MIS weights of both techniques are checked path by path against explicit whole-path
@@ -145,6 +146,16 @@ TEST(CrossIntegrator, VcmMatchesPtOnCornellBox) {
   test::expect_matches_reference(test::render_batches(scene, s, 16, 1700), ref, "vcm tiles");
 }
 
+// Light vertex caching (--bdpt-lvc, as bdpt's): each camera vertex connects to 2 vertices
+// drawn from all the tile's stored light vertices, scaled by their count / (2 paths).
+TEST(CrossIntegrator, VcmWithLightVertexCachingMatchesPt) {
+  const Scene scene = test::cornell_box();
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  RenderSettings s = vcm_settings(dev::VCM_MODE_VCM, 32);
+  s.bdpt_lvc = 2;
+  test::expect_matches_reference(test::render_batches(scene, s, 16, 2700), ref, "vcm lvc 2");
+}
+
 TEST(CrossIntegrator, VcmMatchesPtWithGlossyAndGlass) {
   const Scene scene = test::cornell_box_glossy_glass();
   const FilmResult ref =
@@ -189,7 +200,9 @@ TEST(VcmOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--vcm-mode", "bpt"}), ExitCode::Usage);  // not vcm
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "sppm", "--vcm-merged"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "bdpt", "--vcm-radius", "0.1"}), ExitCode::Usage);
-  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--bdpt-lvc", "2"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--bdpt-lvc", "2"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "pt", "--bdpt-lvc", "2"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--bdpt-strategy", "2,2"}), ExitCode::Usage);
 }
 
 TEST(VcmCli, StatsFigures) {

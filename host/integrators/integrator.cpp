@@ -55,10 +55,10 @@ const std::vector<IntegratorInfo>& integrator_table() {
   static const std::vector<IntegratorInfo> table = {
       {"pt",     true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 0, false, make_pt},
       {"lt",     true,  F::Splats,      OPTIONS_NONE,                    true,  true,  0, true,  make_lt},
-      {"bdpt",   true,  F::Splats,      OPTIONS_BDPT,                    true,  true,  0, false, make_bdpt},
+      {"bdpt",   true,  F::Splats,      OPTIONS_BDPT | OPTIONS_LVC,      true,  true,  0, false, make_bdpt},
       {"pm",     true,  F::SampleSums,  OPTIONS_PHOTONS | OPTIONS_PM,    true,  false, 0, false, make_pm},
       {"sppm",   true,  F::Progressive, OPTIONS_PHOTONS | OPTIONS_SPPM,  true,  false, 0, false, make_sppm},
-      {"vcm",    true,  F::Splats,      OPTIONS_VCM,                     true,  true,  0, false, make_vcm},
+      {"vcm",    true,  F::Splats,      OPTIONS_VCM | OPTIONS_LVC,       true,  true,  0, false, make_vcm},
       {"mlt",    true,  F::Splats,      OPTIONS_MLT,                     true,  false, 0, false, make_mlt},
       {"ic",     true,  F::SampleSums,  OPTIONS_IC,                      true,  false, 0, false, make_ic},
       {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, make_ao},

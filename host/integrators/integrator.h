@@ -167,11 +167,12 @@ enum IntegratorOptions : unsigned {
   OPTIONS_PHOTONS = 1u << 0,  // --photons
   OPTIONS_PM = 1u << 1,       // --caustic-photons, --final-gather, --knn, --pm-max-radius, --pm-filter
   OPTIONS_SPPM = 1u << 2,     // --sppm-radius, --sppm-alpha
-  OPTIONS_BDPT = 1u << 3,     // --bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic, --bdpt-lvc, --bdpt-memory
+  OPTIONS_BDPT = 1u << 3,     // --bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic
   OPTIONS_AO = 1u << 4,       // --ao-radius
   OPTIONS_MLT = 1u << 5,      // --mlt-mode, --mlt-target, --mlt-large-step, --mlt-sigma, --mlt-bootstrap, --mlt-chains
   OPTIONS_IC = 1u << 6,       // --ic-error, --ic-rays, --ic-min-spacing, --ic-max-spacing, --ic-no-gradients, --ic-show-records
-  OPTIONS_VCM = 1u << 7,      // --vcm-mode, --vcm-radius, --vcm-alpha
+  OPTIONS_VCM = 1u << 7,      // --vcm-mode, --vcm-radius, --vcm-alpha, --vcm-merged
+  OPTIONS_LVC = 1u << 8,      // --bdpt-lvc (light vertex caching: bdpt and vcm)
 };
 
 // One row per integrator --integrator accepts: everything the options, the renderer, the

@@ -19,7 +19,8 @@ VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const S
       insert_kernel_(program_, "vcm_grid_insert"),
       camera_kernel_(program_, "vcm_camera"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
-      vcm_params_(ctx, sizeof(dev::VcmParams), CL_MEM_READ_ONLY, nullptr, "VCM parameters") {
+      vcm_params_(ctx, sizeof(dev::VcmParams), CL_MEM_READ_ONLY, nullptr, "VCM parameters"),
+      cache_count_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM light vertex cache count") {
   if (!(config_.radius > 0.0f) || !std::isfinite(config_.radius))
     throw Error(ExitCode::Usage, "vcm needs a positive merge radius");
   light_arg_ = scene.bind(light_kernel_, 0);
@@ -82,6 +83,8 @@ dev::RenderParams VertexConnectionMerging::prepare(const dev::RenderParams& para
     vertex_counts_ = cl::Buffer(ctx_, tile * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
                                 "VCM light vertex counts");
     next_ = cl::Buffer(ctx_, slots * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM grid links");
+    cache_ = cl::Buffer(ctx_, slots * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
+                        "VCM light vertex cache");
     size_t buckets = 1024;
     while (buckets < slots) buckets *= 2;
     heads_ = cl::Buffer(ctx_, buckets * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM grid");
@@ -90,6 +93,7 @@ dev::RenderParams VertexConnectionMerging::prepare(const dev::RenderParams& para
     tile_ = tile;
   }
   stats_.device_bytes = vertices_.size() + vertex_counts_.size() + next_.size() + heads_.size() +
+                        cache_.size() +
                         connection_counts_.size() + stored_counts_.size() + merge_counts_.size() +
                         merge_sum_.size();
   params_.write(&p, sizeof(p));
@@ -104,10 +108,11 @@ void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& fil
   light_kernel_.args(light_arg_, params_, vcm_params_, none, none, none, vertices_, vertex_counts_,
                      film.splat(), film.ray_counts(), connection_counts_, stored_counts_);
   light_kernel_.launch(ctx_, 1);
-  insert_kernel_.args(0, params_, vcm_params_, none, vertices_, vertex_counts_, heads_, next_);
+  insert_kernel_.args(0, params_, vcm_params_, none, vertices_, vertex_counts_, heads_, next_,
+                      cache_, cache_count_);
   insert_kernel_.launch(ctx_, 1);
   camera_kernel_.args(camera_arg_, params_, vcm_params_, none, none, none, vertices_,
-                      vertex_counts_, heads_, next_, film.sum(), film.sum_sq(), merge_sum_,
+                      vertex_counts_, cache_, cache_count_, heads_, next_, film.sum(), film.sum_sq(), merge_sum_,
                       film.ray_counts(), connection_counts_, merge_counts_);
   camera_kernel_.launch(ctx_, 1);
 }
@@ -123,17 +128,21 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
                        stored_counts_);
     light_kernel_.launch(ctx_, count);
   }
-  if (mode == dev::VCM_MODE_VCM || mode == dev::VCM_MODE_PPM) {
+  const bool merging = mode == dev::VCM_MODE_VCM || mode == dev::VCM_MODE_PPM;
+  const bool caching = p.bdpt_lvc && (mode == dev::VCM_MODE_VCM || mode == dev::VCM_MODE_BPT);
+  if (merging || caching) {
     const auto t0 = Clock::now();
-    heads_.fill_zero();
-    insert_kernel_.args(0, params_, vcm_params_, count, vertices_, vertex_counts_, heads_, next_);
+    if (merging) heads_.fill_zero();
+    if (caching) cache_count_.fill_zero();
+    insert_kernel_.args(0, params_, vcm_params_, count, vertices_, vertex_counts_, heads_, next_,
+                        cache_, cache_count_);
     insert_kernel_.launch(ctx_, size_t(count) * capacity_);
     ctx_.finish();
     stats_.grid_seconds += seconds_since(t0);
-    ++stats_.grids;
+    if (merging) ++stats_.grids;
   }
   camera_kernel_.args(camera_arg_, params_, vcm_params_, sample, first, count, vertices_,
-                      vertex_counts_, heads_, next_, film.sum(), film.sum_sq(), merge_sum_,
+                      vertex_counts_, cache_, cache_count_, heads_, next_, film.sum(), film.sum_sq(), merge_sum_,
                       film.ray_counts(), connection_counts_, merge_counts_);
   camera_kernel_.launch(ctx_, count);
 }

@@ -54,6 +54,7 @@ class VertexConnectionMerging final : public Integrator {
   cl::Kernel light_kernel_, insert_kernel_, camera_kernel_;
   cl::Buffer params_, vcm_params_;
   cl::Buffer vertices_, vertex_counts_, heads_, next_;
+  cl::Buffer cache_, cache_count_;  // light vertex caching: the tile's stored vertices' slots
   // Per pixel index, allocated with the first pass.
   cl::Buffer connection_counts_, stored_counts_, merge_counts_, merge_sum_;
   size_t pixels_ = 0;

@@ -4,7 +4,8 @@
  *   vcm_light        one light subpath per pixel index: camera connections splatted, its
  *                    vertices stored in its own light_vertex_capacity slots;
  *   vcm_grid_insert  every stored vertex of the tile into the hashed grid (one work-item per
- *                    slot; empty slots skipped);
+ *                    slot; empty slots skipped) when merging, and with light vertex caching
+ *                    (--bdpt-lvc) its slot onto the tile's list of stored vertices;
  *   vcm_camera       one camera subpath per pixel: connections to its own light subpath,
  *                    merges with the whole tile's, added to the film (and the merged part to
  *                    merge_sum, for the picture of what merging contributes).
@@ -36,18 +37,22 @@ __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
 __kernel void vcm_grid_insert(__constant const RenderParams* params, __constant const VcmParams* vcm,
                               u32 path_count, __global const PathVertex* vertices,
                               __global const u32* vertex_counts, volatile __global u32* heads,
-                              __global u32* next) {
+                              __global u32* next, __global u32* cache,
+                              volatile __global u32* cache_count) {
   const u32 slot = get_global_id(0);
   const u32 capacity = params->light_vertex_capacity;
   if (slot >= path_count * capacity) return;
   if (slot % capacity >= vertex_counts[slot / capacity]) return;
-  grid_insert_point(vload3(0, vertices[slot].p), slot, vcm->inv_cell, vcm->mask, heads, next);
+  if (vcm->mode == VCM_MODE_VCM || vcm->mode == VCM_MODE_PPM)
+    grid_insert_point(vload3(0, vertices[slot].p), slot, vcm->inv_cell, vcm->mask, heads, next);
+  if (params->bdpt_lvc) cache[atomic_inc(cache_count)] = slot;
 }
 
 __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                          __constant const VcmParams* vcm, u32 sample_index, u32 path_offset,
                          u32 path_count, __global const PathVertex* vertices,
-                         __global const u32* vertex_counts, __global const u32* heads,
+                         __global const u32* vertex_counts, __global const u32* cache,
+                         __global const u32* cache_count, __global const u32* heads,
                          __global const u32* next, __global float4* film_sum,
                          __global float4* film_sum_sq, __global float4* merge_sum,
                          __global u32* ray_counts, __global u32* connection_counts,
@@ -64,7 +69,8 @@ __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params
       params, vcm, &scene, &sampler, pixel % params->width, pixel / params->width,
       vertices + (size_t)i * params->light_vertex_capacity,
       vcm->mode == VCM_MODE_LT || vcm->mode == VCM_MODE_PT ? 0u : vertex_counts[i], vertices,
-      heads, next, &merged, &rays, &connections, &merges);
+      cache, params->bdpt_lvc ? cache_count[0] : 0u, heads, next, &merged, &rays, &connections,
+      &merges);
   film_add(&film, L);
   film_store(film_sum, film_sum_sq, pixel, &film);
   if (is_finite3(merged)) merge_sum[pixel].xyz += merged;

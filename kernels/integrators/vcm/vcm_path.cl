@@ -121,13 +121,16 @@ inline float3 vcm_merge(__constant const RenderParams* p, __constant const VcmPa
 }
 
 /* The camera subpath of pixel (x, y) with its light subpath lv (count vertices) and the
- * tile's merge grid. Returns the pixel's estimate; *merged is the part merging added. */
+ * tile's merge grid. With light vertex caching (p->bdpt_lvc = M > 0, as bdpt's) each camera
+ * vertex connects instead to M vertices drawn from the tile's `cached` stored vertices (their
+ * slots in `cache`), scaled by cached / (M light_paths). Returns the pixel's estimate;
+ * *merged is the part merging added. */
 inline float3 vcm_camera_path(__constant const RenderParams* p, __constant const VcmParams* v,
                               const SceneView* s, const Sampler* sampler, u32 x, u32 y,
                               __global const PathVertex* lv, u32 count,
-                              __global const PathVertex* vertices, __global const u32* heads,
-                              __global const u32* next, float3* merged, u32* rays,
-                              u32* connections, u32* merges) {
+                              __global const PathVertex* vertices, __global const u32* cache,
+                              u32 cached, __global const u32* heads, __global const u32* next,
+                              float3* merged, u32* rays, u32* connections, u32* merges) {
   const MisMerge m = vcm_mis(v);
   const bool vc = v->mode == VCM_MODE_VCM || v->mode == VCM_MODE_BPT || v->mode == VCM_MODE_PT;
   const bool connect = v->mode == VCM_MODE_VCM || v->mode == VCM_MODE_BPT;
@@ -161,9 +164,18 @@ inline float3 vcm_camera_path(__constant const RenderParams* p, __constant const
         if (v->mode == VCM_MODE_PT) nee.dvcm = nee.dvc = 0.0f;
         L += st.beta * bdpt_nee(p, &m, s, sampler, sh, wo, &nee, k, rays, connections);
       }
-      if (connect)
+      if (connect && p->bdpt_lvc == 0u) {
         for (u32 i = 0u; i < count; ++i)
           L += st.beta * bdpt_connect(p, &m, s, sh, wo, &st, k, lv + i, rays, connections);
+      } else if (connect && cached > 0u) {
+        float3 sum = (float3)(0.0f);
+        for (u32 j = 0u; j < p->bdpt_lvc; ++j) {
+          const float u = sample_1d(sampler, stream_dim(bounce_dim(k - 1u, DIM_LVC_PICK), j));
+          const u32 i = min((u32)(u * (float)cached), cached - 1u);
+          sum += bdpt_connect(p, &m, s, sh, wo, &st, k, vertices + cache[i], rays, connections);
+        }
+        L += st.beta * sum * ((float)cached / ((float)p->bdpt_lvc * (float)v->light_paths));
+      }
       if (merge) {
         const float3 M = st.beta * vcm_merge(p, v, &m, sh, wo, &st, k, vertices, heads, next,
                                              merges) * v->vm_normalization;
