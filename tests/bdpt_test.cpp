@@ -119,31 +119,13 @@ TEST(CrossIntegrator, BdptMatchesPtWithGlossyAndGlass) {
 // light, a constant background and a directional light shining in through the open side,
 // and a point and a spot light inside, every light type contributes.
 TEST(CrossIntegrator, BdptMatchesPtWithEnvironmentAndPunctualLights) {
-  Scene scene = test::cornell_box();
-  PunctualLight sun;
-  sun.type = PunctualLight::Type::Directional;
-  sun.intensity = 2.0f;
-  sun.direction = glm::normalize(glm::vec3(0.3f, -0.5f, -1.0f));
-  scene.lights.push_back(sun);
-  PunctualLight point;
-  point.type = PunctualLight::Type::Point;
-  point.intensity = 0.02f;
-  point.color = glm::vec3(0.5f, 0.7f, 1.0f);
-  point.position = glm::vec3(0.15f, 0.45f, -0.15f);
-  scene.lights.push_back(point);
-  PunctualLight spot;
-  spot.type = PunctualLight::Type::Spot;
-  spot.intensity = 0.05f;
-  spot.position = glm::vec3(0.45f, 0.5f, -0.45f);
-  spot.direction = glm::normalize(glm::vec3(-0.5f, -1.0f, 0.4f));
-  spot.inner_cone = 0.2f;
-  spot.outer_cone = 0.5f;
-  scene.lights.push_back(spot);
+  const Scene scene = test::cornell_box_all_lights();
   auto with_background = [](RenderSettings s) {
     s.background = glm::vec3(0.3f, 0.4f, 0.5f);
     return s;
   };
-  const FilmResult ref = render(scene, with_background(settings("pt", 8192)), 4545);
+  const FilmResult ref = test::pt_reference("cornell_all_lights", test::cornell_box_all_lights,
+                                            with_background(settings("pt", 8192)), 4545);
   test::expect_matches_reference(
       test::render_batches(scene, with_background(settings("bdpt", 32)), 16, 900), ref,
       "bdpt environment+punctual");

@@ -8,8 +8,9 @@
 //                        modes agree with pt's reference mean;
 //   CrossIntegrator      vcm against the 8 192-spp pt reference of the Cornell box (block
 //                        means, per-pixel z, image mean), also in tiles of ~100 light paths
-//                        (eta = pi r^2 paths of the tile), with light vertex caching, and on
-//                        the glossy-and-glass box;
+//                        (eta = pi r^2 paths of the tile), with light vertex caching; with a
+//                        background, directional, point and spot lights; and on the
+//                        glossy-and-glass box;
 //   VcmOptions, VcmCli   usage errors; --stats figures (merges, light vertices, the radius
 //                        shrinking pass by pass); the --vcm-merged layer.
 // The MIS weights of both techniques are checked path by path against explicit whole-path
@@ -154,6 +155,22 @@ TEST(CrossIntegrator, VcmWithLightVertexCachingMatchesPt) {
   RenderSettings s = vcm_settings(dev::VCM_MODE_VCM, 32);
   s.bdpt_lvc = 2;
   test::expect_matches_reference(test::render_batches(scene, s, 16, 2700), ref, "vcm lvc 2");
+}
+
+// The environment and delta lights take their own branches of the weights (no distance factor
+// on an infinite light's first segment; dVC = 0 from delta lights) and light vertices from
+// them merge like any other.
+TEST(CrossIntegrator, VcmMatchesPtWithEnvironmentAndPunctualLights) {
+  const Scene scene = test::cornell_box_all_lights();
+  auto with_background = [](RenderSettings s) {
+    s.background = glm::vec3(0.3f, 0.4f, 0.5f);
+    return s;
+  };
+  const FilmResult ref = test::pt_reference("cornell_all_lights", test::cornell_box_all_lights,
+                                            with_background(test::render_settings("pt", 8192, kSize)), 4545);
+  test::expect_matches_reference(
+      test::render_batches(scene, with_background(vcm_settings(dev::VCM_MODE_VCM, 32)), 16, 3900),
+      ref, "vcm environment+punctual");
 }
 
 TEST(CrossIntegrator, VcmMatchesPtWithGlossyAndGlass) {

@@ -122,4 +122,28 @@ Scene cornell_box_glossy_glass() {
   return scene;
 }
 
+Scene cornell_box_all_lights() {
+  Scene scene = cornell_box();
+  PunctualLight sun;
+  sun.type = PunctualLight::Type::Directional;
+  sun.intensity = 2.0f;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -0.5f, -1.0f));
+  scene.lights.push_back(sun);
+  PunctualLight point;
+  point.type = PunctualLight::Type::Point;
+  point.intensity = 0.02f;
+  point.color = glm::vec3(0.5f, 0.7f, 1.0f);
+  point.position = glm::vec3(0.15f, 0.45f, -0.15f);
+  scene.lights.push_back(point);
+  PunctualLight spot;
+  spot.type = PunctualLight::Type::Spot;
+  spot.intensity = 0.05f;
+  spot.position = glm::vec3(0.45f, 0.5f, -0.45f);
+  spot.direction = glm::normalize(glm::vec3(-0.5f, -1.0f, 0.4f));
+  spot.inner_cone = 0.2f;
+  spot.outer_cone = 0.5f;
+  scene.lights.push_back(spot);
+  return scene;
+}
+
 }  // namespace clpt::test

@@ -52,4 +52,9 @@ Scene cornell_box();
 // and in delta surfaces.
 Scene cornell_box_glossy_glass();
 
+// The Cornell box, open towards the camera, with every light type besides its ceiling light:
+// a directional light shining in through the open side, a point and a spot light inside (a
+// constant background is the render settings' business).
+Scene cornell_box_all_lights();
+
 }  // namespace clpt::test
