@@ -268,6 +268,16 @@ TEST(VcmCli, StatsFigures) {
   std::cout << "[ figures  ] vcm Cornell box 24x16, r = 0.05: merging gave " << merged_sum / sum
             << " of the image\n";
   EXPECT_EQ(read_image_channels(dir / "a.exr").layer("merged"), nullptr);  // only when asked
+  // A radius that would merge everything, or put everything in one cell, is refused.
+  for (const char* r : {"1", "1e-9"}) {
+    const test::RunResult bad = test::run_clpt({scene, "--device", "pocl", "--integrator", "vcm",
+                                                "--resolution", "8x8", "--spp", "1", "-q",
+                                                "--vcm-radius", r, "-o",
+                                                (dir / "bad.exr").string()});
+    EXPECT_EQ(bad.exit_code, int(ExitCode::Usage)) << r << ": " << bad.err;
+    EXPECT_NE(bad.err.find("--vcm-radius"), std::string::npos) << bad.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad.exr"));
+  }
   // Without merging nothing merges and no grid is built.
   const nlohmann::json b = run("b", {"--vcm-mode", "bpt"});
   EXPECT_EQ(b["vcm"]["merges"].get<uint64_t>(), 0u);

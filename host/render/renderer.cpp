@@ -110,6 +110,16 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   // One pixel footprint at the scene's centre: half sppm's default radius (the --vcm-radius
   // sweep in docs/BENCHMARKS.md, session 11).
   if (!(vcm.radius > 0.0f)) vcm.radius = 0.5f * params_.sppm_radius;
+  if (settings_.integrator == "vcm") {
+    // A radius near the scene's size merges every light vertex at every camera vertex, and one
+    // below float resolution at the scene's scale puts them all in one saturated grid cell:
+    // either is a render that does not end. 10 % and 1e-6 of the diagonal bound it.
+    const float diagonal = glm::length(scene.bounds().extent());
+    if (!(vcm.radius <= 0.1f * diagonal && vcm.radius >= 1e-6f * diagonal))
+      throw Error(ExitCode::Usage, "--vcm-radius " + std::to_string(vcm.radius) +
+                                       " is outside [1e-6, 0.1] times the scene's diagonal (" +
+                                       std::to_string(diagonal) + ")");
+  }
   integrator_ = make_integrator(
       settings_.integrator, ctx_, *scene_buffers_,
       IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons,
