@@ -3,7 +3,7 @@
 // light kind, parametrised over one estimator list rather than copied per integrator (the
 // shape of Mitsuba 3's test_integrators.py).
 //
-// A cell is (estimator, material, light). The full product (8 x 13 x 8) would not fit the
+// A cell is (estimator, material, light). The full product (9 x 13 x 8) would not fit the
 // suite's time, so the cells form a covering design: each material is lit by one light kind,
 // the kinds in rotation so that every one appears, plus the pairs the issue named; every
 // estimator renders every such scene, so each meets every material and every light kind
@@ -11,7 +11,7 @@
 // (the object, the floor around it, the rest), the mean over the batches of the region's
 // channel-mean radiance with the reference's: Student-t with B - 1 degrees of freedom and the
 // reference's own variance, Sidak-corrected over every region of every cell (alpha 0.01);
-// and for pt (MIS) and bdpt a per-pixel test of the same kind, 99 % of each cell's
+// and for pt (MIS), bdpt and vcm a per-pixel test of the same kind, 99 % of each cell's
 // pixel-channels passing.
 // Biased estimators (pm) pass when the relative difference is within the cell's stated bound
 // (docs/TESTING.md) plus that threshold's noise; what an estimator cannot see by design is
@@ -71,6 +71,7 @@ const std::vector<Estimator>& estimators() {
       {"pt_bsdf", "pt", 2, 64, 0.0, false},   {"lt", "lt", 0, 64, 0.0, false},
       {"bdpt", "bdpt", 0, 24, 0.0, true},     {"pm", "pm", 0, 8, 0.10, false},
       {"sppm", "sppm", 0, 64, 0.05, false},   {"mlt", "mlt", 0, 64, 0.0, false},
+      {"vcm", "vcm", 0, 24, 0.0, true},
   };
   return list;
 }
@@ -211,6 +212,9 @@ TEST_P(ConformanceMatrix, AgreesWithPtReference) {
   }
   // mmlt: paths per path length, b to a few per cent per batch (the batches see its error)
   if (std::string(est.integrator) == "mlt") s.mlt.bootstrap = 5000;
+  // vcm: a quarter of a pixel footprint at the object, so that merging's bias stays far
+  // below the batches' noise (the estimator is tested as unbiased).
+  if (std::string(est.integrator) == "vcm") s.vcm.radius = 0.006f;
   if (std::string(est.integrator) == "sppm") {
     s.photons = 16384;
     s.sppm_radius = 0.012f;  // half a pixel footprint at the object: the blur bias stays small
