@@ -383,16 +383,12 @@ TEST(IcCli, StatsMarksAndDeterminism) {
   std::filesystem::create_directories(dir);
   const std::string scene = std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf";
   auto run = [&](const std::string& name, std::vector<std::string> extra) {
-    std::vector<std::string> args = {scene, "--device", "pocl", "--integrator", "ic",
-                                      "--resolution", "32x32", "--spp", "2", "-q",
-                                      "-o", (dir / (name + ".exr")).string(),
-                                      "--stats", (dir / (name + ".json")).string()};
+    std::vector<std::string> args = {"--integrator", "ic", "--resolution", "32x32", "--spp", "2"};
     args.insert(args.end(), extra.begin(), extra.end());
-    const test::RunResult r = test::run_clpt(args);
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    return nlohmann::json::parse(test::read_file((dir / (name + ".json")).string()));
+    return test::run_clpt_stats(dir, name, scene, args);
   };
   const nlohmann::json a = run("a", {}), b = run("b", {});
+  ASSERT_FALSE(a.is_null() || b.is_null());
   const nlohmann::json& ic = a["ic"];
   const uint64_t records = ic["records"].get<uint64_t>();
   EXPECT_GT(records, 10u);
@@ -408,6 +404,7 @@ TEST(IcCli, StatsMarksAndDeterminism) {
   const Image ia = read_image(dir / "a.exr"), ib = read_image(dir / "b.exr");
   EXPECT_EQ(ia.rgb, ib.rgb) << "one seed, one cache, one image";
   const nlohmann::json m = run("marks", {"--ic-show-records"});
+  ASSERT_FALSE(m.is_null());
   const Image im = read_image(dir / "marks.exr");
   size_t marked = 0;
   for (size_t i = 0; i < im.rgb.size(); i += 3)

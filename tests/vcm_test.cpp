@@ -228,16 +228,12 @@ TEST(VcmCli, StatsFigures) {
   std::filesystem::create_directories(dir);
   const std::string scene = std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf";
   auto run = [&](const std::string& name, std::vector<std::string> extra) {
-    std::vector<std::string> args = {scene, "--device", "pocl", "--integrator", "vcm",
-                                      "--resolution", "24x16", "--spp", "4", "-q",
-                                      "-o", (dir / (name + ".exr")).string(),
-                                      "--stats", (dir / (name + ".json")).string()};
+    std::vector<std::string> args = {"--integrator", "vcm", "--resolution", "24x16", "--spp", "4"};
     args.insert(args.end(), extra.begin(), extra.end());
-    const test::RunResult r = test::run_clpt(args);
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    return nlohmann::json::parse(test::read_file((dir / (name + ".json")).string()));
+    return test::run_clpt_stats(dir, name, scene, args);
   };
   const nlohmann::json a = run("a", {"--vcm-radius", "0.05", "--vcm-alpha", "0.5"});
+  ASSERT_FALSE(a.is_null());
   const nlohmann::json& v = a["vcm"];
   EXPECT_EQ(v["mode"].get<std::string>(), "vcm");
   EXPECT_EQ(v["passes"].get<uint32_t>(), 4u);
@@ -280,6 +276,7 @@ TEST(VcmCli, StatsFigures) {
   }
   // Without merging nothing merges and no grid is built.
   const nlohmann::json b = run("b", {"--vcm-mode", "bpt"});
+  ASSERT_FALSE(b.is_null());
   EXPECT_EQ(b["vcm"]["merges"].get<uint64_t>(), 0u);
   EXPECT_EQ(b["vcm"]["grids"].get<uint64_t>(), 0u);
   std::filesystem::remove_all(dir);

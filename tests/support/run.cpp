@@ -1,5 +1,7 @@
 #include "support/run.h"
 
+#include <gtest/gtest.h>
+
 #include <csignal>
 #include <fcntl.h>
 #include <fstream>
@@ -94,6 +96,18 @@ RunResult run_program(const std::string& binary, const std::vector<std::string>&
   ::unlink(out_path.c_str());
   ::unlink(err_path.c_str());
   return r;
+}
+
+nlohmann::json run_clpt_stats(const std::filesystem::path& dir, const std::string& name,
+                              const std::string& scene, const std::vector<std::string>& args) {
+  std::vector<std::string> all = {scene, "--device", "pocl", "-q", "-o",
+                                  (dir / (name + ".exr")).string(), "--stats",
+                                  (dir / (name + ".json")).string()};
+  all.insert(all.end(), args.begin(), args.end());
+  const RunResult r = run_clpt(all);
+  EXPECT_EQ(r.exit_code, 0) << name << ": " << r.err;
+  if (r.exit_code != 0) return nullptr;
+  return nlohmann::json::parse(read_file((dir / (name + ".json")).string()));
 }
 
 }  // namespace clpt::test

@@ -1,9 +1,12 @@
 // Runs the clpt executable as a user would, capturing exit code, stdout and stderr.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 namespace clpt::test {
 
@@ -30,5 +33,11 @@ RunResult run_clpt(const std::vector<std::string>& args, const std::string& inte
                    double delay = 1.0);
 
 std::string read_file(const std::string& path);
+
+// Runs clpt on the glTF file `scene` with `--device pocl -q`, `args`, and
+// `-o dir/name.exr --stats dir/name.json`; a failed run is a test failure (with its stderr).
+// Returns the statistics (null when the run failed).
+nlohmann::json run_clpt_stats(const std::filesystem::path& dir, const std::string& name,
+                              const std::string& scene, const std::vector<std::string>& args);
 
 }  // namespace clpt::test
