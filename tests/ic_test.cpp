@@ -17,6 +17,7 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -376,6 +377,26 @@ TEST(IcOptions, BadValuesAreUsageErrors) {
 
 // ---------------------------------------------------------------------------------------
 // IcCli
+
+// Ctrl-C during the cache's refinement (a quarter of --time: 15 s here) ends it: the first
+// pass then completes, the render is saved and clpt exits 130 in seconds, not after the 15.
+TEST(IcCli, InterruptEndsTheRefinement) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("clpt_ic_int_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string scene = std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf";
+  const auto t0 = std::chrono::steady_clock::now();
+  const test::RunResult r = test::run_clpt({scene, "--device", "pocl", "--integrator", "ic",
+                                            "--resolution", "32x32", "--time", "60", "-o",
+                                            (dir / "i.exr").string()},
+                                           "rendering ", 1.0);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_LT(seconds, 12.0) << "the refinement went on after Ctrl-C";
+  EXPECT_TRUE(std::filesystem::exists(dir / "i.exr")) << "the interrupted render must be saved";
+  std::filesystem::remove_all(dir);
+}
 
 TEST(IcCli, StatsMarksAndDeterminism) {
   const std::filesystem::path dir =

@@ -2,6 +2,7 @@
 // `samples` samples per pixel, starting at sample index `first_sample`, to the film.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -93,6 +94,15 @@ class Integrator {
     (void)spp;
     return {};
   }
+  // The renderer's stop flag (Ctrl-C), for integrators whose passes include work longer than
+  // a pass (ic's cache refinement under --time) to end that work early; null: none.
+  void set_stop(const std::atomic<bool>* stop) { stop_ = stop; }
+
+ protected:
+  bool stop_requested() const { return stop_ && stop_->load(); }
+
+ private:
+  const std::atomic<bool>* stop_ = nullptr;
 };
 
 // params with no samples per pass: a launch where every work-item loops over nothing, which

@@ -154,8 +154,9 @@ void IrradianceCache::build(const dev::RenderParams& params) {
   ++stats_.placement_passes;
   // Under --time, every record takes another batch of rays while its share of the time
   // lasts: the records' noise, which no number of image samples averages away, falls.
+  // Ctrl-C ends the refinement (the renderer then saves after this first pass).
   if (config_.refine_seconds > 0.0 && !records_.empty()) {
-    while (seconds_since(t0) < config_.refine_seconds) {
+    while (seconds_since(t0) < config_.refine_seconds && !stop_requested()) {
       compute_records(0, records_.size());
       ++stats_.refinements;
     }

@@ -167,6 +167,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   const double pass_seconds = settings_.target_pass_seconds > 0.0 ? settings_.target_pass_seconds
                              : ctx_.device().is_gpu()              ? 0.03
                                                                    : 0.1;
+  integrator_->set_stop(stop);
   const auto start = Clock::now();
   uint64_t done = start_spp_;
   uint64_t pass_spp = 1;
