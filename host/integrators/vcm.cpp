@@ -44,10 +44,8 @@ dev::VcmParams VertexConnectionMerging::pass_params(const VcmConfig& c, uint32_t
   dev::VcmParams v{};
   v.mode = c.mode;
   v.radius = r;
-  const bool merging = c.mode == dev::VCM_MODE_VCM || c.mode == dev::VCM_MODE_PPM;
-  const bool connecting = c.mode == dev::VCM_MODE_VCM || c.mode == dev::VCM_MODE_BPT;
-  v.mis_vm = merging ? heuristic(eta) : 0.0f;
-  v.mis_vc = connecting ? heuristic(1.0 / eta) : 0.0f;
+  v.mis_vm = dev::vcm_mode_merges(c.mode) ? heuristic(eta) : 0.0f;
+  v.mis_vc = dev::vcm_mode_connects(c.mode) ? heuristic(1.0 / eta) : 0.0f;
   v.vm_normalization = float(1.0 / eta);
   v.inv_cell = 1.0f / (2.0f * r);
   v.mask = mask;
@@ -128,8 +126,8 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
                        stored_counts_);
     light_kernel_.launch(ctx_, count);
   }
-  const bool merging = mode == dev::VCM_MODE_VCM || mode == dev::VCM_MODE_PPM;
-  const bool caching = p.bdpt_lvc && (mode == dev::VCM_MODE_VCM || mode == dev::VCM_MODE_BPT);
+  const bool merging = dev::vcm_mode_merges(mode);
+  const bool caching = p.bdpt_lvc && dev::vcm_mode_connects(mode);
   if (merging || caching) {
     const auto t0 = Clock::now();
     if (merging) heads_.fill_zero();

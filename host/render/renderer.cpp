@@ -110,7 +110,7 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   // One pixel footprint at the scene's centre: half sppm's default radius (the --vcm-radius
   // sweep in docs/BENCHMARKS.md, session 11).
   if (!(vcm.radius > 0.0f)) vcm.radius = 0.5f * params_.sppm_radius;
-  if (settings_.integrator == "vcm") {
+  if (row.options & OPTIONS_VCM) {
     // A radius near the scene's size merges every light vertex at every camera vertex, and one
     // below float resolution at the scene's scale puts them all in one saturated grid cell:
     // either is a render that does not end. 10 % and 1e-6 of the diagonal bound it.

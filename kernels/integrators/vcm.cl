@@ -43,7 +43,7 @@ __kernel void vcm_grid_insert(__constant const RenderParams* params, __constant 
   const u32 capacity = params->light_vertex_capacity;
   if (slot >= path_count * capacity) return;
   if (slot % capacity >= vertex_counts[slot / capacity]) return;
-  if (vcm->mode == VCM_MODE_VCM || vcm->mode == VCM_MODE_PPM)
+  if (vcm_mode_merges(vcm->mode))
     grid_insert_point(vload3(0, vertices[slot].p), slot, vcm->inv_cell, vcm->mask, heads, next);
   if (params->bdpt_lvc) cache[atomic_inc(cache_count)] = slot;
 }
@@ -68,7 +68,7 @@ __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params
   const float3 L = vcm_camera_path(
       params, vcm, &scene, &sampler, pixel % params->width, pixel / params->width,
       vertices + (size_t)i * params->light_vertex_capacity,
-      vcm->mode == VCM_MODE_LT || vcm->mode == VCM_MODE_PT ? 0u : vertex_counts[i], vertices,
+      vcm_mode_connects(vcm->mode) ? vertex_counts[i] : 0u, vertices,
       cache, params->bdpt_lvc ? cache_count[0] : 0u, heads, next, &merged, &rays, &connections,
       &merges);
   film_add(&film, L);

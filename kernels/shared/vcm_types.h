@@ -17,6 +17,10 @@ enum VcmMode {
   VCM_MODE_PT = 4   /* camera subpaths with next-event estimation: path tracing */
 };
 
+/* The two techniques each mode runs: one rule for the host's launches and the kernels. */
+inline int vcm_mode_merges(u32 mode) { return mode == VCM_MODE_VCM || mode == VCM_MODE_PPM; }
+inline int vcm_mode_connects(u32 mode) { return mode == VCM_MODE_VCM || mode == VCM_MODE_BPT; }
+
 typedef struct VcmParams {
   u32 mode;               /* VcmMode */
   float radius;           /* this pass's merge radius r */

@@ -50,7 +50,7 @@ inline u32 vcm_light_path(__constant const RenderParams* p, __constant const Vcm
   LightPdfs q;
   PathWalk w;
   if (!bdpt_light_start(p, &m, s, sampler, &st, &q, &w)) return 0u;
-  const bool store = v->mode == VCM_MODE_VCM || v->mode == VCM_MODE_BPT || v->mode == VCM_MODE_PPM;
+  const bool store = vcm_mode_merges(v->mode) || vcm_mode_connects(v->mode);
   const bool connect = v->mode != VCM_MODE_PPM;
   u32 stored = 0u;
   while (w.depth <= p->max_depth && walk_next(s, &w, rays)) {
@@ -132,9 +132,9 @@ inline float3 vcm_camera_path(__constant const RenderParams* p, __constant const
                               u32 cached, __global const u32* heads, __global const u32* next,
                               float3* merged, u32* rays, u32* connections, u32* merges) {
   const MisMerge m = vcm_mis(v);
-  const bool vc = v->mode == VCM_MODE_VCM || v->mode == VCM_MODE_BPT || v->mode == VCM_MODE_PT;
-  const bool connect = v->mode == VCM_MODE_VCM || v->mode == VCM_MODE_BPT;
-  const bool merge = v->mode == VCM_MODE_VCM || v->mode == VCM_MODE_PPM;
+  const bool connect = vcm_mode_connects(v->mode);
+  const bool vc = connect || v->mode == VCM_MODE_PT; /* next-event estimation */
+  const bool merge = vcm_mode_merges(v->mode);
   float3 org, dir;
   pixel_ray(p, sampler, x, y, &org, &dir);
   SubpathState st = bdpt_camera_start(p, dir);
