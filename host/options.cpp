@@ -199,6 +199,11 @@ struct Parser {
                  "ic: interpolate records without Ward and Heckbert's irradiance gradients");
     app.add_flag("--ic-show-records", o.ic_show_records,
                  "ic: paint the pixels whose camera ray placed a record red");
+    app.add_option("--indirect", o.indirect,
+                   "indirect1: how a path x <- y <- light is found: receiver (BSDF ray from x, "
+                   "light sample at y), source (ray from a light to y, y connected to x) or "
+                   "surface (y uniform over the surfaces, connected to x and a light) [receiver]")
+        ->type_name("NAME");
     app.add_option("--vcm-mode", o.vcm_mode,
                    "vcm: the techniques of the one estimator: vcm (connections and merging), "
                    "bpt (connections: bdpt), ppm (merging: photon mapping), lt or pt [vcm]")
@@ -349,6 +354,7 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
   for (const char* name : {"--ic-error", "--ic-rays", "--ic-min-spacing", "--ic-max-spacing",
                            "--ic-no-gradients", "--ic-show-records"})
     o.ic_set = o.ic_set || p.app.count(name) > 0;
+  o.indirect_set = p.app.count("--indirect") > 0;
   for (const char* name : {"--vcm-mode", "--vcm-radius", "--vcm-alpha", "--vcm-merged"})
     o.vcm_set = o.vcm_set || p.app.count(name) > 0;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
@@ -459,6 +465,9 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--integrator ic samples the BSDF at every vertex: "
                                    "--hemisphere must stay bsdf and --branching 1");
   }
+  if (!reads(OPTIONS_INDIRECT) && o.indirect_set)
+    throw Error(ExitCode::Usage, "--indirect needs --integrator indirect1");
+  if (reads(OPTIONS_INDIRECT)) one_of("--indirect", o.indirect, {"receiver", "source", "surface"});
   if (!reads(OPTIONS_VCM) && o.vcm_set)
     throw Error(ExitCode::Usage, "--vcm-mode, --vcm-radius, --vcm-alpha and --vcm-merged need --integrator "
                                  "vcm");

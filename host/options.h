@@ -68,6 +68,9 @@ struct Options {
   bool ic_no_gradients = false;
   bool ic_show_records = false;
   bool ic_set = false;
+  // One-bounce indirect light (indirect1): --indirect, the generator of its paths.
+  std::string indirect = "receiver";
+  bool indirect_set = false;
   // Vertex connection and merging (vcm). vcm_set: one of the --vcm-* options was given.
   std::string vcm_mode = "vcm";
   float vcm_radius = 0.0f;         // 0: one pixel footprint at the scene's centre

@@ -19,7 +19,9 @@
 #    RUNS > 1 repeats that with seeds SEED, SEED+1, ... and averages (relMSE is heavy-tailed
 #    where an estimator makes fireflies, so one run can be far from the mean). Names are
 #    passed through to clpt --integrator unchecked; a render that fails is reported in the
-#    table and the script goes on with the next one (exit status 1 at the end).
+#    table and the script goes on with the next one (exit status 1 at the end). A name may
+#    carry that integrator's own options after commas: `indirect1,--indirect=source` renders
+#    --integrator indirect1 --indirect=source (REF_INTEGRATOR too).
 # 3. clpt-diff --json gives each image's relMSE against the reference; the table lists
 #    integrator, spp reached (--stats), render seconds, relMSE, relMSE less the reference's
 #    own error, and relMSE(pt) / relMSE(integrator) (raw, and with that error removed) when
@@ -111,6 +113,11 @@ render() {  # out.exr stats.json args...: one clpt render; logs the command
   echo >> "$rundir/commands.txt"
   "${cmd[@]}"
 }
+integrator_args() {  # NAME[,OPTION...]: --integrator NAME OPTION... (words without spaces)
+  local IFS=,
+  local parts=($1)
+  printf '%s\n' --integrator "${parts[@]}"
+}
 json() {  # file python-expression-on-j
   python3 -c 'import json, sys; j = json.load(open(sys.argv[1])); v = eval(sys.argv[2]); print("" if v is None else v)' "$1" "$2"
 }
@@ -134,7 +141,7 @@ else
     secs=0
     for k in 0 1; do
       log "reference half $k: $REF_INTEGRATOR, $half spp, $RES, depth $DEPTH, seed $((1000001 + k)) ..."
-      render "$refdir/half$k.exr" "$refdir/half$k.json" --integrator "$REF_INTEGRATOR" --spp "$half" --seed $((1000001 + k))
+      render "$refdir/half$k.exr" "$refdir/half$k.json" $(integrator_args "$REF_INTEGRATOR") --spp "$half" --seed $((1000001 + k))
       secs=$(python3 -c 'import sys; print(float(sys.argv[1]) + float(sys.argv[2]))' "$secs" "$(json "$refdir/half$k.json" 'j["render_seconds"]')")
     done
     "$CLPT_DIFF" --json "$refdir/half0.exr" "$refdir/half1.exr" > "$refdir/halves-diff.json"
@@ -146,7 +153,7 @@ else
   else
     [ -n "$oiiotool" ] || log "oiiotool not found: one reference render, its own error not estimated"
     log "reference: $REF_INTEGRATOR, $REF_SPP spp, $RES, depth $DEPTH, seed 1000001 ..."
-    render "$ref" "$refdir/reference.json" --integrator "$REF_INTEGRATOR" --spp "$REF_SPP" --seed 1000001
+    render "$ref" "$refdir/reference.json" $(integrator_args "$REF_INTEGRATOR") --spp "$REF_SPP" --seed 1000001
     secs=$(json "$refdir/reference.json" 'j["render_seconds"]')
     floor=
     ref_spp=$REF_SPP
@@ -170,7 +177,7 @@ for integ in "${integrators[@]}"; do
     tag=$safe; [ "$RUNS" -gt 1 ] && tag=$safe-seed$seed
     img=$rundir/$tag.exr stats=$rundir/$tag.json
     log "$integ: $seconds s, $RES, depth $DEPTH, seed $seed ..."
-    if render "$img" "$stats" --integrator "$integ" --time "$seconds" --seed "$seed"; then
+    if render "$img" "$stats" $(integrator_args "$integ") --time "$seconds" --seed "$seed"; then
       rc=0
       "$CLPT_DIFF" --json "$img" "$ref" > "$rundir/$tag.diff.json" || rc=$?
       if [ $rc -ne 0 ]; then failed="clpt-diff failed (exit $rc)"; break; fi

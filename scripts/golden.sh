@@ -49,6 +49,9 @@ pt_furnace   | scenes/furnace.gltf     | --integrator pt
 pt_indirect  | scenes/indirect.gltf    | --integrator pt --max-depth 12
 direct       | scenes/cornell_box.gltf | --integrator direct
 ao           | scenes/cornell_box.gltf | --integrator ao
+indirect1_receiver | scenes/cornell_box.gltf | --integrator indirect1
+indirect1_source | scenes/indirect.gltf | --integrator indirect1 --indirect source
+indirect1_surface | scenes/cornell_box.gltf | --integrator indirect1 --indirect surface
 lt           | scenes/cornell_box.gltf | --integrator lt
 lt_sobol     | scenes/caustic.gltf     | --integrator lt --sampler sobol
 lt_rr        | scenes/cornell_box.gltf | --integrator lt --rr fixed:0.5 --rr-depth 1

@@ -7,6 +7,7 @@
 
 #include "shared/bdpt_types.h"
 #include "shared/ic_types.h"
+#include "shared/indirect_types.h"
 #include "shared/mlt_types.h"
 #include "shared/photon_types.h"
 #include "shared/render_types.h"

@@ -21,6 +21,7 @@
 #include "scene/gltf_loader.h"
 #include "integrators/integrator.h"
 #include "shared/photon_types.h"
+#include "shared/indirect_types.h"
 #include "shared/vcm_types.h"
 #include "stats/image_stats.h"
 #include "util/error.h"
@@ -198,6 +199,9 @@ int run(const Options& opt) {
                       : opt.vcm_mode == "lt"  ? dev::VCM_MODE_LT
                       : opt.vcm_mode == "pt"  ? dev::VCM_MODE_PT
                                               : dev::VCM_MODE_VCM;
+  settings.indirect = opt.indirect == "source"    ? dev::INDIRECT_SOURCE
+                      : opt.indirect == "surface" ? dev::INDIRECT_SURFACE
+                                                  : dev::INDIRECT_RECEIVER;
   settings.vcm.radius = opt.vcm_radius;
   settings.vcm.alpha = opt.vcm_alpha;
   if (opt.bdpt_mosaic) return run_mosaic(opt, ctx, scene, settings, device.name);
@@ -378,6 +382,7 @@ int run(const Options& opt) {
                  {"gradients", !opt.ic_no_gradients},
                  {"device_bytes", ic.device_bytes}};
     }
+    if (row.options & OPTIONS_INDIRECT) j["indirect"] = {{"generator", opt.indirect}};
     if (row.options & OPTIONS_VCM) {
       const VcmStats& v = st.vcm;
       j["vcm"] = {{"mode", opt.vcm_mode},

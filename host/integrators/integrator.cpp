@@ -1,6 +1,7 @@
 #include "integrators/integrator.h"
 
 #include "integrators/bdpt.h"
+#include "integrators/indirect1.h"
 #include "integrators/irradiance_cache.h"
 #include "integrators/light_tracer.h"
 #include "integrators/megakernel.h"
@@ -21,6 +22,10 @@ std::unique_ptr<Integrator> make_pt(const cl::Context& ctx, const SceneBuffers& 
 // `direct` is the path tracer stopped after one bounce (the row's max_depth_cap).
 std::unique_ptr<Integrator> make_direct(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
   return std::make_unique<MegakernelIntegrator>(ctx, s, "direct", "integrators/pt.cl", "pt_render");
+}
+// `indirect1`: the light after exactly one bounce, by the generator --indirect names.
+std::unique_ptr<Integrator> make_indirect1(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
+  return std::make_unique<OneBounceIndirect>(ctx, s, c.indirect);
 }
 std::unique_ptr<Integrator> make_ao(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
   return std::make_unique<MegakernelIntegrator>(ctx, s, "ao", "integrators/ao.cl", "ao_render");
@@ -63,6 +68,7 @@ const std::vector<IntegratorInfo>& integrator_table() {
       {"ic",     true,  F::SampleSums,  OPTIONS_IC,                      true,  false, 0, false, make_ic},
       {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, make_ao},
       {"direct", true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 1, false, make_direct},
+      {"indirect1", true, F::SampleSums, OPTIONS_INDIRECT,               true,  false, 2, false, make_indirect1},
   };
   return table;
 }

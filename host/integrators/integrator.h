@@ -162,6 +162,7 @@ struct IntegratorConfig {
   MltConfig mlt;
   IcConfig ic;
   VcmConfig vcm;
+  uint32_t indirect = 0;  // indirect1: dev::IndirectGenerator (--indirect)
 };
 
 // What an integrator's film holds, which decides what the film and the command line offer.
@@ -183,6 +184,7 @@ enum IntegratorOptions : unsigned {
   OPTIONS_IC = 1u << 6,       // --ic-error, --ic-rays, --ic-min-spacing, --ic-max-spacing, --ic-no-gradients, --ic-show-records
   OPTIONS_VCM = 1u << 7,      // --vcm-mode, --vcm-radius, --vcm-alpha, --vcm-merged
   OPTIONS_LVC = 1u << 8,      // --bdpt-lvc (light vertex caching: bdpt and vcm)
+  OPTIONS_INDIRECT = 1u << 9, // --indirect
 };
 
 // One row per integrator --integrator accepts: everything the options, the renderer, the
@@ -195,7 +197,7 @@ struct IntegratorInfo {
   unsigned options;              // IntegratorOptions it reads
   bool needs_lights;             // false: renders without lights (ao)
   bool needs_perspective_camera; // light paths cannot reach an orthographic camera
-  uint32_t max_depth_cap;        // 0: none; direct: 1
+  uint32_t max_depth_cap;        // 0: none; direct: 1; indirect1: 2
   bool traces_light_paths;       // its paths per second count light paths (lt), not camera paths
   std::unique_ptr<Integrator> (*make)(const cl::Context&, const SceneBuffers&,
                                       const IntegratorConfig&);  // null: not implemented

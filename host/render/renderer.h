@@ -49,6 +49,7 @@ struct RenderSettings {
   MltConfig mlt;                    // mlt: chains, bootstrap, step sizes
   IcConfig ic;                      // ic: accuracy, rays, spacing
   VcmConfig vcm;                    // vcm: mode, radius (0: a pixel footprint at the centre), alpha
+  uint32_t indirect = 0;            // indirect1: dev::IndirectGenerator
   std::string camera;              // index or name; empty: the first camera or a default one
   std::string env_file;            // equirectangular environment map; empty: none
   float env_scale = 1.0f;          // multiplies the map

@@ -125,7 +125,8 @@ cl::Buffer upload(const cl::Context& ctx, const dev::SceneInfo& info, const char
 
 #define CLPT_SCENE_UPLOAD(type, name, what) name##_(upload(ctx, flat.name, what)),
 SceneBuffers::SceneBuffers(const cl::Context& ctx, const FlatScene& flat)
-    : SCENE_ARRAYS(CLPT_SCENE_UPLOAD) num_lights_(static_cast<uint32_t>(flat.lights.size())) {}
+    : SCENE_ARRAYS(CLPT_SCENE_UPLOAD) num_lights_(static_cast<uint32_t>(flat.lights.size())),
+      num_triangles_(static_cast<uint32_t>(flat.triangles.size())) {}
 #undef CLPT_SCENE_UPLOAD
 
 cl_uint SceneBuffers::bind(cl::Kernel& kernel, cl_uint first) const {

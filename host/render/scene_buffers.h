@@ -48,6 +48,7 @@ class SceneBuffers {
   cl_uint bind(cl::Kernel& kernel, cl_uint first = 0) const;
 
   uint32_t num_lights() const { return num_lights_; }
+  uint32_t num_triangles() const { return num_triangles_; }
   size_t device_bytes() const;
   size_t texture_bytes() const { return texels_.size() + textures_.size(); }
 
@@ -56,6 +57,7 @@ class SceneBuffers {
   SCENE_ARRAYS(CLPT_SCENE_BUFFER)
 #undef CLPT_SCENE_BUFFER
   uint32_t num_lights_ = 0;
+  uint32_t num_triangles_ = 0;
 };
 
 }  // namespace clpt

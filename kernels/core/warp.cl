@@ -11,6 +11,7 @@
 #define CLPT_CORE_WARP_CL
 
 #include "core/math.cl"
+#include "shared/compat.h"
 
 /* The azimuth of (x, y) as u.y in [0, 1). */
 inline float warp_azimuth_invert(float y, float x) {
@@ -163,6 +164,20 @@ inline float warp_uniform_triangle_pdf(float2 b) {
 inline float2 warp_uniform_triangle_invert(float2 b) {
   const float s = b.x + b.y;
   return (float2)(fmin(s * s, 1.0f), s > 0.0f ? clamp(b.y / s, 0.0f, 1.0f) : 0.0f);
+}
+
+/* ---- Discrete distributions ------------------------------------------------------------ */
+
+/* The interval i of a CDF of n intervals (n + 1 values, cdf[0] = 0, cdf[n] = 1) with
+ * cdf[i] <= u < cdf[i + 1]: never an interval of zero probability. */
+inline u32 cdf_find_interval(__global const float* cdf, u32 n, float u) {
+  u32 lo = 0u, hi = n;
+  while (lo + 1u < hi) {
+    const u32 mid = (lo + hi) >> 1;
+    if (cdf[mid] <= u) lo = mid;
+    else hi = mid;
+  }
+  return lo;
 }
 
 #endif

@@ -71,18 +71,6 @@ inline float env_pdf_w(const SceneView* s, float3 w) {
   return pdf_uv / (2.0f * PI_F * PI_F * sin_theta);
 }
 
-/* The interval i of a CDF of n intervals (n + 1 values, cdf[0] = 0, cdf[n] = 1) with
- * cdf[i] <= u < cdf[i + 1]: never an interval of zero probability. */
-inline u32 env_find_interval(__global const float* cdf, u32 n, float u) {
-  u32 lo = 0u, hi = n;
-  while (lo + 1u < hi) {
-    const u32 mid = (lo + hi) >> 1;
-    if (cdf[mid] <= u) lo = mid;
-    else hi = mid;
-  }
-  return lo;
-}
-
 /* A direction towards the environment with density *pdf_w (selection not included). */
 inline float3 env_sample_w(const SceneView* s, float2 u, float* pdf_w) {
   if (s->info->env_width == 0u) {
@@ -91,10 +79,10 @@ inline float3 env_sample_w(const SceneView* s, float2 u, float* pdf_w) {
   }
   const u32 w = s->info->env_width, h = s->info->env_height;
   __global const float* marginal = s->env_cdf;
-  const u32 y = env_find_interval(marginal, h, u.y);
+  const u32 y = cdf_find_interval(marginal, h, u.y);
   const float dy = (u.y - marginal[y]) / (marginal[y + 1u] - marginal[y]);
   __global const float* row = s->env_cdf + (h + 1u) + y * (w + 1u);
-  const u32 x = env_find_interval(row, w, u.x);
+  const u32 x = cdf_find_interval(row, w, u.x);
   const float dx = (u.x - row[x]) / (row[x + 1u] - row[x]);
   const float2 uv = (float2)(((float)x + clamp(dx, 0.0f, 0x1.fffffep-1f)) / (float)w,
                              ((float)y + clamp(dy, 0.0f, 0x1.fffffep-1f)) / (float)h);

@@ -1,6 +1,7 @@
 /* Reports sizeof/offsetof of the shared structs as the device compiler lays them out. */
 #include "shared/bdpt_types.h"
 #include "shared/ic_types.h"
+#include "shared/indirect_types.h"
 #include "shared/mlt_types.h"
 #include "shared/photon_types.h"
 #include "shared/render_types.h"
