@@ -137,6 +137,10 @@ struct Parser {
                    "global map where they land; 0 reads it at the hit itself [8]")
         ->type_name("N")
         ->check(CLI::Range(0u, 255u).description(""));
+    app.add_flag("--final-gather-cache", o.final_gather_cache,
+                 "pm: read the final gather's diffuse part from an irradiance cache whose "
+                 "records gather from the global map (Jensen's photon mapper); the --ic-* "
+                 "options apply");
     app.add_option("--knn", o.knn, "pm: photons per radiance estimate (k nearest) [50]")
         ->type_name("K")
         ->check(CLI::Range(1u, 256u).description(""));
@@ -199,6 +203,11 @@ struct Parser {
                  "ic: interpolate records without Ward and Heckbert's irradiance gradients");
     app.add_flag("--ic-show-records", o.ic_show_records,
                  "ic: paint the pixels whose camera ray placed a record red");
+    app.add_option("--ic-photons", o.ic_photons,
+                   "ic: records read a global photon map of N paths where their rays land "
+                   "(--knn, --pm-max-radius, --pm-filter apply) instead of path tracing on [0]")
+        ->type_name("N")
+        ->check(CLI::Range(uint64_t(0), uint64_t(0xffffffffu)).description(""));
     app.add_option("--indirect", o.indirect,
                    "indirect1: how a path x <- y <- light is found: receiver (BSDF ray from x, "
                    "light sample at y), source (ray from a light to y, y connected to x) or "
@@ -352,7 +361,7 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
                            "--mlt-chains"})
     o.mlt_set = o.mlt_set || p.app.count(name) > 0;
   for (const char* name : {"--ic-error", "--ic-rays", "--ic-min-spacing", "--ic-max-spacing",
-                           "--ic-no-gradients", "--ic-show-records"})
+                           "--ic-no-gradients", "--ic-show-records", "--ic-photons"})
     o.ic_set = o.ic_set || p.app.count(name) > 0;
   o.indirect_set = p.app.count("--indirect") > 0;
   for (const char* name : {"--vcm-mode", "--vcm-radius", "--vcm-alpha", "--vcm-merged"})
@@ -413,10 +422,20 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
   if (!reads(OPTIONS_PHOTONS) && (o.photons || o.sppm_radius > 0.0f || o.sppm_alpha_set))
     throw Error(ExitCode::Usage, "--photons, --sppm-radius and --sppm-alpha need --integrator pm "
                                  "or sppm");
-  if (!reads(OPTIONS_PM) && (o.caustic_photons_set || o.final_gather_set || o.knn_set ||
-                             o.pm_max_radius > 0.0f || o.pm_filter_set))
-    throw Error(ExitCode::Usage, "--caustic-photons, --final-gather, --knn, --pm-max-radius and "
-                                 "--pm-filter need --integrator pm");
+  // The irradiance cache's options apply to ic and to pm's cached final gather; photon
+  // estimates' options to pm and to ic's photon-gathering records.
+  const bool ic_cache = reads(OPTIONS_IC) || (reads(OPTIONS_PM) && o.final_gather_cache);
+  const bool ic_photon_records = reads(OPTIONS_IC) && o.ic_photons > 0;
+  if (!reads(OPTIONS_PM) && (o.caustic_photons_set || o.final_gather_set || o.final_gather_cache))
+    throw Error(ExitCode::Usage, "--caustic-photons, --final-gather and --final-gather-cache need "
+                                 "--integrator pm");
+  if (!reads(OPTIONS_PM) && !ic_photon_records &&
+      (o.knn_set || o.pm_max_radius > 0.0f || o.pm_filter_set))
+    throw Error(ExitCode::Usage, "--knn, --pm-max-radius and --pm-filter need --integrator pm, "
+                                 "or ic with --ic-photons");
+  if (o.final_gather_cache && o.final_gather_set && o.final_gather == 0)
+    throw Error(ExitCode::Usage, "--final-gather-cache caches the final gather: --final-gather 0 "
+                                 "(no final gather) leaves nothing to cache");
   if (!reads(OPTIONS_SPPM) && (o.sppm_radius > 0.0f || o.sppm_alpha_set))
     throw Error(ExitCode::Usage, "--sppm-radius and --sppm-alpha need --integrator sppm");
   if (!reads(OPTIONS_AO) && o.ao_radius > 0.0f)
@@ -436,10 +455,14 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--integrator mlt takes its random numbers from its chains: "
                                    "--sampler does not apply");
   }
-  if (!reads(OPTIONS_IC) && o.ic_set)
+  if (!ic_cache && o.ic_set)
     throw Error(ExitCode::Usage, "--ic-error, --ic-rays, --ic-min-spacing, --ic-max-spacing, "
-                                 "--ic-no-gradients and --ic-show-records need --integrator ic");
-  if (reads(OPTIONS_IC)) {
+                                 "--ic-no-gradients, --ic-show-records and --ic-photons need "
+                                 "--integrator ic (or pm with --final-gather-cache)");
+  if (!reads(OPTIONS_IC) && o.ic_photons)
+    throw Error(ExitCode::Usage, "--ic-photons is ic's: pm --final-gather-cache's records read pm's "
+                                 "global map (--photons)");
+  if (ic_cache) {
     if (!(o.ic_error > 0.0f && o.ic_error <= 1.0f))
       throw Error(ExitCode::Usage, "--ic-error " + std::to_string(o.ic_error) +
                                        ": expected 0 < A <= 1");
@@ -456,12 +479,13 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
     // Under --time the records refine for as many rounds as a quarter of the time allows,
     // so a resumed render's cache would not be the interrupted one's.
     if (o.time_limit > 0.0 && (!o.checkpoint.empty() || !o.resume.empty()))
-      throw Error(ExitCode::Usage, "--integrator ic with --time refines its cache for a share "
+      throw Error(ExitCode::Usage, "--integrator " + o.integrator + " with --time refines its "
+                                   "irradiance cache for a share "
                                    "of the time, which a resumed render cannot repeat: use "
                                    "--spp with --checkpoint and --resume");
     // The cache holds what a diffuse surface's BSDF samples find; the image's estimator
     // choices are pt's, but the walk samples the BSDF itself.
-    if (o.hemisphere != "bsdf" || o.branching != 1)
+    if (reads(OPTIONS_IC) && (o.hemisphere != "bsdf" || o.branching != 1))
       throw Error(ExitCode::Usage, "--integrator ic samples the BSDF at every vertex: "
                                    "--hemisphere must stay bsdf and --branching 1");
   }

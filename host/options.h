@@ -45,6 +45,7 @@ struct Options {
   uint64_t photons = 0;            // 0: the integrator's default
   uint64_t caustic_photons = 1000000;
   uint32_t final_gather = 8;
+  bool final_gather_cache = false;  // pm: the final gather's diffuse part from an irradiance cache
   uint32_t knn = 50;
   float pm_max_radius = 0.0f;      // 0: 2 % of the scene's bounding-box diagonal
   std::string pm_filter = "cone";
@@ -67,6 +68,7 @@ struct Options {
   float ic_max_spacing = 32.0f;
   bool ic_no_gradients = false;
   bool ic_show_records = false;
+  uint64_t ic_photons = 0;  // records gather from a global map of this many paths; 0: path traced
   bool ic_set = false;
   // One-bounce indirect light (indirect1): --indirect, the generator of its paths.
   std::string indirect = "receiver";

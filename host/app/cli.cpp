@@ -194,6 +194,8 @@ int run(const Options& opt) {
   settings.ic.max_spacing = opt.ic_max_spacing;
   settings.ic.gradients = !opt.ic_no_gradients;
   settings.ic.show_records = opt.ic_show_records;
+  settings.ic.photons = opt.ic_photons;
+  settings.final_gather_cache = opt.final_gather_cache;
   settings.vcm.mode = opt.vcm_mode == "bpt"   ? dev::VCM_MODE_BPT
                       : opt.vcm_mode == "ppm" ? dev::VCM_MODE_PPM
                       : opt.vcm_mode == "lt"  ? dev::VCM_MODE_LT
@@ -327,7 +329,10 @@ int run(const Options& opt) {
       j["connections"] = st.connections;
       j["connections_per_second"] = double(st.connections) / secs;
     }
-    if (row.options & OPTIONS_PHOTONS) {
+    // pm builds kd-trees over its maps, as ic does over the map its records read (--ic-photons);
+    // sppm a hashed grid per pass.
+    const bool kd_maps = !(row.options & OPTIONS_SPPM);
+    if ((row.options & OPTIONS_PHOTONS) || ((row.options & OPTIONS_IC) && opt.ic_photons)) {
       const PhotonStats& ph = st.photons;
       j["photons"] = {
           {"paths", ph.paths},
@@ -335,10 +340,9 @@ int run(const Options& opt) {
           {"rays", ph.rays},
           {"emit_seconds", ph.emit_seconds},
           {"paths_per_second", ph.emit_seconds > 0.0 ? double(ph.paths) / ph.emit_seconds : 0.0},
-          {"bytes_per_photon", sizeof(dev::Photon) + (opt.integrator == "pm" ? sizeof(dev::KdNode)
-                                                                             : sizeof(uint32_t))},
-          {opt.integrator == "pm" ? "kdtree_build_seconds" : "grid_build_seconds", ph.build_seconds},
-          {opt.integrator == "pm" ? "maps" : "grid_builds", ph.builds},
+          {"bytes_per_photon", sizeof(dev::Photon) + (kd_maps ? sizeof(dev::KdNode) : sizeof(uint32_t))},
+          {kd_maps ? "kdtree_build_seconds" : "grid_build_seconds", ph.build_seconds},
+          {kd_maps ? "maps" : "grid_builds", ph.builds},
           {"device_bytes", ph.device_bytes}};
     }
     if (row.options & OPTIONS_MLT) {
@@ -364,9 +368,11 @@ int run(const Options& opt) {
         j["mlt"]["chains_by_depth"] = m.chains_by_depth;
       }
     }
-    if (row.options & OPTIONS_IC) {
+    if ((row.options & OPTIONS_IC) || ((row.options & OPTIONS_PM) && opt.final_gather_cache)) {
       const IcStats& ic = st.ic;
+      const bool photon_records = opt.ic_photons || opt.final_gather_cache;
       j["ic"] = {{"error", opt.ic_error},
+                 {"gather", photon_records ? "photons" : "paths"},
                  {"records", ic.records},
                  {"rays_per_record", ic.rays_per_record},
                  {"placement_passes", ic.placement_passes},

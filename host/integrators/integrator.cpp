@@ -37,7 +37,8 @@ std::unique_ptr<Integrator> make_bdpt(const cl::Context& ctx, const SceneBuffers
   return std::make_unique<BidirectionalPathTracer>(ctx, s, c.path_memory_bytes);
 }
 std::unique_ptr<Integrator> make_pm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
-  return std::make_unique<PhotonMapper>(ctx, s, c.photons, c.caustic_photons);
+  return std::make_unique<PhotonMapper>(ctx, s, c.photons, c.caustic_photons,
+                                        c.final_gather_cache ? &c.ic : nullptr);
 }
 std::unique_ptr<Integrator> make_mlt(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
   return std::make_unique<Metropolis>(ctx, s, c.mlt);

@@ -100,6 +100,7 @@ class Integrator {
 
  protected:
   bool stop_requested() const { return stop_ && stop_->load(); }
+  const std::atomic<bool>* stop_flag() const { return stop_; }
 
  private:
   const std::atomic<bool>* stop_ = nullptr;
@@ -139,6 +140,9 @@ struct IcConfig {
   uint32_t rays = 256;        // hemisphere rays per record (M x N, M = round(sqrt(rays / pi)))
   bool gradients = true;      // extrapolate with Ward and Heckbert's gradients
   bool show_records = false;  // pixels that placed a record render red
+  // ic: global photon map paths whose density estimates the records' rays read where they
+  // land (--ic-photons); 0: the rays are path traced. pm --final-gather-cache reads pm's map.
+  uint64_t photons = 0;
   // Seconds the cache may spend refining its records (another --ic-rays per record per
   // round) after placement; the renderer gives it kIcRefineShare of --time, 0 without.
   double refine_seconds = 0.0;
@@ -159,6 +163,7 @@ struct IntegratorConfig {
   size_t path_memory_bytes = size_t(256) << 20;  // bdpt: light vertex buffer budget
   uint64_t photons = 0;          // pm: global map paths; sppm: paths per pass (0: pixels)
   uint64_t caustic_photons = 0;  // pm: caustic map paths
+  bool final_gather_cache = false;  // pm: final gather from an irradiance cache (ic settings)
   MltConfig mlt;
   IcConfig ic;
   VcmConfig vcm;
@@ -181,7 +186,7 @@ enum IntegratorOptions : unsigned {
   OPTIONS_BDPT = 1u << 3,     // --bdpt-strategy, --bdpt-unweighted, --bdpt-mosaic
   OPTIONS_AO = 1u << 4,       // --ao-radius
   OPTIONS_MLT = 1u << 5,      // --mlt-mode, --mlt-target, --mlt-large-step, --mlt-sigma, --mlt-bootstrap, --mlt-chains
-  OPTIONS_IC = 1u << 6,       // --ic-error, --ic-rays, --ic-min-spacing, --ic-max-spacing, --ic-no-gradients, --ic-show-records
+  OPTIONS_IC = 1u << 6,       // --ic-error, --ic-rays, --ic-min-spacing, --ic-max-spacing, --ic-no-gradients, --ic-show-records, --ic-photons
   OPTIONS_VCM = 1u << 7,      // --vcm-mode, --vcm-radius, --vcm-alpha, --vcm-merged
   OPTIONS_LVC = 1u << 8,      // --bdpt-lvc (light vertex caching: bdpt and vcm)
   OPTIONS_INDIRECT = 1u << 9, // --indirect

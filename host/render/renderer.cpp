@@ -123,7 +123,7 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   integrator_ = make_integrator(
       settings_.integrator, ctx_, *scene_buffers_,
       IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons,
-                       settings_.mlt, ic, vcm, settings_.indirect});
+                       settings_.final_gather_cache, settings_.mlt, ic, vcm, settings_.indirect});
   integrator_->warm_up(params_, *film_);
   ctx_.finish();
   stats_.kernel_seconds = seconds_since(t0);

@@ -41,6 +41,7 @@ struct RenderSettings {
   uint64_t photons = 0;             // pm: global map paths [200000]; sppm: per pass [pixels]
   uint64_t caustic_photons = 1000000;  // pm: caustic map paths
   uint32_t final_gather = 8;        // pm: gather rays per sample; 0: global map at the hit
+  bool final_gather_cache = false;  // pm: the final gather's diffuse part from an irradiance cache
   uint32_t knn = 50;                // pm: photons per estimate
   float pm_max_radius = 0.0f;       // pm: 0: 2 % of the scene's bounding-box diagonal
   uint32_t pm_filter = 1;           // dev::PhotonFilter (cone)

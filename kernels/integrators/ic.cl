@@ -2,7 +2,8 @@
  *   ic_place          one work-item per point of a coarse-to-fine pixel grid: the camera ray
  *                     through the pixel's centre to its first non-delta vertex; a vertex no
  *                     record covers becomes a candidate record (appended);
- *   ic_record_rays    one work-item per hemisphere ray of the batch's records;
+ *   ic_record_rays    one work-item per hemisphere ray of the batch's records (path traced,
+ *                     or reading the global photon map: IcParams.gather);
  *   ic_record_finish  one work-item per record of the batch: E, R and gradients;
  *   ic_render         one work-item per pixel, samples_per_pass samples: the image
  *                     (ic/ic_path.cl).
@@ -12,9 +13,6 @@
 #include "film/film.cl"
 #include "integrators/ic/records.cl"
 
-#define IC_CACHE_ARGS                                                                       \
-  __constant const IcParams *ic, __global const IcRecord *records, __global const u32 *starts, \
-      __global const u32 *entries
 
 #define IC_PLACE_MARGIN 0.7f
 
@@ -62,7 +60,8 @@ __kernel void ic_place(SCENE_KERNEL_ARGS __constant const RenderParams* params, 
 
 __kernel void ic_record_rays(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                              __constant const IcParams* ic, __global const IcRecord* records,
-                             __global float4* results) {
+                             __global float4* results, __global const KdNode* map_nodes,
+                             __global const Photon* map_photons, u32 map_count) {
   const u32 g = get_global_id(0);
   const u32 per = ic->rays_theta * ic->rays_phi;
   if (g >= ic->batch * per) return;
@@ -70,8 +69,12 @@ __kernel void ic_record_rays(SCENE_KERNEL_ARGS __constant const RenderParams* pa
   const u32 r = ic->first + g / per, q = g % per;
   /* A record's later batches draw the sample indices after its earlier rays'. */
   const Sampler sampler = sampler_init(params, r, records[r].rays + q);
+  PhotonMap map;
+  map.nodes = map_nodes;
+  map.photons = map_photons;
+  map.count = map_count;
   u32 rays = 0;
-  results[g] = ic_record_ray(params, &scene, ic, &records[r], q, &sampler, &rays);
+  results[g] = ic_record_ray(params, &scene, ic, &map, &records[r], q, &sampler, &rays);
 }
 
 __kernel void ic_record_finish(__constant const IcParams* ic, __global IcRecord* records,
@@ -81,10 +84,9 @@ __kernel void ic_record_finish(__constant const IcParams* ic, __global IcRecord*
   ic_finish_record(ic, &records[ic->first + g], results + (size_t)g * ic->rays_theta * ic->rays_phi);
 }
 
-__kernel void ic_render(SCENE_KERNEL_ARGS __constant const RenderParams* params, IC_CACHE_ARGS,
-                        __global const u32* marks, __global float4* film_sum,
-                        __global float4* film_sum_sq, __global u32* ray_counts,
-                        __global u32* lookup_counts) {
+__kernel void ic_render(SCENE_KERNEL_ARGS __constant const RenderParams* params, IC_IMAGE_ARGS,
+                        __global float4* film_sum, __global float4* film_sum_sq,
+                        __global u32* ray_counts) {
   const u32 pixel = get_global_id(0);
   if (pixel >= params->width * params->height) return;
   const SceneView scene = SCENE_VIEW();
@@ -104,7 +106,5 @@ __kernel void ic_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   }
   film_store(film_sum, film_sum_sq, pixel, &film);
   ray_counts[pixel] += rays;
-  lookup_counts[3u * pixel] += counts.lookups;
-  lookup_counts[3u * pixel + 1u] += counts.used;
-  lookup_counts[3u * pixel + 2u] += counts.misses;
+  ic_store_counts(lookup_counts, pixel, &counts);
 }

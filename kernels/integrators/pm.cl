@@ -1,6 +1,8 @@
 /* Entry point of classic photon mapping (kernels/integrators/photon/pm_radiance.cl): one
  * work-item per pixel, samples_per_pass samples each, over the global and caustic maps the
- * host built (host/integrators/photon_mapper.cpp). Same film layout as pt. */
+ * host built (host/integrators/photon_mapper.cpp) and, with --final-gather-cache, the
+ * irradiance cache built from the global map (a cache with no records otherwise). Same film
+ * layout as pt. */
 #include "camera/pixel_ray.cl"
 #include "film/film.cl"
 #include "integrators/photon/pm_radiance.cl"
@@ -9,7 +11,7 @@ __kernel void pm_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __global const KdNode* global_nodes, __global const Photon* global_photons,
                         u32 global_count, __global const KdNode* caustic_nodes,
                         __global const Photon* caustic_photons, u32 caustic_count,
-                        __global float4* film_sum, __global float4* film_sum_sq,
+                        IC_IMAGE_ARGS, __global float4* film_sum, __global float4* film_sum_sq,
                         __global u32* ray_counts) {
   const u32 pixel = get_global_id(0);
   if (pixel >= params->width * params->height) return;
@@ -23,14 +25,21 @@ __kernel void pm_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   caustic_map.photons = caustic_photons;
   caustic_map.count = caustic_count;
 
+  const IcCache cache = ic_cache(ic, records, starts, entries);
+  const int marked = ic->show_records && marks[pixel];
+
   FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
   u32 rays = 0;
+  IcCounts counts = {0u, 0u, 0u};
   for (u32 i = 0; i < params->samples_per_pass; ++i) {
     const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
     float3 org, dir;
     pixel_ray(params, &sampler, x, y, &org, &dir);
-    film_add(&film, pm_radiance(params, &scene, &sampler, &global_map, &caustic_map, org, dir, &rays));
+    const float3 L = pm_radiance(params, &scene, &sampler, &global_map, &caustic_map, &cache, org,
+                                 dir, &rays, &counts);
+    film_add(&film, marked ? (float3)(1.0f, 0.0f, 0.0f) : L);
   }
   film_store(film_sum, film_sum_sq, pixel, &film);
   ray_counts[pixel] += rays;
+  ic_store_counts(lookup_counts, pixel, &counts);
 }

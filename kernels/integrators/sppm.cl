@@ -77,7 +77,8 @@ __kernel void sppm_pass(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   pixel_ray(params, &sampler, x, y, &org, &dir);
   VisiblePoint vp;
   float3 Ld;
-  if (photon_visible_point(params, &scene, &sampler, 0, org, dir, 0u, 0u, 1, &rays, &vp)) {
+  if (photon_visible_point(params, &scene, &sampler, 0, org, dir, 0u, 0u, VP_EMISSION_ALL, &rays,
+                           &vp)) {
     Ld = vp.L + vp.beta * photon_direct(params, &scene, &sampler, &vp, &rays);
     u32 m = 0;
     const float3 phi = vp.beta * sppm_gather(photons, heads, next, inv_cell, mask,

@@ -50,8 +50,16 @@ typedef struct IcParams {
   u32 capacity;         /* ic_place: candidates the candidate buffer holds ... */
   u32 grid_first;       /* ... for grid points grid_first .. grid_first + capacity - 1 */
   u32 jitter;           /* ic_place: 0 pixel centres; 1 a random point in each pixel */
-  u32 pad;
+  u32 gather;           /* IcGather: what a record's ray adds where it lands */
 } IcParams;
+
+/* What a record's hemisphere ray adds where it lands (kernels/integrators/ic/records.cl). */
+enum IcGather {
+  IC_GATHER_PATHS = 0,              /* NEE and pt's continuation (ic) */
+  IC_GATHER_PHOTONS = 1,            /* the global photon map's estimate (ic --ic-photons) */
+  IC_GATHER_PHOTONS_NO_CAUSTICS = 2 /* ... without the emission seen through delta and glossy
+                                     * surfaces, a caustic map's (pm --final-gather-cache) */
+};
 
 #define IC_MAX_LEVELS 24u
 /* A grid entry (kernels/spatial/sphere_grid.cl): level << IC_ENTRY_LEVEL_SHIFT | record. */

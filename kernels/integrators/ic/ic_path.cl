@@ -22,7 +22,7 @@
 #ifndef CLPT_INTEGRATORS_IC_IC_PATH_CL
 #define CLPT_INTEGRATORS_IC_IC_PATH_CL
 
-#include "integrators/ic/lookup.cl"
+#include "integrators/ic/diffuse_part.cl"
 #include "integrators/path_trace.cl"
 
 /* Follows a camera walk (its ray not yet traced) through delta-only vertices to the first
@@ -56,26 +56,10 @@ inline float3 ic_indirect_at(__constant const RenderParams* p, const SceneView* 
          pt_continue(p, s, sampler, &w->sh, w->wo, w->depth, w->stream, rays);
 }
 
-/* (f - kd) |cos| / pdf for BSDF sample bs at sh: the part of bs's weight the cache does not
- * stand for. kd is constant over wo's side, so it only counts for directions there. */
-inline float3 ic_rest_weight(const SurfaceHit* sh, const BsdfSample* bs, float3 kd) {
-  if (bs->is_delta || is_black(kd)) return bs->weight;
-  if (gltf_is_lambert(&sh->bsdf)) return (float3)(0.0f); /* f = kd exactly */
-  const float c = dot(sh->ns, bs->wi);
-  if (!(c > 0.0f) || !(dot(sh->ng, bs->wi) > 0.0f)) return bs->weight;
-  return bs->weight - kd * (c / bs->pdf_w);
-}
-
 /* The pixel footprint at the end of a camera path `travelled` long. */
 inline float ic_footprint(__constant const IcParams* ic, float travelled) {
   return ic->footprint_per_distance * travelled + ic->footprint_constant;
 }
-
-/* Lookup counters of one work-item: lookups, records they interpolated, lookups that found
- * none. */
-typedef struct IcCounts {
-  u32 lookups, used, misses;
-} IcCounts;
 
 /* Radiance of one camera sample. */
 inline float3 ic_radiance(__constant const RenderParams* p, const SceneView* s,
@@ -87,21 +71,9 @@ inline float3 ic_radiance(__constant const RenderParams* p, const SceneView* s,
   if (!ic_first_vertex(p, s, sampler, &w, &L, &travelled, rays)) return L;
   L += w.beta * nee_direct(p, s, sampler, &w.sh, w.wo, offset_ray_origin(w.sh.p, w.sh.ng),
                            w.depth, w.stream, rays);
-  float3 kd = (float3)(0.0f);
-  if (w.depth + 1u < p->max_depth) {
-    kd = bsdf_diffuse_factor(&w.sh, w.wo);
-    if (!is_black(kd)) {
-      ++counts->lookups;
-      const IcEstimate est = ic_lookup(cache, w.sh.p, w.sh.ns, w.depth);
-      counts->used += est.records;
-      if (est.weight > 0.0f) {
-        L += w.beta * kd * est.e;
-      } else {
-        ++counts->misses;
-        kd = (float3)(0.0f);
-      }
-    }
-  }
+  float3 kd;
+  const float3 e = ic_diffuse_irradiance(p, cache, &w.sh, w.wo, w.depth, counts, &kd);
+  if (!is_black(kd)) L += w.beta * kd * e;
   /* One BSDF sample: its emission is direct light (MIS-weighted as pt's), what lies beyond
    * it the indirect light the cache does not hold. The walk carries only the medium's
    * transmittance from here (beta 1, sample weight 1, no roulette); the two weights apply

@@ -23,6 +23,11 @@
 /* eps below this counts as this: a query at a record's own point has a finite weight. */
 #define IC_MIN_EPS 1e-6f
 
+/* A kernel's arguments for the cache (bound by host/integrators/ic_records.cpp). */
+#define IC_CACHE_ARGS                                                                       \
+  __constant const IcParams *ic, __global const IcRecord *records, __global const u32 *starts, \
+      __global const u32 *entries
+
 typedef struct IcCache {
   __constant const IcParams* ic;
   __global const IcRecord* records;

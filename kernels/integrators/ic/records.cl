@@ -22,6 +22,7 @@
 #define CLPT_INTEGRATORS_IC_RECORDS_CL
 
 #include "integrators/ic/ic_path.cl"
+#include "integrators/photon/estimate.cl"
 
 /* The record frame's local direction of stratum (j, k) at offset u in it. */
 inline float3 ic_stratum_dir(u32 j, u32 k, u32 m, u32 n, float2 u) {
@@ -42,15 +43,31 @@ inline float ic_stratum_tan(float lo, float hi) {
   return (b - a) / (hi - lo);
 }
 
-/* Ray q = j N + k of record rec: (L_jk, r_jk). sampler: the record's own. */
+/* Ray q = j N + k of record rec: (L_jk, r_jk). sampler: the record's own. L_jk is the light
+ * y reflects towards x without y's own emission (x's direct light): path traced from y, or
+ * (ic->gather != IC_GATHER_PATHS) the global map's estimate at the first vertex y' neither
+ * delta nor glossy the ray reaches, all the light y' reflects (photons of every bounce, as
+ * pm's final gather reads it), plus, without a caustic map, the emission seen on the way
+ * beyond y (L S+ D(x) light, which x's own NEE cannot find). */
 inline float4 ic_record_ray(__constant const RenderParams* p, const SceneView* s,
-                            __constant const IcParams* ic, __global const IcRecord* rec, u32 q,
-                            const Sampler* sampler, u32* rays) {
+                            __constant const IcParams* ic, const PhotonMap* map,
+                            __global const IcRecord* rec, u32 q, const Sampler* sampler,
+                            u32* rays) {
   const u32 j = q / ic->rays_phi, k = q % ic->rays_phi;
   const float3 n = vload3(0, rec->n), x = vload3(0, rec->p);
   const float3 dir =
       to_world(ic_stratum_dir(j, k, ic->rays_theta, ic->rays_phi, sample_2d(sampler, DIM_PIXEL)), n);
   const float3 org = offset_ray_origin(x, n);
+  if (ic->gather != IC_GATHER_PATHS) {
+    VisiblePoint y;
+    const int emission =
+        ic->gather == IC_GATHER_PHOTONS ? VP_EMISSION_BEYOND_FIRST : VP_EMISSION_NONE;
+    float3 L = (float3)(0.0f);
+    if (photon_visible_point(p, s, sampler, 0, org, dir, rec->depth + 1u, 0u, emission, rays, &y))
+      L = y.beta * pm_estimate(p, map, &y, 1u, 0);
+    L += y.L;
+    return (float4)(is_finite3(L) ? L : (float3)(0.0f), y.t_first);
+  }
   PathWalk w = walk_from_ray(x, org, dir, (float3)(1.0f), MEDIUM_NONE, rec->depth + 1u, 0u,
                              TRANSPORT_RADIANCE, WALK_RR_PATH);
   if (!walk_next(s, &w, rays)) return (float4)(0.0f, 0.0f, 0.0f, INFINITY);

@@ -6,12 +6,15 @@
  * hide: at rough glass (roughness 0.3) pm was 13 % off (docs/TESTING.md), so glossy vertices
  * are path traced through instead, as SPPM implementations commonly do.
  *
- * Emission seen on the way is kept when asked for (camera paths): after delta bounces with
- * weight 1, nothing else can find it; at a glossy vertex the light is found by NEE and by the
- * continuing BSDF sample, combined by MIS exactly as the path tracer does. Gather rays (no
- * emission asked for) pass glossy vertices like delta ones: the light of L G+ D paths is
- * the caustic map's, whose photons count glossy scatterings as caustic. Also: direct light
- * at a visible point, by NEE and one BSDF sample combined by MIS as in pt.
+ * Emission seen on the way is kept when asked for (VP_EMISSION_ALL: camera paths): after
+ * delta bounces with weight 1, nothing else can find it; at a glossy vertex the light is
+ * found by NEE and by the continuing BSDF sample, combined by MIS exactly as the path tracer
+ * does. pm's gather rays (VP_EMISSION_NONE) pass glossy vertices like delta ones: the light
+ * of L G+ D paths is the caustic map's, whose photons count glossy scatterings as caustic.
+ * The irradiance cache's photon-gathering records, which have no caustic map, keep all but
+ * the first hit's (VP_EMISSION_BEYOND_FIRST): the record's point finds that light itself,
+ * as direct light. Also: direct light at a visible point, by NEE and one BSDF sample
+ * combined by MIS as in pt.
  *
  * Depth counts bounces as in pt: a vertex at depth d has d scatterings before it, and a
  * photon stored at its path's b-th hit has made b - 1 bounces, so at depth d photons with
@@ -29,7 +32,13 @@ typedef struct VisiblePoint {
   float3 beta;     /* throughput from the ray's origin to here */
   float3 L;        /* emission found on the way, weighted by the throughput */
   u32 depth;       /* bounces before this vertex */
+  float t_first;   /* the distance to the ray's first hit (INFINITY: none) */
 } VisiblePoint;
+
+/* Which emission photon_visible_point collects on its way. */
+#define VP_EMISSION_NONE 0
+#define VP_EMISSION_ALL 1
+#define VP_EMISSION_BEYOND_FIRST 2 /* all but the first hit's (and the first ray's escape) */
 
 /* Follows org, dir (a camera ray with depth 0 and from = 0, or a ray leaving vertex `from`
  * at depth `depth` - 1) to the first vertex neither delta nor glossy. Returns 0 when there is
@@ -37,10 +46,12 @@ typedef struct VisiblePoint {
  * either way. Dimensions from bounce `depth` of `stream`. */
 inline int photon_visible_point(__constant const RenderParams* p, const SceneView* s,
                                 const Sampler* sampler, const SurfaceHit* from, float3 org,
-                                float3 dir, u32 depth, u32 stream, int add_emission, u32* rays,
+                                float3 dir, u32 depth, u32 stream, int emission, u32* rays,
                                 VisiblePoint* vp) {
   vp->beta = (float3)(1.0f);
   vp->L = (float3)(0.0f);
+  vp->t_first = INFINITY;
+  int add_emission = emission == VP_EMISSION_ALL;
   PathWalk w = walk_from_ray(from ? from->p : org, org, dir, (float3)(1.0f),
                              from ? volume_medium(s, from, dir) : MEDIUM_NONE, depth, stream,
                              TRANSPORT_RADIANCE, WALK_RR_PATH);
@@ -49,8 +60,10 @@ inline int photon_visible_point(__constant const RenderParams* p, const SceneVie
       if (add_emission) vp->L += w.beta * nee_emission_escaped(p, s, w.dir, w.pdf_w, w.delta);
       return 0;
     }
+    if (!(vp->t_first < INFINITY)) vp->t_first = w.hit.t;
     if (add_emission)
       vp->L += w.beta * nee_emission_hit(p, s, &w.sh, w.wo, w.hit.t, w.pdf_w, w.delta);
+    add_emission = emission != VP_EMISSION_NONE;
     if (w.depth >= p->max_depth) return 0;
     const int glossy = photon_glossy(&w.sh);
     if (bsdf_has_smooth_lobe(&w.sh) && !glossy) {
