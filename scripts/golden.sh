@@ -74,6 +74,9 @@ mlt_lens     | scenes/cornell_box.gltf | --integrator mlt --mlt-mode pssmlt --ml
 mmlt         | scenes/cornell_box.gltf | --integrator mlt --mlt-bootstrap 5000
 mmlt_caustic | scenes/caustic.gltf     | --integrator mlt --mlt-bootstrap 5000 --mlt-chains 500
 mmlt_env     | scenes/cornell_box.gltf | --integrator mlt --mlt-bootstrap 5000 --max-depth 3 --background 0.2,0.3,0.4
+ic           | scenes/cornell_box.gltf | --integrator ic
+ic_photons   | scenes/cornell_ceiling.gltf | --integrator ic --ic-photons 20000 --ic-rays 64
+pm_fgcache   | scenes/caustic.gltf     | --integrator pm --photons 20000 --caustic-photons 50000 --final-gather-cache --ic-rays 64
 vcm          | scenes/cornell_box.gltf | --integrator vcm
 vcm_caustic  | scenes/caustic.gltf     | --integrator vcm --mis balance
 vcm_ppm      | scenes/cornell_box.gltf | --integrator vcm --vcm-mode ppm

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Generate clpt's reference glTF 2.0 scenes, deterministically.
 
-    python3 scripts/make_scenes.py            # writes scenes/cornell_box.gltf, scenes/furnace.gltf,
+    python3 scripts/make_scenes.py            # writes scenes/cornell_box.gltf,
+                                              # scenes/cornell_ceiling.gltf, scenes/furnace.gltf,
                                               # scenes/caustic.gltf, scenes/indirect.gltf,
-                                              # scenes/door_ajar.gltf
+                                              # scenes/door_ajar.gltf, scenes/glass_room.gltf
     python3 scripts/make_scenes.py --out DIR  # writes them into DIR instead
 
 Python 3.11 standard library only. Each scene is a single .gltf file whose one buffer is
@@ -471,7 +472,15 @@ def cornell_to_gltf(p_mm):
     return ((556.0 - x) / 1000.0, y / 1000.0, -z / 1000.0 + 0.0)  # + 0.0: no -0.0
 
 
-def make_cornell(out_dir):
+# The light of cornell_ceiling.gltf: the same quad 48.7 mm below the ceiling, emitting upward
+# only, so that every path to the camera bounces off the ceiling first (the irradiance
+# cache's benchmark, and the case of a light facing away from what it lights).
+CORNELL_CEILING_LIGHT_Y_MM = 500.0
+
+
+def make_cornell(out_dir, ceiling_light=False):
+    """The Cornell box; with ceiling_light, cornell_ceiling.gltf: its light turned to face the
+    ceiling from CORNELL_CEILING_LIGHT_Y_MM."""
     doc = Document("clpt scripts/make_scenes.py (Cornell Box Data, Cornell University PCG)")
     for name, (albedo, emission, ds) in CORNELL_MATERIALS.items():
         doc.add_material(name, albedo, emission, ds)
@@ -482,6 +491,8 @@ def make_cornell(out_dir):
     stats = {}
     for obj, quads in CORNELL_MM.items():
         mesh = Mesh(obj, CORNELL_OBJECT_MATERIAL[obj])
+        if obj == "light" and ceiling_light:
+            quads = [[(x, CORNELL_CEILING_LIGHT_Y_MM, z) for (x, _, z) in q] for q in quads]
         quads_m = [[cornell_to_gltf(p) for p in q] for q in quads]
         if obj.endswith("block"):
             corners = [p for q in quads_m for p in q]
@@ -493,7 +504,7 @@ def make_cornell(out_dir):
             for i in range(4):
                 n = add(n, cross(q[i], q[(i + 1) % 4]))
             if obj == "light":
-                want = (0.0, -1.0, 0.0)               # emits downward only
+                want = (0.0, 1.0 if ceiling_light else -1.0, 0.0)  # emits on one side only
             elif obj.endswith("block"):
                 want = sub(qc, centre)                # outward
             else:
@@ -508,7 +519,7 @@ def make_cornell(out_dir):
                 g = tri_normal(*(mesh.positions[i] for i in t))
                 assert dot(g, want) > 0.0, f"{obj}: triangle faces the wrong way"
                 if obj == "light":
-                    assert g[1] < -0.999999
+                    assert (g[1] > 0.999999) if ceiling_light else (g[1] < -0.999999)
         doc.add_mesh(mesh)
         stats[obj] = len(mesh.triangles)
 
@@ -517,7 +528,7 @@ def make_cornell(out_dir):
     doc.add_perspective_camera("cornell_camera", [round(c, 9) for c in cam], yfov, 1.0, 0.01)
     assert [round(c, 9) for c in cam] == [0.278, 0.273, 0.8]
 
-    path = os.path.join(out_dir, "cornell_box.gltf")
+    path = os.path.join(out_dir, "cornell_ceiling.gltf" if ceiling_light else "cornell_box.gltf")
     write_gltf(doc.finish(), path)
     res = validate(path)
 
@@ -1046,6 +1057,7 @@ def main(argv=None):
     out_dir = os.path.normpath(args.out)
     os.makedirs(out_dir, exist_ok=True)
     make_cornell(out_dir)
+    make_cornell(out_dir, ceiling_light=True)
     make_furnace(out_dir)
     make_caustic(out_dir)
     make_indirect(out_dir)

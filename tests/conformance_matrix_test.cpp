@@ -54,7 +54,8 @@ struct Estimator {
   uint32_t direct;  // dev::DirectStrategy for pt
   uint64_t spp;     // per batch
   // The relative bias the estimator's regions may show, with its reason: pm's kNN density
-  // estimation (50 photons), sppm's radius after 64 passes (docs/TESTING.md); 0: unbiased.
+  // estimation (50 photons), sppm's radius after 64 passes, ic's interpolation between
+  // records (docs/TESTING.md); 0: unbiased.
   double bias_bound;
   // Per-pixel test: only for the MIS estimators. A single strategy is heavy-tailed by
   // construction somewhere in the matrix (BSDF sampling of the small panel, light sampling
@@ -71,7 +72,7 @@ const std::vector<Estimator>& estimators() {
       {"pt_bsdf", "pt", 2, 64, 0.0, false},   {"lt", "lt", 0, 64, 0.0, false},
       {"bdpt", "bdpt", 0, 24, 0.0, true},     {"pm", "pm", 0, 8, 0.10, false},
       {"sppm", "sppm", 0, 64, 0.05, false},   {"mlt", "mlt", 0, 64, 0.0, false},
-      {"vcm", "vcm", 0, 24, 0.0, true},
+      {"vcm", "vcm", 0, 24, 0.0, true},     {"ic", "ic", 0, 64, 0.05, false},
   };
   return list;
 }

@@ -129,6 +129,9 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
   const bool merging = dev::vcm_mode_merges(mode);
   const bool caching = p.bdpt_lvc && dev::vcm_mode_connects(mode);
   if (merging || caching) {
+    // The light kernel first, so that grid_seconds times the grid alone (the queue is in
+    // order: the insert waits for it anyway).
+    ctx_.finish();
     const auto t0 = Clock::now();
     if (merging) heads_.fill_zero();
     if (caching) cache_count_.fill_zero();

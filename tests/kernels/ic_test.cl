@@ -31,3 +31,21 @@ __kernel void ic_finish_linear(__constant const IcParams* ic, __global IcRecord*
     }
   ic_finish_record(ic, rec, rays);
 }
+
+/* A record under an infinite ceiling at height h along its normal whose radiance is linear
+ * in position, L(p) = a + b . p (b tangent to the ceiling), the record at the origin: E(x) =
+ * pi (a + b . x), so grad_trans E = pi b (Ward and Heckbert's translational gradient, whose
+ * rays' distances r = h / cos(theta) now matter). Stratum centres. */
+__kernel void ic_finish_ceiling(__constant const IcParams* ic, __global IcRecord* rec,
+                                __global float4* rays, float a, float bx, float by, float bz,
+                                float h) {
+  if (get_global_id(0) != 0) return;
+  const float3 n = vload3(0, rec->n), b = (float3)(bx, by, bz);
+  for (u32 j = 0; j < ic->rays_theta; ++j)
+    for (u32 k = 0; k < ic->rays_phi; ++k) {
+      const float3 w = to_world(ic_stratum_dir(j, k, ic->rays_theta, ic->rays_phi, (float2)(0.5f)), n);
+      const float r = h / dot(w, n);
+      rays[j * ic->rays_phi + k] = (float4)((float3)(a + dot(b, r * w)), r);
+    }
+  ic_finish_record(ic, rec, rays);
+}

@@ -9,12 +9,17 @@
  *     grad_rot E = pi/(M N) sum_k v_k sum_j tan(theta_j) L_jk    (tan's mean over the stratum)
  *     grad_trans E = sum_k [ u_k 2pi/N sum_{j>=1} sin(theta_j-) cos^2(theta_j-)
  *                                    (L_jk - L_j-1,k) / min(r_jk, r_j-1,k)
- *                          + v_k- sum_j (cos theta_j- - cos theta_j+) / sin theta_j
+ *                          + v_k- sum_j (sin theta_j+ - sin theta_j-)
  *                                    (L_jk - L_j,k-1) / min(r_jk, r_j,k-1) ]
  * with theta_j, theta_j- and theta_j+ the stratum's middle, lower and upper polar angles,
  * u_k the direction of the stratum's middle phi_k, v_k = u_k turned by 90 degrees about n,
  * v_k- that of its lower edge 2 pi k/N (Ward and Heckbert 1992, in the notation of Krivanek
- * et al.'s 2008 course notes). The rotational gradient is the derivative of E for a rotation
+ * et al.'s 2008 course notes). The azimuthal term is the cosine-weighted solid angle a
+ * wall between strata sweeps as x moves across it, the integral of cos theta d theta / r
+ * over the stratum: Ward and Heckbert's printed (cos theta_j- - cos theta_j+) / sin theta_j
+ * lacks the cosine (Mitsuba 0.6's irradiance cache multiplies it by cos theta_j, the same to
+ * first order), and made the gradient 1.5x too large under a ceiling of linear radiance
+ * (tests/ic_test.cpp, TranslationalGradientUnderALinearCeiling). The rotational gradient is the derivative of E for a rotation
  * about the axis n x n' (dE = grad_rot . (n x n')); the lookup takes n_i x n. R is then
  * limited by the gradient (R <= E / |grad_trans E|, Krivanek et al. 2008) and clamped so that the validity radius a R lies within [min, max] spacing pixel footprints
  * (Tabellion and Lamorlette 2004 clamp in pixels likewise). */
@@ -98,21 +103,19 @@ inline void ic_finish_record(__constant const IcParams* ic, __global IcRecord* r
       const float3 L = here.xyz;
       e += L;
       inv_r += 1.0f / here.w; /* 0 for an escaped ray */
-      const float s2 = ((float)j + 0.5f) / (float)m;
-      const float sin_t = sqrt(s2);
       const float s2_lo = (float)j / (float)m, s2_hi = (float)(j + 1u) / (float)m;
       rot_k += ic_stratum_tan(s2_lo, s2_hi) * L;
-      const float cos_lo = sqrt(1.0f - s2_lo), cos_hi = sqrt(fmax(0.0f, 1.0f - s2_hi));
+      const float cos_lo = sqrt(1.0f - s2_lo), sin_lo = sqrt(s2_lo);
       if (j > 0u) {
         const float4 below = ray[(j - 1u) * nphi + k];
         const float r_min = fmin(here.w, below.w);
         if (r_min < INFINITY)
-          radial += (sqrt(s2_lo) * cos_lo * cos_lo / r_min) * (L - below.xyz);
+          radial += (sin_lo * cos_lo * cos_lo / r_min) * (L - below.xyz);
       }
       const float4 side = ray[j * nphi + k_prev];
       const float r_side = fmin(here.w, side.w);
       if (r_side < INFINITY && nphi > 1u)
-        azimuthal += ((cos_lo - cos_hi) / (sin_t * r_side)) * (L - side.xyz);
+        azimuthal += ((sqrt(s2_hi) - sin_lo) / r_side) * (L - side.xyz);
     }
     const float3 radial_w = (2.0f * PI_F / (float)nphi) * radial;
     rot[0] += rot_k.x * v_k;
