@@ -5,9 +5,8 @@
  * against the background); occlusion rays that hit nothing count as unoccluded. */
 #include "bsdf/bsdf.cl"
 #include "bvh/intersect.cl"
-#include "camera/pixel_ray.cl"
 #include "core/ray.cl"
-#include "film/film.cl"
+#include "integrators/stages/pixel_samples.cl"
 #include "sampler/sampler.cl"
 
 inline float ao_sample(const SceneView* s, __constant const RenderParams* p, const Sampler* sampler,
@@ -29,15 +28,11 @@ __kernel void ao_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   const u32 pixel = get_global_id(0);
   if (pixel >= params->width * params->height) return;
   const SceneView scene = SCENE_VIEW();
-  const u32 x = pixel % params->width, y = pixel / params->width;
-  FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
-  u32 rays = 0;
+  PixelSamples ps = pixel_samples_begin(params, pixel, film_sum, film_sum_sq);
   for (u32 i = 0; i < params->samples_per_pass; ++i) {
-    const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
     float3 org, dir;
-    pixel_ray(params, &sampler, x, y, &org, &dir);
-    film_add(&film, (float3)(ao_sample(&scene, params, &sampler, org, dir, &rays)));
+    const Sampler sampler = pixel_sample(params, &ps, i, &org, &dir);
+    film_add(&ps.film, (float3)(ao_sample(&scene, params, &sampler, org, dir, &ps.rays)));
   }
-  film_store(film_sum, film_sum_sq, pixel, &film);
-  ray_counts[pixel] += rays;
+  pixel_samples_end(&ps, film_sum, film_sum_sq, ray_counts);
 }

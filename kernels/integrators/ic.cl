@@ -9,8 +9,7 @@
  *                     (ic/ic_path.cl).
  * The placement and record kernels take a RenderParams of their own (the independent
  * sampler under a seed of the cache's), the image the render's. */
-#include "camera/pixel_ray.cl"
-#include "film/film.cl"
+#include "integrators/stages/pixel_samples.cl"
 #include "integrators/ic/records.cl"
 
 
@@ -91,20 +90,16 @@ __kernel void ic_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   if (pixel >= params->width * params->height) return;
   const SceneView scene = SCENE_VIEW();
   const IcCache cache = ic_cache(ic, records, starts, entries);
-  const u32 x = pixel % params->width, y = pixel / params->width;
   const int marked = ic->show_records && marks[pixel];
 
-  FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
-  u32 rays = 0;
+  PixelSamples ps = pixel_samples_begin(params, pixel, film_sum, film_sum_sq);
   IcCounts counts = {0u, 0u, 0u};
   for (u32 i = 0; i < params->samples_per_pass; ++i) {
-    const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
     float3 org, dir;
-    pixel_ray(params, &sampler, x, y, &org, &dir);
-    const float3 L = ic_radiance(params, &scene, &cache, &sampler, org, dir, &rays, &counts);
-    film_add(&film, marked ? (float3)(1.0f, 0.0f, 0.0f) : L);
+    const Sampler sampler = pixel_sample(params, &ps, i, &org, &dir);
+    const float3 L = ic_radiance(params, &scene, &cache, &sampler, org, dir, &ps.rays, &counts);
+    film_add(&ps.film, marked ? (float3)(1.0f, 0.0f, 0.0f) : L);
   }
-  film_store(film_sum, film_sum_sq, pixel, &film);
-  ray_counts[pixel] += rays;
+  pixel_samples_end(&ps, film_sum, film_sum_sq, ray_counts);
   ic_store_counts(lookup_counts, pixel, &counts);
 }

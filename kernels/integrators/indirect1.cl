@@ -4,8 +4,7 @@
  *                     surface-area distribution of --indirect surface;
  *   indirect1_render  one work-item per pixel, samples_per_pass samples each: the light that
  *                     reaches the camera's first hit x after exactly one reflection. */
-#include "camera/pixel_ray.cl"
-#include "film/film.cl"
+#include "integrators/stages/pixel_samples.cl"
 #include "integrators/indirect/generators.cl"
 
 __kernel void indirect1_areas(SCENE_KERNEL_ARGS u32 count, __global float* areas) {
@@ -37,15 +36,12 @@ __kernel void indirect1_render(SCENE_KERNEL_ARGS __constant const RenderParams* 
   const u32 pixel = get_global_id(0);
   if (pixel >= params->width * params->height) return;
   const SceneView scene = SCENE_VIEW();
-  const u32 x = pixel % params->width, y = pixel / params->width;
-  FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
-  u32 rays = 0;
+  PixelSamples ps = pixel_samples_begin(params, pixel, film_sum, film_sum_sq);
   for (u32 i = 0; i < params->samples_per_pass; ++i) {
-    const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
     float3 org, dir;
-    pixel_ray(params, &sampler, x, y, &org, &dir);
-    film_add(&film, indirect1_radiance(&scene, params, indirect, area_cdf, &sampler, org, dir, &rays));
+    const Sampler sampler = pixel_sample(params, &ps, i, &org, &dir);
+    film_add(&ps.film,
+             indirect1_radiance(&scene, params, indirect, area_cdf, &sampler, org, dir, &ps.rays));
   }
-  film_store(film_sum, film_sum_sq, pixel, &film);
-  ray_counts[pixel] += rays;
+  pixel_samples_end(&ps, film_sum, film_sum_sq, ray_counts);
 }

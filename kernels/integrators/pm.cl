@@ -3,8 +3,7 @@
  * host built (host/integrators/photon_mapper.cpp) and, with --final-gather-cache, the
  * irradiance cache built from the global map (a cache with no records otherwise). Same film
  * layout as pt. */
-#include "camera/pixel_ray.cl"
-#include "film/film.cl"
+#include "integrators/stages/pixel_samples.cl"
 #include "integrators/photon/pm_radiance.cl"
 
 __kernel void pm_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
@@ -16,7 +15,6 @@ __kernel void pm_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   const u32 pixel = get_global_id(0);
   if (pixel >= params->width * params->height) return;
   const SceneView scene = SCENE_VIEW();
-  const u32 x = pixel % params->width, y = pixel / params->width;
   PhotonMap global_map, caustic_map;
   global_map.nodes = global_nodes;
   global_map.photons = global_photons;
@@ -28,18 +26,15 @@ __kernel void pm_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   const IcCache cache = ic_cache(ic, records, starts, entries);
   const int marked = ic->show_records && marks[pixel];
 
-  FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
-  u32 rays = 0;
+  PixelSamples ps = pixel_samples_begin(params, pixel, film_sum, film_sum_sq);
   IcCounts counts = {0u, 0u, 0u};
   for (u32 i = 0; i < params->samples_per_pass; ++i) {
-    const Sampler sampler = sampler_init(params, pixel, params->sample_offset + i);
     float3 org, dir;
-    pixel_ray(params, &sampler, x, y, &org, &dir);
+    const Sampler sampler = pixel_sample(params, &ps, i, &org, &dir);
     const float3 L = pm_radiance(params, &scene, &sampler, &global_map, &caustic_map, &cache, org,
-                                 dir, &rays, &counts);
-    film_add(&film, marked ? (float3)(1.0f, 0.0f, 0.0f) : L);
+                                 dir, &ps.rays, &counts);
+    film_add(&ps.film, marked ? (float3)(1.0f, 0.0f, 0.0f) : L);
   }
-  film_store(film_sum, film_sum_sq, pixel, &film);
-  ray_counts[pixel] += rays;
+  pixel_samples_end(&ps, film_sum, film_sum_sq, ray_counts);
   ic_store_counts(lookup_counts, pixel, &counts);
 }
