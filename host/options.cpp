@@ -2,7 +2,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <iostream>
 #include <sstream>
 
@@ -12,6 +15,23 @@
 
 namespace clpt {
 namespace {
+
+// Every real-valued option: NaN, infinities and numbers past the type's range are refused
+// with the option's name (CLI11's own range checks let NaN through: every comparison with it
+// is false). A text that is not a number at all is left to the option's conversion.
+const CLI::Validator kFinite(
+    [](std::string& text) -> std::string {
+      errno = 0;
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (end == text.c_str()) return std::string();
+      const bool overflow = errno == ERANGE && std::fabs(v) > 1.0;
+      if (!std::isfinite(v) || overflow ||
+          (std::fabs(v) > double(std::numeric_limits<float>::max())))
+        return text + " is not a finite number";
+      return std::string();
+    },
+    "", "finite");
 
 struct Parser {
   CLI::App app{"clpt: an OpenCL physically based renderer for glTF 2.0 scenes.", "clpt"};
@@ -41,7 +61,8 @@ struct Parser {
     time_opt = app.add_option("--time", o.time_limit,
                               "Time budget in seconds; with --spp, whichever ends first")
                    ->type_name("SECONDS")
-                   ->check(CLI::PositiveNumber.description(""));
+                   ->check(CLI::PositiveNumber.description(""))
+                   ->check(kFinite);
     app.add_option("--resolution", resolution, "Image size WxH [640 wide, camera aspect]")
         ->type_name("WxH");
     app.add_option("--camera", o.camera,
@@ -50,19 +71,23 @@ struct Parser {
     app.add_option("--aperture", o.aperture,
                    "Thin-lens aperture radius in scene units; 0 is a pinhole [0]")
         ->type_name("RADIUS")
-        ->check(CLI::NonNegativeNumber.description(""));
+        ->check(CLI::NonNegativeNumber.description(""))
+        ->check(kFinite);
     app.add_option("--focus-distance", o.focus_distance,
                    "Distance in focus with --aperture [to the scene's centre along the view]")
         ->type_name("DIST")
-        ->check(CLI::PositiveNumber.description(""));
+        ->check(CLI::PositiveNumber.description(""))
+        ->check(kFinite);
     app.add_option("--env", o.env,
                    "Environment map, equirectangular .hdr/.exr, +y up, image centre towards -z")
         ->type_name("FILE");
     app.add_option("--env-scale", o.env_scale, "Multiplies the environment map's radiance [1]")
         ->type_name("S")
-        ->check(CLI::NonNegativeNumber.description(""));
+        ->check(CLI::NonNegativeNumber.description(""))
+        ->check(kFinite);
     app.add_option("--env-rotate", o.env_rotate, "Turns the environment about +y [0]")
-        ->type_name("DEGREES");
+        ->type_name("DEGREES")
+        ->check(kFinite);
     app.add_option("--background", background,
                    "Constant radiance of rays that escape, without --env [0,0,0]")
         ->type_name("R,G,B");
@@ -102,7 +127,8 @@ struct Parser {
     app.add_option("--ao-radius", o.ao_radius,
                    "Ambient occlusion (--integrator ao) distance [10% of the scene's diagonal]")
         ->type_name("DIST")
-        ->check(CLI::NonNegativeNumber.description(""));
+        ->check(CLI::NonNegativeNumber.description(""))
+        ->check(kFinite);
     app.add_option("--bdpt-strategy", o.bdpt_strategy,
                    "bdpt: render only strategy S,T (S light vertices, T camera vertices), "
                    "MIS-weighted")
@@ -147,18 +173,21 @@ struct Parser {
     app.add_option("--pm-max-radius", o.pm_max_radius,
                    "pm: largest search radius of an estimate [2% of the scene's diagonal]")
         ->type_name("DIST")
-        ->check(CLI::PositiveNumber.description(""));
+        ->check(CLI::PositiveNumber.description(""))
+        ->check(kFinite);
     app.add_option("--pm-filter", o.pm_filter,
                    "pm: density estimation kernel: cone|epanechnikov|box [cone]")
         ->type_name("NAME");
     app.add_option("--sppm-radius", o.sppm_radius,
                    "sppm: initial search radius [2 pixel footprints at the scene's centre]")
         ->type_name("DIST")
-        ->check(CLI::PositiveNumber.description(""));
+        ->check(CLI::PositiveNumber.description(""))
+        ->check(kFinite);
     app.add_option("--sppm-alpha", o.sppm_alpha,
                    "sppm: fraction of each pass's photons kept as the radius shrinks [0.667]")
         ->type_name("A")
-        ->check(CLI::Range(0.01f, 1.0f).description(""));
+        ->check(CLI::Range(0.01f, 1.0f).description(""))
+        ->check(kFinite);
     app.add_option("--mlt-mode", o.mlt_mode,
                    "mlt: mmlt (multiplexed, over bdpt's strategies, a chain per path length) or "
                    "pssmlt (Kelemen's primary sample space over pt) [mmlt]")
@@ -171,11 +200,13 @@ struct Parser {
     app.add_option("--mlt-large-step", o.mlt_large_step,
                    "mlt: probability that a mutation is a large step (a fresh path) [0.3]")
         ->type_name("P")
-        ->check(CLI::Range(0.0f, 1.0f).description(""));
+        ->check(CLI::Range(0.0f, 1.0f).description(""))
+        ->check(kFinite);
     app.add_option("--mlt-sigma", o.mlt_sigma,
                    "mlt: standard deviation of a small step in primary sample space [0.01]")
         ->type_name("S")
-        ->check(CLI::Range(1e-7f, 1.0f).description(""));
+        ->check(CLI::Range(1e-7f, 1.0f).description(""))
+        ->check(kFinite);
     app.add_option("--mlt-bootstrap", o.mlt_bootstrap,
                    "mlt: independent paths (mmlt: per path length) that estimate the image's "
                    "brightness and choose the chains' start states [100000]")
@@ -189,16 +220,19 @@ struct Parser {
     app.add_option("--ic-error", o.ic_error,
                    "ic: Ward's accuracy a: a record serves points where its error "
                    "|x - xi| / Ri + sqrt(1 - n.ni) is below a; smaller is more records [0.2]")
-        ->type_name("A");
+        ->type_name("A")
+        ->check(kFinite);
     app.add_option("--ic-rays", o.ic_rays,
                    "ic: stratified hemisphere rays per record [256]")
         ->type_name("N");
     app.add_option("--ic-min-spacing", o.ic_min_spacing,
                    "ic: smallest validity radius a Ri of a record, in pixel footprints [1.5]")
-        ->type_name("PIXELS");
+        ->type_name("PIXELS")
+        ->check(kFinite);
     app.add_option("--ic-max-spacing", o.ic_max_spacing,
                    "ic: largest validity radius a Ri of a record, in pixel footprints [32]")
-        ->type_name("PIXELS");
+        ->type_name("PIXELS")
+        ->check(kFinite);
     app.add_flag("--ic-no-gradients", o.ic_no_gradients,
                  "ic: interpolate records without Ward and Heckbert's irradiance gradients");
     app.add_flag("--ic-show-records", o.ic_show_records,
@@ -220,14 +254,16 @@ struct Parser {
     app.add_option("--vcm-radius", o.vcm_radius,
                    "vcm: the first pass's merge radius [1 pixel footprint at the scene's centre]")
         ->type_name("DIST")
-        ->check(CLI::PositiveNumber.description(""));
+        ->check(CLI::PositiveNumber.description(""))
+        ->check(kFinite);
     app.add_flag("--vcm-merged", o.vcm_merged,
                  "vcm: add a 'merged' layer to the EXR: the part of each pixel that merging "
                  "contributed");
     app.add_option("--vcm-alpha", o.vcm_alpha,
                    "vcm: radius of pass i is r (i + 1)^((alpha - 1) / 2) [0.75]")
         ->type_name("A")
-        ->check(CLI::Range(0.01f, 1.0f).description(""));
+        ->check(CLI::Range(0.01f, 1.0f).description(""))
+        ->check(kFinite);
     stats_opt = app.add_option("--stats", stats_value,
                                "Write render statistics as JSON to FILE, or stdout when no FILE")
                     ->expected(0, 1)
@@ -244,7 +280,8 @@ struct Parser {
     app.add_option("--checkpoint-interval", o.checkpoint_interval,
                    "Seconds between checkpoints [60]")
         ->type_name("SECONDS")
-        ->check(CLI::PositiveNumber.description(""));
+        ->check(CLI::PositiveNumber.description(""))
+        ->check(kFinite);
     app.add_option("--resume", o.resume,
                    "Continue the render saved in FILE; --spp stays the total sample count")
         ->type_name("FILE");

@@ -6,9 +6,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <utility>
+#include <vector>
 
 #include "io/image_io.h"
 #include "stats/image_stats.h"
+#include "support/parse_options.h"
 #include "support/run.h"
 
 namespace clpt {
@@ -359,6 +362,45 @@ TEST_F(Cli, CameraByIndexAndByName) {
   r = run_clpt({named, "--camera", "NoSuchCamera", "--spp", "1", "-o", path("m.exr")});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("'CameraNode'"), std::string::npos) << "the error lists the cameras: " << r.err;
+}
+
+// Numbers on the command line (issue 23, class 10): every real-valued option refuses NaN,
+// infinities and values past a float's range with exit 1 naming the option (CLI11's range
+// checks let NaN through); a camera index too long for any count is out of range, not an
+// internal error; a --time too short for one pass still renders one.
+TEST(CliNumbers, NonFiniteRealsAreUsageErrorsNamingTheOption) {
+  // option, and what it needs beside it to be read at all
+  const std::vector<std::pair<const char*, std::vector<const char*>>> reals = {
+      {"--time", {}}, {"--aperture", {}}, {"--focus-distance", {}}, {"--env-scale", {}},
+      {"--env-rotate", {}}, {"--ao-radius", {"--integrator", "ao"}},
+      {"--pm-max-radius", {"--integrator", "pm"}}, {"--sppm-radius", {"--integrator", "sppm"}},
+      {"--sppm-alpha", {"--integrator", "sppm"}}, {"--mlt-large-step", {"--integrator", "mlt"}},
+      {"--mlt-sigma", {"--integrator", "mlt"}}, {"--ic-error", {"--integrator", "ic"}},
+      {"--ic-min-spacing", {"--integrator", "ic"}}, {"--ic-max-spacing", {"--integrator", "ic"}},
+      {"--vcm-radius", {"--integrator", "vcm"}}, {"--vcm-alpha", {"--integrator", "vcm"}},
+      {"--checkpoint-interval", {"--checkpoint", "c.ckpt"}}};
+  for (const auto& [name, context] : reals)
+    for (const char* value : {"nan", "NaN", "inf", "-inf", "1e39", "1e999"}) {
+      std::vector<const char*> args = {"s.gltf", name, value};
+      args.insert(args.end(), context.begin(), context.end());
+      EXPECT_EQ(test::parse_error(args), ExitCode::Usage) << name << " " << value;
+    }
+  // The same options still take ordinary values.
+  EXPECT_EQ(test::parse_error({"s.gltf", "--env-rotate", "-45.5", "--aperture", "0", "--time", "2.5"}),
+            ExitCode::Ok);
+  const test::RunResult r = test::run_clpt({kCornell, "--env-scale", "nan", "-o", "/tmp/never.exr"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--env-scale"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not a finite number"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, HugeCameraIndexIsOutOfRangeAndATinyTimeStillRenders) {
+  test::RunResult r = run_clpt({kCornell, "--camera", "99999999999999999999999", "-o", path("c.exr")});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("the scene has 1 camera(s)"), std::string::npos) << r.err;
+  r = run_clpt({kCornell, "--time", "1e-300", "--resolution", "8x8", "-o", path("t.exr"), "-q"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(path("t.exr"))) << "a render under --time takes at least one pass";
 }
 
 }  // namespace

@@ -10,8 +10,10 @@ namespace clpt {
 Camera choose_camera(const Scene& scene, const std::string& spec) {
   if (spec.empty()) return scene.cameras.empty() ? default_camera(scene.bounds()) : scene.cameras[0];
   if (spec.find_first_not_of("0123456789") == std::string::npos) {
-    const unsigned long i = std::stoul(spec);
-    if (i < scene.cameras.size()) return scene.cameras[i];
+    // An index of more digits than any count can need is out of range, not an overflow.
+    const bool small = spec.size() <= 9;
+    const size_t i = small ? size_t(std::stoul(spec)) : size_t(-1);
+    if (small && i < scene.cameras.size()) return scene.cameras[i];
     throw Error(ExitCode::Usage, "--camera " + spec + ": the scene has " +
                                      std::to_string(scene.cameras.size()) + " camera(s)");
   }

@@ -179,7 +179,9 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
       break;
     }
     const double elapsed = seconds_since(start);
-    if (limit > 0.0 && elapsed >= limit) break;
+    // The time limit ends the render after a pass, never before the first: a render that
+    // took no sample has no image to write (--time 1e-300 used to exit 0 without one).
+    if (limit > 0.0 && elapsed >= limit && done > start_spp_) break;
 
     uint64_t n = pass_spp;
     if (target) n = std::min(n, target - done);
