@@ -105,11 +105,36 @@ TEST_F(ResumeAndSave, DamagedCheckpointsAreClearErrors) {
   fs::copy_file(path("c.ckpt"), path("short.ckpt"));
   fs::resize_file(path("short.ckpt"), size / 2);
   std::ofstream(path("foreign.ckpt")) << "not a checkpoint at all";
-  for (const char* name : {"flipped.ckpt", "short.ckpt", "foreign.ckpt", "missing.ckpt"}) {
+  // The header's sample count (bytes 16 to 23) halved: covered by the checksum (issue 23,
+  // class 8; format 1 resumed it, an image twice as dark).
+  fs::copy_file(path("c.ckpt"), path("header.ckpt"));
+  {
+    std::fstream f(path("header.ckpt"), std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(16);
+    const uint64_t one = 1;
+    f.write(reinterpret_cast<const char*>(&one), sizeof one);
+  }
+  // A format-1 file (its magic's last byte '1'): refused by name.
+  fs::copy_file(path("c.ckpt"), path("v1.ckpt"));
+  {
+    std::fstream f(path("v1.ckpt"), std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(7);
+    f.write("1", 1);
+  }
+  for (const char* name : {"flipped.ckpt", "short.ckpt", "foreign.ckpt", "missing.ckpt",
+                           "header.ckpt", "v1.ckpt"}) {
     const test::RunResult r = render({"--spp", "4", "--resume", path(name), "-o", path("b.exr")});
     EXPECT_EQ(r.exit_code, 2) << name << ": " << r.err;
     EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("b.exr")));
+    if (std::string(name) == "header.ckpt")
+      EXPECT_NE(r.err.find("checksum"), std::string::npos) << r.err;
+    if (std::string(name) == "v1.ckpt")
+      EXPECT_NE(r.err.find("format 1"), std::string::npos) << r.err;
+    if (std::string(name) == "header.ckpt")
+      EXPECT_NE(r.err.find("checksum"), std::string::npos) << r.err;
+    if (std::string(name) == "v1.ckpt")
+      EXPECT_NE(r.err.find("format 1"), std::string::npos) << r.err;
   }
 }
 

@@ -13,18 +13,26 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr char kMagic[8] = {'C', 'L', 'P', 'T', 'C', 'K', 'P', '1'};
+// Format 2: the checksum covers the header too (format 1's covered only the signature and
+// the sums, so a changed sample count was accepted: the image came out that many times
+// darker).
+constexpr char kMagic[8] = {'C', 'L', 'P', 'T', 'C', 'K', 'P', '2'};
+constexpr char kMagicV1[8] = {'C', 'L', 'P', 'T', 'C', 'K', 'P', '1'};
 
 struct Header {
   char magic[8];
   uint32_t width, height;
   uint64_t samples_per_pixel;
   uint64_t signature_bytes;
-  uint64_t payload_hash;  // xxhash64 of signature + arrays
+  uint64_t payload_hash;  // xxhash64 of the header (this field 0), signature and arrays
 };
+static_assert(sizeof(Header) == 40, "the header has no padding: every byte is hashed");
 
-uint64_t payload_hash(const std::string& signature, const FilmState& s) {
-  uint64_t h = OIIO::xxhash::XXH64(signature.data(), signature.size(), 0);
+uint64_t payload_hash(const Header& header, const std::string& signature, const FilmState& s) {
+  Header zeroed = header;
+  zeroed.payload_hash = 0;
+  uint64_t h = OIIO::xxhash::XXH64(&zeroed, sizeof zeroed, 0);
+  h = OIIO::xxhash::XXH64(signature.data(), signature.size(), h);
   h = OIIO::xxhash::XXH64(s.sum.data(), s.sum.size() * sizeof(float), h);
   h = OIIO::xxhash::XXH64(s.sum_sq.data(), s.sum_sq.size() * sizeof(float), h);
   return OIIO::xxhash::XXH64(s.ray_counts.data(), s.ray_counts.size() * sizeof(uint32_t), h);
@@ -42,7 +50,7 @@ void write_checkpoint(const fs::path& path, const std::string& signature, const 
   h.height = s.height;
   h.samples_per_pixel = s.samples_per_pixel;
   h.signature_bytes = signature.size();
-  h.payload_hash = payload_hash(signature, s);
+  h.payload_hash = payload_hash(h, signature, s);
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()));
   {
@@ -76,8 +84,11 @@ FilmState read_checkpoint(const fs::path& path, const std::string& signature) {
   std::error_code ec;
   const uint64_t file_size = fs::file_size(path, ec);
   Header h{};
-  if (ec || !f.read(reinterpret_cast<char*>(&h), sizeof h) || std::memcmp(h.magic, kMagic, 8) != 0)
-    throw bad("not a clpt checkpoint");
+  if (ec || !f.read(reinterpret_cast<char*>(&h), sizeof h)) throw bad("not a clpt checkpoint");
+  if (std::memcmp(h.magic, kMagicV1, 8) == 0)
+    throw bad("written by an older clpt (checkpoint format 1, whose header is not checksummed); "
+              "render again without --resume");
+  if (std::memcmp(h.magic, kMagic, 8) != 0) throw bad("not a clpt checkpoint");
   const uint64_t pixels = uint64_t(h.width) * h.height;
   if (h.width == 0 || h.height == 0 || h.width > 16384 || h.height > 16384 ||
       h.signature_bytes > (1u << 20) ||
@@ -95,7 +106,7 @@ FilmState read_checkpoint(const fs::path& path, const std::string& signature) {
   f.read(reinterpret_cast<char*>(s.sum.data()), std::streamsize(s.sum.size() * 4));
   f.read(reinterpret_cast<char*>(s.sum_sq.data()), std::streamsize(s.sum_sq.size() * 4));
   f.read(reinterpret_cast<char*>(s.ray_counts.data()), std::streamsize(s.ray_counts.size() * 4));
-  if (!f || payload_hash(stored, s) != h.payload_hash) throw bad("damaged (checksum mismatch)");
+  if (!f || payload_hash(h, stored, s) != h.payload_hash) throw bad("damaged (checksum mismatch)");
   if (stored != signature)
     throw Error(ExitCode::Usage, "checkpoint " + path.string() +
                                      " was made with other settings and cannot be resumed:\n"
