@@ -12,6 +12,8 @@
 // See docs/robustness.md.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -315,6 +317,50 @@ TEST(UnwritableOutput, CheckpointFileCannotBeWritten) {
   EXPECT_TRUE(contains(r.err, checkpoint)) << r.err;
   EXPECT_FALSE(contains(r.err, "rendered ")) << "must fail before rendering: " << r.err;
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"existing_file"});
+}
+
+// Outputs never replace an input of the run, each other, or a node that is not a regular file
+// (issue 23, class 1: --stats=scene.gltf overwrote the scene, --stats /dev/null replaced the
+// device node with a regular file as root).
+TEST(UnwritableOutput, NeverOverAnInputAnotherOutputOrANonRegularFile) {
+  TempDir dir;
+  fs::copy_file(kCornell, dir / "scene.gltf");
+  const std::string scene_text = slurp(dir / "scene.gltf");
+  const std::string scene = dir / "scene.gltf", img = dir / "img.exr";
+  for (const std::vector<std::string>& extra :
+       {std::vector<std::string>{"--stats", scene}, std::vector<std::string>{"--checkpoint", scene},
+        std::vector<std::string>{"--stats", img}, std::vector<std::string>{"--reference", img}}) {
+    SCOPED_TRACE(extra[0] + " " + extra.back());
+    std::vector<std::string> args = {scene, "-o", img};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Result r = run_clpt_env(tiny(args), {}, dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_TRUE(contains(r.err, extra.back())) << "the message names the file: " << r.err;
+    EXPECT_FALSE(contains(r.err, "rendered ")) << "must fail before rendering: " << r.err;
+  }
+  EXPECT_EQ(slurp(dir / "scene.gltf"), scene_text) << "the scene must be untouched";
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"scene.gltf"});
+  // A FIFO and a character device as --stats: exit 4 before rendering, the nodes untouched
+  // (a FIFO opened for reading or writing would also block the run).
+  const fs::path fifo = dir / "stats.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string target : {fifo.string(), std::string("/dev/null")}) {
+    SCOPED_TRACE(target);
+    const Result r = run_clpt_env(tiny({scene, "-o", img, "--stats", target}), {}, dir);
+    EXPECT_EQ(r.exit_code, 4) << r.err;
+    EXPECT_TRUE(contains(r.err, "not a regular file")) << r.err;
+    EXPECT_FALSE(fs::exists(img));
+  }
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  // --checkpoint and --resume naming one file is how a render continues: allowed.
+  const std::string ckpt = dir / "state.ckpt";
+  EXPECT_EQ(run_clpt_env(tiny({scene, "-o", img, "--checkpoint", ckpt}), {}, dir).exit_code, 0);
+  const Result again = run_clpt_env(
+      {scene, "-o", img, "--checkpoint", ckpt, "--resume", ckpt, "--device", "pocl",
+       "--resolution", "8x8", "--spp", "2"},
+      {}, dir);
+  EXPECT_EQ(again.exit_code, 0) << again.err;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -112,6 +112,15 @@ int run(const Options& opt) {
   }
   install_signal_handlers();  // from here on, Ctrl-C stops cleanly and saves what was rendered
   if (!opt.kernel_dir.empty()) ::setenv("CLPT_KERNEL_DIR", opt.kernel_dir.c_str(), 1);
+  {
+    std::vector<NamedPath> outputs = {{"output", opt.output}}, inputs = {{"the scene", opt.scene}};
+    if (opt.stats && *opt.stats != "-") outputs.push_back({"--stats", *opt.stats});
+    if (!opt.checkpoint.empty()) outputs.push_back({"--checkpoint", opt.checkpoint});
+    if (!opt.env.empty()) inputs.push_back({"--env", opt.env});
+    if (!opt.reference.empty()) inputs.push_back({"--reference", opt.reference});
+    if (!opt.resume.empty()) inputs.push_back({"--resume", opt.resume});
+    check_outputs_apart(outputs, inputs, {{"--checkpoint", "--resume"}});
+  }
   check_output_path(opt.output);
   if (opt.stats && *opt.stats != "-") check_writable_path(*opt.stats, "--stats");
   if (!opt.checkpoint.empty()) check_writable_path(opt.checkpoint, "--checkpoint");
