@@ -363,6 +363,26 @@ TEST(UnwritableOutput, NeverOverAnInputAnotherOutputOrANonRegularFile) {
   EXPECT_EQ(again.exit_code, 0) << again.err;
 }
 
+// Readers of --env, --reference and --resume refuse what is not a regular file (issue 23,
+// class 2: a FIFO or a link to /dev/zero made clpt wait forever and ignore SIGTERM).
+TEST(UnreadableInput, FifosDevicesAndFoldersAreRefusedAtOnce) {
+  TempDir dir;
+  const fs::path fifo = dir / "input.fifo", zero = dir / "zero.exr", folder = dir / "folder.exr";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_symlink("/dev/zero", zero);
+  fs::create_directory(folder);
+  for (const char* option : {"--env", "--reference", "--resume"})
+    for (const fs::path& input : {fifo, zero, folder}) {
+      SCOPED_TRACE(std::string(option) + " " + input.string());
+      const Result r =
+          run_clpt_env(tiny({kCornell, "-o", dir / "img.exr", option, input.string()}), {}, dir);
+      EXPECT_EQ(r.exit_code, 2) << r.err;
+      EXPECT_TRUE(contains(r.err, input.string())) << r.err;
+      EXPECT_TRUE(contains(r.err, "not a regular file")) << r.err;
+      EXPECT_FALSE(fs::exists(dir / "img.exr"));
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // BuildFailure: a kernel with a syntax error, loaded with --kernel-dir as a developer would.
 

@@ -144,6 +144,7 @@ int ImageChannels::int_attribute(const std::string& name, int fallback) const {
 }
 
 ImageChannels read_image_channels(const fs::path& path) {
+  check_regular_input(path, "");  // a FIFO or /dev/zero would block or never end
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) throw Error(ExitCode::BadInput, path.string() + ": cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();

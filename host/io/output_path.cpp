@@ -42,6 +42,15 @@ void check_writable_path(const fs::path& path, const std::string& what) {
   ::unlink(probe.c_str());
 }
 
+void check_regular_input(const fs::path& path, const std::string& what) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw Error(ExitCode::BadInput,
+                what + path.string() + ": not a regular file (" +
+                    (fs::is_directory(st) ? "a folder" : "a FIFO, device or socket") + ")");
+}
+
 bool same_file(const fs::path& a, const fs::path& b) {
   std::error_code ec;
   if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec) && !ec;

@@ -17,6 +17,12 @@ namespace clpt {
 // one): the write's final rename would replace that node.
 void check_writable_path(const std::filesystem::path& path, const std::string& what);
 
+// Throws Error(ExitCode::BadInput) naming `what` and the path when the path exists and is not
+// a regular file (a FIFO, a device, a socket, a folder, or a link to one): reading a FIFO or
+// /dev/zero waits or runs forever (issue 23, class 2). A missing file is left to the reader,
+// whose message says so.
+void check_regular_input(const std::filesystem::path& path, const std::string& what);
+
 // Whether a and b are one file: the same inode where both exist, else the same normalised
 // absolute path.
 bool same_file(const std::filesystem::path& a, const std::filesystem::path& b);

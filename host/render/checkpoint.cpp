@@ -6,6 +6,7 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "io/output_path.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -79,6 +80,7 @@ FilmState read_checkpoint(const fs::path& path, const std::string& signature) {
   auto bad = [&](const std::string& why) {
     return Error(ExitCode::BadInput, "checkpoint " + path.string() + ": " + why);
   };
+  check_regular_input(path, "checkpoint ");  // a FIFO would block the open
   std::ifstream f(path, std::ios::binary);
   if (!f) throw bad("cannot open the file");
   std::error_code ec;
