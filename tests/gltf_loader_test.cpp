@@ -413,6 +413,8 @@ const MalformedCase kMalformedCases[] = {
     {"lights_spot_without_cone.gltf", "Spot light description not found"},
     {"lights_index_out_of_range.gltf", "node 1 refers to light 3, which does not exist (the file has 1)"},
     {"lights_node_without_index.gltf", "node 1 has a KHR_lights_punctual extension without a light index"},
+    {"lights_power_overflow.gltf", "color x intensity (1e+60) is too large for a float"},
+    {"camera_past_float_range.gltf", "node 1 has a world transform too large for a float (1e+39)"},
     {"empty_scene.gltf", "nothing to render"},
     {"no_scenes_no_nodes.gltf", "nothing to render"},
     {"default_scene_out_of_range.gltf", "the default scene 4 does not exist"},

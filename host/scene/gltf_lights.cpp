@@ -64,6 +64,12 @@ GltfLights::GltfLights(const tinygltf::Model& model, Fail fail) : model_(model),
       if (v < 0.0) fail_(where + " has a negative intensity " + number(v));
       light.intensity = float(v);
     }
+    // The kernels take color x intensity: each may fit a float while the product does not
+    // (issue 23, class 9: samples were then dropped without a word).
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(float(double(light.color[k]) * double(light.intensity))))
+        fail_(where + ": color x intensity (" + number(double(light.color[k]) * light.intensity) +
+              ") is too large for a float");
     if (l.Has("range")) {
       const double v = finite_number(l.Get("range"), "range");
       if (!(v > 0.0)) fail_(where + " has range " + number(v) + ", which is not positive");

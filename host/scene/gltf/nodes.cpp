@@ -60,6 +60,14 @@ void Converter::visit(int node, int parent, const glm::dmat4& parent_world, int 
 
   const glm::dmat4 world = parent_world * local_transform(node);
   if (!finite(world)) fail("node " + std::to_string(node) + " has a non-finite world transform");
+  // Cameras, lights and vertices are placed in floats: a world transform finite as a double
+  // but past a float's range (a camera at x = 1e39) would place them at infinity (issue 23,
+  // class 9: a black image, exit 0).
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(float(world[c][r])))
+        fail("node " + std::to_string(node) + " has a world transform too large for a float (" +
+             number(world[c][r]) + ")");
 
   const tinygltf::Node& n = m_.nodes[size_t(node)];
   if (n.camera >= 0) add_camera(node, world);

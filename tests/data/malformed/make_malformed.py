@@ -154,6 +154,9 @@ def main():
     variant("lights_spot_without_cone.gltf", lit({"type": "spot"}))
     variant("lights_index_out_of_range.gltf", lit({"type": "point"}, {"light": 3}))
     variant("lights_node_without_index.gltf", lit({"type": "point"}, {}))
+    # color and intensity each fit a float, their product does not (issue 23, class 9)
+    variant("lights_power_overflow.gltf",
+            lit({"type": "point", "color": [1e30, 1, 1], "intensity": 1e30}))
 
     # --- scenes and nodes
     variant("empty_scene.gltf", lambda d: d["scenes"][0].update(nodes=[]))
@@ -166,6 +169,13 @@ def main():
     variant("deep_hierarchy.gltf",
             lambda d: d.update(nodes=[{"children": [i + 1]} for i in range(1100)] + [{"mesh": 0}]))
     variant("zero_quaternion.gltf", lambda d: d["nodes"][0].update(rotation=[0, 0, 0, 0]))
+    # finite as a double, past a float's range: a camera or light there sat at infinity
+    # (issue 23, class 9)
+    def far_camera(d):
+        d["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}]
+        d["nodes"].append({"camera": 0, "translation": [1e39, 0, 0]})
+        d["scenes"][0]["nodes"].append(1)
+    variant("camera_past_float_range.gltf", far_camera)
     variant("matrix_wrong_size.gltf", lambda d: d["nodes"][0].update(matrix=[1, 0, 0, 0, 1, 0]))
 
     # --- JSON level
