@@ -204,17 +204,28 @@ TEST(IcLookup, KernelMatchesBruteForce) {
 // lookup's dE = grad_rot . (n_i x n)); a field at infinity does not change with x:
 // grad_trans = 0 (at distance 1 it would: the radiance is then painted on a unit hemisphere).
 // A second batch of rays is averaged in (the refinement under --time).
-TEST(IcLookup, RecordSumsOnALinearField) {
-  cl::Context& ctx = test::device_context();
+// The record-sum kernel tests' cache: 1 024 rays' strata, no spacing clamp; and a record at
+// the origin with normal n, footprint 1 (its R bounds then [0, 2e9]).
+dev::IcParams record_sum_params() {
   dev::IcParams ic{};
   ic.error = 0.5f;
   ic.min_spacing = 0.0f;
   ic.max_spacing = 1e9f;
   IrradianceCache::strata(1024, &ic.rays_theta, &ic.rays_phi);
-  const glm::vec3 n = glm::normalize(glm::vec3(0.3f, -0.5f, 0.8f)), g(0.4f, 0.2f, -0.3f);
+  return ic;
+}
+dev::IcRecord record_at_origin(glm::vec3 n) {
   dev::IcRecord rec{};
   for (int a = 0; a < 3; ++a) rec.n[a] = n[a];
-  rec.r = 1.0f;  // the footprint: bounds [0, 2e9]
+  rec.r = 1.0f;
+  return rec;
+}
+
+TEST(IcLookup, RecordSumsOnALinearField) {
+  cl::Context& ctx = test::device_context();
+  const dev::IcParams ic = record_sum_params();
+  const glm::vec3 n = glm::normalize(glm::vec3(0.3f, -0.5f, 0.8f)), g(0.4f, 0.2f, -0.3f);
+  dev::IcRecord rec = record_at_origin(n);
   cl::Buffer ic_buf(ctx, sizeof(ic), CL_MEM_READ_ONLY, &ic);
   cl::Buffer rec_buf(ctx, sizeof(rec), CL_MEM_READ_WRITE, &rec);
   cl::Buffer rays(ctx, size_t(ic.rays_theta) * ic.rays_phi * 16);
@@ -255,18 +266,12 @@ TEST(IcLookup, RecordSumsOnALinearField) {
 // whose radiance is linear in position, E(x) = pi (a + b . x), so grad_trans E = pi b.
 TEST(IcLookup, TranslationalGradientUnderALinearCeiling) {
   cl::Context& ctx = test::device_context();
-  dev::IcParams ic{};
-  ic.error = 0.5f;
-  ic.min_spacing = 0.0f;
-  ic.max_spacing = 1e9f;
-  IrradianceCache::strata(1024, &ic.rays_theta, &ic.rays_phi);
+  const dev::IcParams ic = record_sum_params();
   const glm::vec3 n = glm::normalize(glm::vec3(0.3f, -0.5f, 0.8f));
   const glm::vec3 b0(0.4f, 0.2f, -0.3f);
   const glm::vec3 b = b0 - glm::dot(b0, n) * n;  // tangent to the ceiling
   const float a = 2.0f, h = 1.0f;
-  dev::IcRecord rec{};
-  for (int i = 0; i < 3; ++i) rec.n[i] = n[i];
-  rec.r = 1.0f;
+  dev::IcRecord rec = record_at_origin(n);
   cl::Buffer ic_buf(ctx, sizeof(ic), CL_MEM_READ_ONLY, &ic);
   cl::Buffer rec_buf(ctx, sizeof(rec), CL_MEM_READ_WRITE, &rec);
   cl::Buffer rays(ctx, size_t(ic.rays_theta) * ic.rays_phi * 16);
