@@ -63,5 +63,46 @@ TEST(ImageDecode, TruncatedOrDamagedPngIsRefusedWithTheChunk) {
   }
 }
 
+// A w x h grey JPEG written by OpenImageIO (baseline, Huffman coded).
+std::vector<unsigned char> grey_jpeg(int w, int h) {
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput out(bytes);
+  auto writer = OIIO::ImageOutput::create("jpeg");
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+  OIIO::Filesystem::IOProxy* proxy = &out;
+  spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  const std::vector<unsigned char> pixels(size_t(w) * size_t(h) * 3, 128);
+  EXPECT_TRUE(writer && writer->open("mem.jpg", spec));
+  EXPECT_TRUE(writer->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+  writer->close();
+  return bytes;
+}
+
+// issue 23, class 7: an 8x8 JPEG whose frame header claims 16384x4096 decoded (libjpeg pads
+// the missing data with grey, OpenImageIO reports success): 977 MB and a grey texture.
+TEST(ImageDecode, JpegWhoseHeaderClaimsMoreThanItsBytesIsRefused) {
+  std::vector<unsigned char> jpg = grey_jpeg(8, 8);
+  DecodedImage img;
+  std::string why;
+  ASSERT_TRUE(decode_image(jpg.data(), jpg.size(), &img, &why)) << why;
+  EXPECT_EQ(img.width, 8u);
+  // A constant 1024x1024 JPEG, about the fewest bytes per pixel a real one has, still decodes.
+  const std::vector<unsigned char> big = grey_jpeg(1024, 1024);
+  ASSERT_TRUE(decode_image(big.data(), big.size(), &img, &why)) << why << " (" << big.size() << " bytes)";
+  EXPECT_EQ(img.width, 1024u);
+  size_t sof = 0;
+  for (size_t i = 2; i + 9 < jpg.size(); ++i)
+    if (jpg[i] == 0xFF && jpg[i + 1] == 0xC0) {
+      sof = i;
+      break;
+    }
+  ASSERT_GT(sof, 0u) << "no baseline frame header";
+  jpg[sof + 5] = 0x10, jpg[sof + 6] = 0x00;  // height 4096
+  jpg[sof + 7] = 0x40, jpg[sof + 8] = 0x00;  // width 16384
+  EXPECT_FALSE(decode_image(jpg.data(), jpg.size(), &img, &why));
+  EXPECT_NE(why.find("16384x4096"), std::string::npos) << why;
+  EXPECT_NE(why.find("lying header"), std::string::npos) << why;
+}
+
 }  // namespace
 }  // namespace clpt

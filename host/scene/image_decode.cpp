@@ -71,6 +71,25 @@ bool check_png_chunks(const unsigned char* p, size_t n, std::string* why) {
   }
 }
 
+// Whether a JPEG's frame is Huffman coded (SOF0 to SOF3, SOF5 to SOF7): the markers are
+// walked from SOI to the first SOF. Arithmetic-coded frames (SOF9 to SOF15) answer false.
+bool jpeg_is_huffman(const unsigned char* p, size_t size) {
+  size_t at = 2;  // after SOI
+  while (at + 4 <= size) {
+    if (p[at] != 0xFF) return false;
+    const unsigned char m = p[at + 1];
+    if (m == 0xFF) {  // fill byte
+      ++at;
+      continue;
+    }
+    if (m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC) return m < 0xC8;
+    const size_t length = size_t(p[at + 2]) << 8 | p[at + 3];
+    if (length < 2) return false;
+    at += 2 + length;
+  }
+  return false;
+}
+
 std::string one_line(std::string s) {
   for (char& c : s)
     if (c == '\n' || c == '\r') c = ' ';
@@ -119,6 +138,16 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
       *why = "the image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than the limit of " +
              std::to_string(max_dimension) + " per side and " + std::to_string(max_pixels) +
              " pixels (--limit image-dimension=N, image-pixels=N)";
+      return false;
+    }
+    // A JPEG whose header claims more pixels than its bytes can code: Huffman coding spends
+    // at least 2 bits on every 8 x 8 block of the first component (a 1-bit DC code and a
+    // 1-bit end of block), w h / 256 bytes; with a margin of 4, fewer than w h / 1024 bytes
+    // is a lying header. libjpeg pads such an image with grey and OIIO reports success
+    // (issue 23, class 7: an 8x8 JPEG claiming 16384x4096 rendered, 977 MB, exit 0).
+    if (std::string(format) == "jpeg" && jpeg_is_huffman(data, size) && uint64_t(size) * 1024 < w * h) {
+      *why = "the JPEG header gives a size of " + std::to_string(w) + "x" + std::to_string(h) +
+             ", more than its " + std::to_string(size) + " bytes can hold (a damaged or lying header)";
       return false;
     }
     const int nc = spec.nchannels;
