@@ -383,6 +383,30 @@ TEST(UnreadableInput, FifosDevicesAndFoldersAreRefusedAtOnce) {
     }
 }
 
+// A camera whose aspect ratio asks for a default image no film holds (issue 23, class 11:
+// aspectRatio 0.001 asked for 640 x 640 000 and failed as a device error, exit 3): exit 2
+// naming the scene's file and the camera, and the same scene renders with --resolution.
+TEST(UnreadableInput, ExtremeCameraAspectIsASceneErrorNamingTheFile) {
+  TempDir dir;
+  const fs::path valid = fs::path(CLPT_TEST_DATA_DIR) / "valid";
+  fs::copy_file(valid / "quad_trs_u8.bin", dir / "quad_trs_u8.bin");
+  std::string text = slurp(valid / "quad_trs_u8.gltf");
+  const std::string from = "\"aspectRatio\": 1.5";
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << "the test scene's camera changed";
+  text.replace(at, from.size(), "\"aspectRatio\": 0.001");
+  const std::string scene = dir / "thin.gltf";
+  std::ofstream(scene) << text;
+  const Result r = run_clpt_env({scene, "--device", "pocl", "--spp", "1", "-o", dir / "t.exr"}, {}, dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(contains(r.err, scene)) << r.err;
+  EXPECT_TRUE(contains(r.err, "aspect ratio 0.001")) << r.err;
+  EXPECT_TRUE(contains(r.err, "--resolution")) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "t.exr"));
+  const Result ok = run_clpt_env(tiny({scene, "-o", dir / "t.exr"}), {}, dir);
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
 // ---------------------------------------------------------------------------------------------
 // BuildFailure: a kernel with a syntax error, loaded with --kernel-dir as a developer would.
 

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <csignal>
 #include <filesystem>
 #include <cstdio>
@@ -216,7 +217,16 @@ int run(const Options& opt) {
   settings.vcm.radius = opt.vcm_radius;
   settings.vcm.alpha = opt.vcm_alpha;
   if (opt.bdpt_mosaic) return run_mosaic(opt, ctx, scene, settings, device.name);
-  Renderer renderer(ctx, scene, settings);
+  // Problems of the scene the renderer finds (no triangles, a camera whose default image no
+  // film holds) name the scene's file, as the loader's do.
+  std::optional<Renderer> made;
+  try {
+    made.emplace(ctx, scene, settings);
+  } catch (const Error& e) {
+    if (e.code() != ExitCode::BadInput) throw;
+    throw Error(ExitCode::BadInput, opt.scene + ": " + e.what());
+  }
+  Renderer& renderer = *made;
   if (reference && (reference->width != renderer.width() || reference->height != renderer.height()))
     throw Error(ExitCode::Usage, "--reference " + opt.reference + " is " +
                                      std::to_string(reference->width) + "x" +

@@ -30,8 +30,16 @@ void default_resolution(const Camera& camera, uint32_t* width, uint32_t* height)
   if (camera.type == Camera::Type::Orthographic && camera.ymag > 0.0f)
     aspect = camera.xmag / camera.ymag;
   if (!(aspect > 0.0f) || !std::isfinite(aspect)) aspect = 4.0f / 3.0f;
+  // 640 wide: an extreme aspect ratio asks for an image no film holds (0.001: 640 x 640 000,
+  // which used to fail as a device error, exit 3). The scene's problem: exit 2, with what to do.
+  const double h = std::round(640.0 / double(aspect));
+  if (h > 16384.0)
+    throw Error(ExitCode::BadInput, "camera '" + camera.name + "' has aspect ratio " +
+                                        std::to_string(aspect) + ": its default image, 640x" +
+                                        std::to_string(uint64_t(std::min(h, 1e18))) +
+                                        ", is taller than 16384 pixels (give --resolution)");
   *width = 640;
-  *height = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(640.0f / aspect)));
+  *height = std::max<uint32_t>(1, static_cast<uint32_t>(h));
 }
 
 dev::CameraData camera_data(const Camera& camera, uint32_t width, uint32_t height) {
