@@ -72,6 +72,46 @@ TEST(LoadLimits, LoweredLimitRefusesAndRaisedLimitLoads) {
   EXPECT_NO_THROW(load_gltf(kCornell, o));
 }
 
+// issue 23, class 5: json-depth and node-depth raised past what the stack holds crashed the
+// loader (SIGSEGV at about 15 500 JSON levels and 12 500 node levels in 8 MiB). set() refuses
+// a depth beyond max_recursion_depth(), and at that depth both a node chain and nested JSON
+// load (the cap is safe, not only refused beyond).
+TEST(LoadLimits, DepthsTheStackCannotServeAreRefusedAndTheCapLoads) {
+  const uint64_t cap = LoadLimits::max_recursion_depth();
+  ASSERT_GE(cap, 1024u) << "this test wants a stack of at least 2 MiB";
+  for (const char* name : {"node-depth", "json-depth"}) {
+    const std::string over = std::string(name) + "=" + std::to_string(cap + 1);
+    const std::string m = message_of([&] { LoadLimits x; x.set(over); });
+    EXPECT_EQ(m.rfind("1: ", 0), 0u) << m;
+    EXPECT_NE(m.find("stack"), std::string::npos) << m;
+    LoadLimits ok;
+    EXPECT_NO_THROW(ok.set(std::string(name) + "=" + std::to_string(cap)));
+  }
+  // A chain of cap - 1 nodes under the root, and cap - 8 levels of nested JSON in "extras".
+  const fs::path dir = fs::temp_directory_path() / ("clpt_depth_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string head =
+      R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
+      R"("buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,)"
+      R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],)"
+      R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",)"
+      R"("min":[0,0,0],"max":[1,1,0]}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)";
+  const size_t levels = size_t(cap) - 8;
+  std::string nodes = head + "\"nodes\":[";
+  for (size_t i = 0; i + 1 < levels; ++i) nodes += "{\"children\":[" + std::to_string(i + 1) + "]},";
+  nodes += "{\"mesh\":0}]}";
+  std::ofstream(dir / "chain.gltf") << nodes;
+  std::ofstream(dir / "nested.gltf") << head << "\"nodes\":[{\"mesh\":0}],\"extras\":"
+                                     << std::string(levels, '[') << std::string(levels, ']') << "}";
+  LoadOptions o;
+  o.limits.set("node-depth=" + std::to_string(cap));
+  o.limits.set("json-depth=" + std::to_string(cap));
+  EXPECT_EQ(load_gltf(dir / "chain.gltf", o).triangles.size(), 1u);
+  EXPECT_EQ(load_gltf(dir / "nested.gltf", o).triangles.size(), 1u);
+  fs::remove_all(dir);
+}
+
 TEST(LoadLimits, MemoryBudgetRefusesATinyFileThatNeedsGigabytes) {
   const fs::path dir = fs::temp_directory_path() / ("clpt-limits-" + std::to_string(::getpid()));
   fs::create_directories(dir);

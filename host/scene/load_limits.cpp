@@ -1,5 +1,6 @@
 #include "scene/load_limits.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -67,11 +68,28 @@ void LoadLimits::set(const std::string& spec) {
     if (!parse_count(value, &v))
       throw Error(ExitCode::Usage, "--limit " + spec + ": '" + value +
                                        "' is not a non-negative integer (k, M, G suffixes allowed)");
+    // The JSON parser and the node walk recurse once per level: a depth the stack cannot
+    // hold would crash (issue 23, class 5: node-depth=1000000 and json-depth=2000000 ended in
+    // SIGSEGV). Refuse it, naming the stack and what to do.
+    if ((f.second == &LoadLimits::json_depth || f.second == &LoadLimits::node_depth) &&
+        v > max_recursion_depth())
+      throw Error(ExitCode::Usage,
+                  "--limit " + spec + ": deeper than this process's stack (" +
+                      std::to_string(stack_bytes() >> 10) + " KiB) can walk safely: at most " +
+                      std::to_string(max_recursion_depth()) + " (raise the stack with ulimit -s)");
     this->*f.second = v;
     return;
   }
   throw Error(ExitCode::Usage, "--limit " + spec + ": unknown limit '" + name + "' (names: " + names + ")");
 }
+
+uint64_t LoadLimits::stack_bytes() {
+  rlimit r{};
+  if (::getrlimit(RLIMIT_STACK, &r) != 0 || r.rlim_cur == RLIM_INFINITY) return uint64_t{1} << 30;
+  return uint64_t(r.rlim_cur);
+}
+
+uint64_t LoadLimits::max_recursion_depth() { return stack_bytes() / kStackBytesPerLevel; }
 
 std::string LoadLimits::describe() const {
   std::string s;

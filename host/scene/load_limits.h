@@ -34,6 +34,21 @@ struct LoadLimits {
   std::string describe() const;
   // memory_bytes, or 80 % of physical memory when it is 0.
   uint64_t memory_budget() const;
+
+  // Stack bytes a level of JSON nesting or node depth may take, with room to spare: the
+  // parser and the node walk measured about 540 and 670 bytes per level (a Release build
+  // crashed past about 15 500 and 12 500 levels in 8 MiB), so 2 KiB a level is a 3x margin.
+#if defined(__SANITIZE_ADDRESS__)
+  // AddressSanitizer's redzones make every frame several times larger.
+  static constexpr uint64_t kStackBytesPerLevel = 8192;
+#else
+  static constexpr uint64_t kStackBytesPerLevel = 2048;
+#endif
+  // This process's stack limit (RLIMIT_STACK; 1 GiB when unlimited), and the deepest
+  // json-depth or node-depth it serves: 4 096 under the usual 8 MiB (1 024 in a sanitizer
+  // build).
+  static uint64_t stack_bytes();
+  static uint64_t max_recursion_depth();
 };
 
 // Host bytes one vertex and one triangle cost from loading to upload (scene arrays, flattened
