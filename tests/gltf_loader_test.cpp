@@ -415,6 +415,8 @@ const MalformedCase kMalformedCases[] = {
     {"lights_node_without_index.gltf", "node 1 has a KHR_lights_punctual extension without a light index"},
     {"lights_power_overflow.gltf", "color x intensity (1e+60) is too large for a float"},
     {"camera_past_float_range.gltf", "node 1 has a world transform too large for a float (1e+39)"},
+    {"index_past_32_bits.gltf", "nodes[0].mesh is 4294967296, which is not an index (an integer from 0 to 2147483647)"},
+    {"negative_default_scene.gltf", "scene is -5, which is not an index"},
     {"empty_scene.gltf", "nothing to render"},
     {"no_scenes_no_nodes.gltf", "nothing to render"},
     {"default_scene_out_of_range.gltf", "the default scene 4 does not exist"},

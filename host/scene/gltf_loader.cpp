@@ -91,6 +91,7 @@ Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options) {
 
     // Extensions: refuse unsupported required ones before anything else looks at the data.
     const std::vector<std::string> unsupported_used = check_extensions(doc, fail);
+    check_indices(doc, fail);
 
     // URIs: data: or relative inside the folder.
     ImageSources images;

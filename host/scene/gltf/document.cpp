@@ -147,4 +147,118 @@ std::vector<std::string> check_extensions(const nlohmann::json& doc, const Fail&
   return unsupported_used;
 }
 
+namespace {
+
+constexpr int64_t kMaxIndex = 2147483647;  // tinygltf keeps indices in int
+
+// One glTFid: an integer in [0, 2^31 - 1]; `where` names it ("nodes[3].mesh").
+void check_index(const nlohmann::json& v, const std::string& where, const Fail& fail) {
+  if (v.is_number_unsigned() ? v.get<uint64_t>() <= uint64_t(kMaxIndex)
+      : v.is_number_integer() ? v.get<int64_t>() >= 0 && v.get<int64_t>() <= kMaxIndex
+                              : !v.is_number())
+    return;  // an index, or not a number at all (tinygltf's message says what it expected)
+  fail(where + " is " + v.dump() + ", which is not an index (an integer from 0 to 2147483647)");
+}
+
+// obj[key], when obj is an object that has it.
+const nlohmann::json* member(const nlohmann::json& obj, const char* key) {
+  if (!obj.is_object()) return nullptr;
+  auto it = obj.find(key);
+  return it == obj.end() ? nullptr : &*it;
+}
+
+// Each element of the array doc[key] (none when it is not an array), with its name.
+template <class F>
+void each(const nlohmann::json& doc, const char* key, F&& f) {
+  const nlohmann::json* a = member(doc, key);
+  if (!a || !a->is_array()) return;
+  for (size_t i = 0; i < a->size(); ++i) f((*a)[i], std::string(key) + "[" + std::to_string(i) + "]");
+}
+
+void check_field(const nlohmann::json& obj, const char* key, const std::string& where, const Fail& fail) {
+  if (const nlohmann::json* v = member(obj, key)) check_index(*v, where + "." + key, fail);
+}
+
+void check_list(const nlohmann::json& obj, const char* key, const std::string& where, const Fail& fail) {
+  const nlohmann::json* a = member(obj, key);
+  if (!a || !a->is_array()) return;
+  for (size_t i = 0; i < a->size(); ++i)
+    check_index((*a)[i], where + "." + key + "[" + std::to_string(i) + "]", fail);
+}
+
+void check_map(const nlohmann::json& obj, const char* key, const std::string& where, const Fail& fail) {
+  const nlohmann::json* m = member(obj, key);
+  if (!m || !m->is_object()) return;
+  for (auto it = m->begin(); it != m->end(); ++it) check_index(*it, where + "." + key + "." + it.key(), fail);
+}
+
+// A material's texture references, core and extensions alike: the "index" of every object
+// held under a key that ends in "Texture".
+void check_textures(const nlohmann::json& v, const std::string& where, const Fail& fail) {
+  if (!v.is_object()) return;
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string& key = it.key();
+    const std::string at = where + "." + key;
+    if (key.size() >= 7 && key.compare(key.size() - 7, 7, "Texture") == 0 && it->is_object())
+      check_field(*it, "index", at, fail);
+    else
+      check_textures(*it, at, fail);
+  }
+}
+
+}  // namespace
+
+void check_indices(const nlohmann::json& doc, const Fail& fail) {
+  if (const nlohmann::json* scene = member(doc, "scene")) check_index(*scene, "scene", fail);
+  each(doc, "scenes", [&](const nlohmann::json& s, const std::string& w) { check_list(s, "nodes", w, fail); });
+  each(doc, "nodes", [&](const nlohmann::json& n, const std::string& w) {
+    check_list(n, "children", w, fail);
+    for (const char* k : {"mesh", "camera", "skin"}) check_field(n, k, w, fail);
+    if (const nlohmann::json* ext = member(n, "extensions"))
+      if (const nlohmann::json* l = member(*ext, "KHR_lights_punctual"))
+        check_field(*l, "light", w + ".extensions.KHR_lights_punctual", fail);
+  });
+  each(doc, "skins", [&](const nlohmann::json& s, const std::string& w) {
+    check_field(s, "skeleton", w, fail);
+    check_field(s, "inverseBindMatrices", w, fail);
+    check_list(s, "joints", w, fail);
+  });
+  each(doc, "meshes", [&](const nlohmann::json& m, const std::string& w) {
+    each(m, "primitives", [&](const nlohmann::json& p, const std::string& pw) {
+      const std::string at = w + "." + pw;
+      check_map(p, "attributes", at, fail);
+      check_field(p, "indices", at, fail);
+      check_field(p, "material", at, fail);
+      each(p, "targets", [&](const nlohmann::json& t, const std::string& tw) {
+        if (t.is_object())
+          for (auto it = t.begin(); it != t.end(); ++it) check_index(*it, at + "." + tw + "." + it.key(), fail);
+      });
+    });
+  });
+  each(doc, "accessors", [&](const nlohmann::json& a, const std::string& w) {
+    check_field(a, "bufferView", w, fail);
+    if (const nlohmann::json* sp = member(a, "sparse")) {
+      if (const nlohmann::json* i = member(*sp, "indices")) check_field(*i, "bufferView", w + ".sparse.indices", fail);
+      if (const nlohmann::json* v = member(*sp, "values")) check_field(*v, "bufferView", w + ".sparse.values", fail);
+    }
+  });
+  each(doc, "bufferViews", [&](const nlohmann::json& b, const std::string& w) { check_field(b, "buffer", w, fail); });
+  each(doc, "textures", [&](const nlohmann::json& t, const std::string& w) {
+    check_field(t, "sampler", w, fail);
+    check_field(t, "source", w, fail);
+  });
+  each(doc, "images", [&](const nlohmann::json& i, const std::string& w) { check_field(i, "bufferView", w, fail); });
+  each(doc, "materials", [&](const nlohmann::json& m, const std::string& w) { check_textures(m, w, fail); });
+  each(doc, "animations", [&](const nlohmann::json& a, const std::string& w) {
+    each(a, "channels", [&](const nlohmann::json& c, const std::string& cw) {
+      check_field(c, "sampler", w + "." + cw, fail);
+      if (const nlohmann::json* t = member(c, "target")) check_field(*t, "node", w + "." + cw + ".target", fail);
+    });
+    each(a, "samplers", [&](const nlohmann::json& s, const std::string& sw) {
+      check_field(s, "input", w + "." + sw, fail);
+      check_field(s, "output", w + "." + sw, fail);
+    });
+  });
+}
+
 }  // namespace clpt::gltf

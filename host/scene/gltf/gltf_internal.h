@@ -105,6 +105,10 @@ std::pair<const char*, size_t> check_glb(const std::vector<unsigned char>& d, co
 size_t json_depth(const char* p, size_t n, size_t limit);
 nlohmann::json parse_json(const char* json_text, size_t json_size, bool binary, const Fail& fail);
 std::vector<std::string> check_extensions(const nlohmann::json& doc, const Fail& fail);
+// Every glTFid of the document (scene, node, mesh, accessor, texture ... references) is an
+// integer in [0, 2^31 - 1]: tinygltf keeps them in int, so 4294967296 became 0 and "scene": -5
+// the absent default (issue 23, class 6). Fails naming the field and its value.
+void check_indices(const nlohmann::json& doc, const Fail& fail);
 
 // ------------------------------------------------------------------------------------------
 // Conversion of the tinygltf model (accessors.cpp, materials.cpp, geometry.cpp, cameras.cpp,

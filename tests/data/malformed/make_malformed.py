@@ -169,6 +169,9 @@ def main():
     variant("deep_hierarchy.gltf",
             lambda d: d.update(nodes=[{"children": [i + 1]} for i in range(1100)] + [{"mesh": 0}]))
     variant("zero_quaternion.gltf", lambda d: d["nodes"][0].update(rotation=[0, 0, 0, 0]))
+    # indices tinygltf keeps in int: 2^32 became 0, -5 "no default scene" (issue 23, class 6)
+    variant("index_past_32_bits.gltf", lambda d: d["nodes"][0].update(mesh=2**32))
+    variant("negative_default_scene.gltf", lambda d: d.update(scene=-5))
     # finite as a double, past a float's range: a camera or light there sat at infinity
     # (issue 23, class 9)
     def far_camera(d):
