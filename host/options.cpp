@@ -2,7 +2,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -21,13 +20,10 @@ namespace {
 // is false). A text that is not a number at all is left to the option's conversion.
 const CLI::Validator kFinite(
     [](std::string& text) -> std::string {
-      errno = 0;
       char* end = nullptr;
-      const double v = std::strtod(text.c_str(), &end);
+      const double v = std::strtod(text.c_str(), &end);  // overflow gives +-HUGE_VAL: infinite
       if (end == text.c_str()) return std::string();
-      const bool overflow = errno == ERANGE && std::fabs(v) > 1.0;
-      if (!std::isfinite(v) || overflow ||
-          (std::fabs(v) > double(std::numeric_limits<float>::max())))
+      if (!std::isfinite(v) || std::fabs(v) > double(std::numeric_limits<float>::max()))
         return text + " is not a finite number";
       return std::string();
     },

@@ -31,7 +31,7 @@ void IcRecords::strata(uint32_t rays, uint32_t* m, uint32_t* n) {
 }
 
 IcRecords::IcRecords(const cl::Context& ctx, const SceneBuffers& scene, const IcConfig& config,
-                     IcGatherMode gather)
+                     dev::IcGather gather)
     : ctx_(ctx),
       config_(config),
       program_(ctx, "integrators/ic.cl"),
@@ -51,9 +51,7 @@ IcRecords::IcRecords(const cl::Context& ctx, const SceneBuffers& scene, const Ic
   strata(config.rays, &ic_.rays_theta, &ic_.rays_phi);
   ic_.gradients = config.gradients ? 1u : 0u;
   ic_.show_records = config.show_records ? 1u : 0u;
-  ic_.gather = gather == IcGatherMode::PathTraced ? dev::IC_GATHER_PATHS
-               : gather == IcGatherMode::Photons  ? dev::IC_GATHER_PHOTONS
-                                                  : dev::IC_GATHER_PHOTONS_NO_CAUSTICS;
+  ic_.gather = gather;
   stats_.rays_per_record = ic_.rays_theta * ic_.rays_phi;
   upload_records();  // empty: the warm-up reads no record
   upload_grid();
@@ -285,6 +283,20 @@ IcStats IcRecords::stats() const {
     }
   }
   return s;
+}
+
+IcNoCache::IcNoCache(const cl::Context& ctx)
+    : records_(ctx, sizeof(dev::IcRecord)),
+      starts_(ctx, sizeof(uint32_t)),
+      entries_(ctx, sizeof(uint32_t)),
+      marks_(ctx, sizeof(uint32_t)),
+      counts_(ctx, 3 * sizeof(uint32_t)) {
+  const dev::IcParams none{};  // record_count 0, show_records 0
+  params_ = cl::Buffer(ctx, sizeof(none), CL_MEM_READ_ONLY, &none, "irradiance cache parameters");
+}
+
+cl_uint IcNoCache::bind_image(cl::Kernel& kernel, cl_uint first) {
+  return kernel.args(first, params_, records_, starts_, entries_, marks_, counts_);
 }
 
 }  // namespace clpt

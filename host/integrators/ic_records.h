@@ -23,26 +23,21 @@
 
 namespace clpt {
 
-// What a record's hemisphere ray adds where it lands (dev::IcGather).
-enum class IcGatherMode {
-  PathTraced,        // next-event estimation and pt's continuation (ic)
-  Photons,           // the global map's estimate, plus emission seen through delta and glossy
-                     // surfaces after the first (ic --ic-photons)
-  PhotonsNoCaustics  // the global map's estimate only: a caustic map gives the light of
-                     // L S+ D paths at the lookup (pm --final-gather-cache)
-};
-
 class IcRecords {
  public:
+  // gather (shared/ic_types.h): what a record's hemisphere ray adds where it lands: path
+  // tracing (ic), the global map's estimate and the emission seen through delta and glossy
+  // surfaces beyond the first hit (ic --ic-photons), or the map's estimate alone, a caustic
+  // map holding L S+ D light at the lookup (pm --final-gather-cache).
   IcRecords(const cl::Context& ctx, const SceneBuffers& scene, const IcConfig& config,
-            IcGatherMode gather);
+            dev::IcGather gather);
 
   // The program of the record kernels (ic.cl), whose ic_render an integrator may use.
   const cl::Program& program() const { return program_; }
   // Every record kernel once over nothing, and the per-pixel buffers for `pixels` pixels.
   void warm_up(const dev::RenderParams& params, size_t pixels);
   // Places and computes the records for the image params describes (once); photon
-  // gathering reads `global` (ignored when PathTraced), which must outlive this. Under --time the records refine
+  // gathering reads `global` (ignored with IC_GATHER_PATHS), which must outlive this. Under --time the records refine
   // until config.refine_seconds have passed since `started` or *stop (Ctrl-C) is set.
   void build(const dev::RenderParams& params, const DevicePhotonMap& global,
              Clock::time_point started, const std::atomic<bool>* stop);
@@ -85,6 +80,19 @@ class IcRecords {
   uint32_t width_ = 0, height_ = 0;
   cl_uint place_arg_ = 0, rays_arg_ = 0;
   IcStats stats_;
+};
+
+// What IC_IMAGE_ARGS bind for an image kernel that reads no cache (pm without
+// --final-gather-cache): parameters with no records, so every lookup misses and none is
+// counted, and one-element buffers for the rest.
+class IcNoCache {
+ public:
+  explicit IcNoCache(const cl::Context& ctx);
+  // As IcRecords::bind_image; returns the next free index.
+  cl_uint bind_image(cl::Kernel& kernel, cl_uint first);
+
+ private:
+  cl::Buffer params_, records_, starts_, entries_, marks_, counts_;
 };
 
 }  // namespace clpt

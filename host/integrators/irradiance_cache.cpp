@@ -8,7 +8,7 @@ IrradianceCache::IrradianceCache(const cl::Context& ctx, const SceneBuffers& sce
                                  const IcConfig& config)
     : ctx_(ctx),
       config_(config),
-      cache_(ctx, scene, config, config.photons ? IcGatherMode::Photons : IcGatherMode::PathTraced),
+      cache_(ctx, scene, config, config.photons ? dev::IC_GATHER_PHOTONS : dev::IC_GATHER_PATHS),
       tracer_(config.photons ? std::make_unique<PhotonTracer>(ctx, scene) : nullptr),
       render_kernel_(cache_.program(), "ic_render"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
@@ -32,11 +32,9 @@ void IrradianceCache::launch_render(Film& film) {
 void IrradianceCache::render_pass(const dev::RenderParams& params, Film& film) {
   if (!cache_.built()) {
     const auto started = Clock::now();
-    if (tracer_) {
+    if (tracer_) {  // path-traced records read no map
       global_ = build_photon_map(ctx_, *tracer_, params, config_.photons, 0u, "ic", photon_stats_);
       photon_stats_.rays = tracer_->rays();
-    } else {
-      global_ = empty_photon_map(ctx_);
     }
     cache_.build(params, global_, started, stop_flag());
   }

@@ -11,21 +11,14 @@ PhotonMapper::PhotonMapper(const cl::Context& ctx, const SceneBuffers& scene, ui
       global_paths_(global_paths ? global_paths : kDefaultGlobalPaths),
       caustic_paths_(caustic_paths),
       tracer_(ctx, scene),
-      cache_(cache ? std::make_unique<IcRecords>(ctx, scene, *cache, IcGatherMode::PhotonsNoCaustics)
+      cache_(cache ? std::make_unique<IcRecords>(ctx, scene, *cache,
+                                                 dev::IC_GATHER_PHOTONS_NO_CAUSTICS)
                    : nullptr),
+      no_cache_(cache ? nullptr : std::make_unique<IcNoCache>(ctx)),
       program_(ctx, "integrators/pm.cl"),
       kernel_(program_, "pm_render"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
   first_arg_ = scene.bind(kernel_, 0);
-  if (!cache_) {
-    const dev::IcParams none{};  // record_count 0
-    no_ic_params_ = cl::Buffer(ctx, sizeof(none), CL_MEM_READ_ONLY, &none, "irradiance cache parameters");
-    no_records_ = cl::Buffer(ctx, sizeof(dev::IcRecord));
-    no_starts_ = cl::Buffer(ctx, sizeof(uint32_t));
-    no_entries_ = cl::Buffer(ctx, sizeof(uint32_t));
-    no_marks_ = cl::Buffer(ctx, sizeof(uint32_t));
-    no_counts_ = cl::Buffer(ctx, 3 * sizeof(uint32_t));
-  }
   // Empty maps until the first pass builds them (the warm-up launch reads none).
   global_ = empty_photon_map(ctx);
   caustic_ = empty_photon_map(ctx);
@@ -61,8 +54,7 @@ void PhotonMapper::launch(const dev::RenderParams& params, Film& film) {
     cache_->write_params();
     next = cache_->bind_image(kernel_, next);
   } else {
-    next = kernel_.args(next, no_ic_params_, no_records_, no_starts_, no_entries_, no_marks_,
-                        no_counts_);
+    next = no_cache_->bind_image(kernel_, next);
   }
   kernel_.args(next, film.sum(), film.sum_sq(), film.ray_counts());
   kernel_.launch(ctx_, film.pixels());

@@ -43,11 +43,10 @@ class PhotonMapper final : public Integrator {
   uint64_t global_paths_, caustic_paths_;
   PhotonTracer tracer_;
   std::unique_ptr<IcRecords> cache_;
+  std::unique_ptr<IcNoCache> no_cache_;  // what the kernel's cache arguments bind without one
   cl::Program program_;
   cl::Kernel kernel_;
   cl::Buffer params_;
-  // Without a cache: what the kernel's cache arguments bind (no records: every lookup misses).
-  cl::Buffer no_ic_params_, no_records_, no_starts_, no_entries_, no_marks_, no_counts_;
   cl_uint first_arg_ = 0;
   bool built_ = false;
   DevicePhotonMap global_, caustic_;

@@ -15,13 +15,8 @@ __kernel void pm_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   const u32 pixel = get_global_id(0);
   if (pixel >= params->width * params->height) return;
   const SceneView scene = SCENE_VIEW();
-  PhotonMap global_map, caustic_map;
-  global_map.nodes = global_nodes;
-  global_map.photons = global_photons;
-  global_map.count = global_count;
-  caustic_map.nodes = caustic_nodes;
-  caustic_map.photons = caustic_photons;
-  caustic_map.count = caustic_count;
+  const PhotonMap global_map = photon_map(global_nodes, global_photons, global_count);
+  const PhotonMap caustic_map = photon_map(caustic_nodes, caustic_photons, caustic_count);
 
   const IcCache cache = ic_cache(ic, records, starts, entries);
   const int marked = ic->show_records && marks[pixel];

@@ -16,6 +16,14 @@ typedef struct PhotonMap {
   u32 count;
 } PhotonMap;
 
+inline PhotonMap photon_map(__global const KdNode* nodes, __global const Photon* photons, u32 count) {
+  PhotonMap m;
+  m.nodes = nodes;
+  m.photons = photons;
+  m.count = count;
+  return m;
+}
+
 /* The radiance vp reflects towards vp->wo from the k photons of `map` nearest to it (within
  * the maximum radius), counting those of bounce >= min_bounce that make paths within
  * max_depth, without caustic photons when exclude_caustic. Jensen's radius: the k-th
