@@ -5,6 +5,7 @@
 #
 # Builds build-fuzz/gltf_fuzzer with clang (CLPT_FUZZ=ON), seeds it from tests/data (the
 # malformed corpus and the valid files), scenes/*.gltf and the small files of ../shared/scenes
+# and ../shared/scenes-extensions (Draco, meshopt and quantized geometry, WebP images)
 # when that folder exists, and fuzzes with one worker per core (CLPT_FUZZ_JOBS overrides),
 # carrying on after a finding so one run can collect several.
 #
@@ -46,7 +47,7 @@ cmake --build "$build" --target gltf_fuzzer
 seeds="$build/seeds"
 rm -rf "$seeds"
 mkdir -p "$seeds" "$build/corpus" "$build/findings"
-python3 - "$seeds" tests/data/malformed tests/data/valid scenes ../shared/scenes <<'EOF'
+python3 - "$seeds" tests/data/malformed tests/data/valid scenes ../shared/scenes ../shared/scenes-extensions <<'EOF'
 import hashlib, json, os, sys
 out, roots = sys.argv[1], sys.argv[2:]
 SEP = b"\n#clpt-fuzz-bin#\n"

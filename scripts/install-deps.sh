@@ -8,6 +8,7 @@ packages=(
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libglm-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev
   libopenimageio-dev openimageio-tools
+  libdraco-dev libmeshoptimizer-dev
   libgtest-dev libboost-math-dev
 )
 

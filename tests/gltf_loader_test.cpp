@@ -143,9 +143,9 @@ TEST(GltfConformance, EveryFileLoadsOrFailsCleanly) {
   if (!fs::is_directory(kShared))
     GTEST_SKIP() << "shared glTF scenes not found at " << kShared << " (CLPT_SHARED_SCENES_DIR)";
   clpt::log::set_level(clpt::log::Level::Quiet);
-  // The files clpt must refuse: Draco is a required extension it does not support, and Empty
-  // has nothing to render. Every other file must load.
-  const std::set<std::string> expected_refusals = {"Box/glTF-Draco/Box.gltf", "Empty/Empty.gltf"};
+  // The file clpt must refuse: Empty has nothing to render. Every other file must load (Draco
+  // included: tests/compressed_geometry_test.cpp compares it with its uncompressed twin).
+  const std::set<std::string> expected_refusals = {"Empty/Empty.gltf"};
   std::set<std::string> refusals;
   size_t loaded = 0;
   for (const auto& entry : fs::recursive_directory_iterator(kShared)) {
@@ -242,12 +242,7 @@ TEST(GltfConformance, EmissiveStrength) {
   EXPECT_EQ(seen, 5u);
 }
 
-TEST(GltfConformance, DracoRequiredIsRefused) {
-  REQUIRE_SHARED("Box/glTF-Draco/Box.gltf");
-  std::string msg = load_error(kShared / "Box/glTF-Draco/Box.gltf");
-  EXPECT_NE(msg.find("KHR_draco_mesh_compression"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("does not support"), std::string::npos) << msg;
-}
+// Box/glTF-Draco against Box/glTF: tests/compressed_geometry_test.cpp.
 
 // KHR_lights_punctual files (ShadowsDirectional, ShadowsSpot) load: tests/gltf_lights_test.cpp.
 
@@ -403,7 +398,14 @@ const MalformedCase kMalformedCases[] = {
     {"uri_file_scheme.gltf", "uses the URI scheme 'file:'"},
     {"missing_bin.gltf", "file 'missing.bin' not found"},
     {"bin_size_mismatch.gltf", "File size mismatch"},
-    {"draco_required.gltf", "requires extension KHR_draco_mesh_compression, which clpt does not support"},
+    {"basisu_required.gltf", "requires extension KHR_texture_basisu, which clpt does not support (KTX2 / Basis Universal"},
+    {"quantized_without_extension.gltf", "integer attributes need KHR_mesh_quantization in extensionsUsed"},
+    {"meshopt_bad_mode.gltf", "EXT_meshopt_compression has mode 'STRIPS'; expected ATTRIBUTES, TRIANGLES or INDICES"},
+    {"meshopt_bad_stride.gltf", "has byteStride 6; ATTRIBUTES needs a multiple of 4 up to 256"},
+    {"meshopt_past_buffer.gltf", "EXT_meshopt_compression reads bytes 44..4140 past the end of buffer 0"},
+    {"meshopt_count_over_limit.gltf", "EXT_meshopt_compression has count 2147483647, more than the limit of 1073741824"},
+    {"meshopt_garbage.gltf", "meshoptimizer cannot decode its 16 bytes into 3 elements of 12 bytes"},
+    {"draco_garbage.gltf", "KHR_draco_mesh_compression: Draco cannot decode bufferView 2 (32 bytes)"},
     // KHR_lights_punctual (host/scene/gltf_lights.cpp; valid files in tests/gltf_lights_test.cpp)
     {"lights_bad_type.gltf", "KHR_lights_punctual light 0 has type 'area', expected point, spot or directional"},
     {"lights_negative_intensity.gltf", "KHR_lights_punctual light 0 has a negative intensity -1"},
@@ -584,7 +586,7 @@ TEST(GltfLoader, UriDecodingAndBrokenImages) {
   // Each is an error naming the image; with --lenient a warning and a magenta texture.
   clpt::log::set_level(clpt::log::Level::Quiet);
   const std::string msg = load_error(kValid / "percent_uri_broken_images.gltf");
-  EXPECT_NE(msg.find("image 0 'not_a_png.png' (used by material 0 baseColorTexture): not a PNG or JPEG image"),
+  EXPECT_NE(msg.find("image 0 'not_a_png.png' (used by material 0 baseColorTexture): not a PNG, JPEG or WebP image"),
             std::string::npos) << msg;
   EXPECT_NE(msg.find("--lenient"), std::string::npos) << msg;
   clpt::Scene s = clpt::load_gltf(kValid / "percent_uri_broken_images.gltf", clpt::LoadOptions{true, {}});

@@ -1,4 +1,4 @@
-// ImageDecode (host/scene/image_decode.*): PNG and JPEG bytes to RGBA8, and the PNG chunk
+// ImageDecode (host/scene/image_decode.*): PNG, JPEG and WebP bytes to RGBA8, and the PNG chunk
 // check in front of OpenImageIO: a valid PNG written by OpenImageIO decodes to its pixels;
 // the same file truncated anywhere, or with one byte of a chunk flipped, is refused with a
 // message saying which chunk (before libpng sees it: OIIO 2.4 leaks when libpng longjmps
@@ -8,8 +8,13 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include "scene/image_decode.h"
 
@@ -102,6 +107,77 @@ TEST(ImageDecode, JpegWhoseHeaderClaimsMoreThanItsBytesIsRefused) {
   EXPECT_FALSE(decode_image(jpg.data(), jpg.size(), &img, &why));
   EXPECT_NE(why.find("16384x4096"), std::string::npos) << why;
   EXPECT_NE(why.find("lying header"), std::string::npos) << why;
+}
+
+
+// A 5 x 3 WebP written by OpenImageIO (through a file: its WebP writer takes no I/O proxy),
+// and the pixels OpenImageIO reads back from that file as RGBA8 (the reference: its writer
+// is lossy even when asked for lossless, and drops an opaque alpha channel).
+std::vector<unsigned char> small_webp(const unsigned char* pixels, std::vector<uint32_t>* reference) {
+  char name[] = "/tmp/clpt-webp-XXXXXX";
+  const int fd = ::mkstemp(name);
+  EXPECT_GE(fd, 0);
+  ::close(fd);
+  const std::string path = std::string(name) + ".webp";
+  std::rename(name, path.c_str());
+  auto writer = OIIO::ImageOutput::create("webp");
+  OIIO::ImageSpec spec(5, 3, 4, OIIO::TypeDesc::UINT8);
+  EXPECT_TRUE(writer && writer->open(path, spec)) << OIIO::geterror();
+  EXPECT_TRUE(writer->write_image(OIIO::TypeDesc::UINT8, pixels));
+  writer->close();
+  auto in = OIIO::ImageInput::open(path);
+  EXPECT_TRUE(in);
+  const int nc = in->spec().nchannels;
+  std::vector<unsigned char> back(size_t(5 * 3 * nc));
+  EXPECT_TRUE(in->read_image(0, 0, 0, nc, OIIO::TypeDesc::UINT8, back.data()));
+  in->close();
+  reference->clear();
+  for (int i = 0; i < 5 * 3; ++i) {
+    const unsigned char* p = &back[size_t(i * nc)];
+    reference->push_back(uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 |
+                         uint32_t(nc == 4 ? p[3] : 255) << 24);
+  }
+  std::ifstream file(path, std::ios::binary);
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(file)), {});
+  std::remove(path.c_str());
+  return bytes;
+}
+
+// EXT_texture_webp: WebP through OpenImageIO, by its RIFF signature.
+TEST(ImageDecode, WebpDecodesToItsPixels) {
+  unsigned char pixels[5 * 3 * 4];
+  for (int i = 0; i < 5 * 3 * 4; ++i) pixels[i] = (unsigned char)((i * 37) % 256);
+  for (int i = 0; i < 5 * 3; ++i) pixels[4 * i + 3] = 255;
+  std::vector<uint32_t> reference;
+  const std::vector<unsigned char> webp = small_webp(pixels, &reference);
+  ASSERT_GT(webp.size(), 20u);
+  ASSERT_EQ(std::string(webp.begin() + 8, webp.begin() + 12), "WEBP");
+  DecodedImage img;
+  std::string why;
+  ASSERT_TRUE(decode_image(webp.data(), webp.size(), &img, &why)) << why;
+  ASSERT_EQ(img.width, 5u);
+  ASSERT_EQ(img.height, 3u);
+  for (int i = 0; i < 5 * 3; ++i) EXPECT_EQ(img.texels[size_t(i)], reference[size_t(i)]) << "texel " << i;
+  // Cut short: the RIFF size says so before libwebp reads anything.
+  EXPECT_FALSE(decode_image(webp.data(), webp.size() - 3, &img, &why));
+  EXPECT_NE(why.find("truncated WebP"), std::string::npos) << why;
+  // Damaged bytes: refused or decoded, never a crash (run under ASan by test-sanitize.sh).
+  for (size_t at = 12; at < webp.size(); ++at) {
+    std::vector<unsigned char> bad = webp;
+    bad[at] ^= 0x5A;
+    DecodedImage out;
+    std::string reason;
+    if (!decode_image(bad.data(), bad.size(), &out, &reason)) EXPECT_FALSE(reason.empty());
+  }
+}
+
+// KHR_texture_basisu's KTX2 images are named as such (no transcoder in Debian).
+TEST(ImageDecode, Ktx2IsNamed) {
+  const unsigned char ktx2[16] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A, 0, 0, 0, 0};
+  DecodedImage img;
+  std::string why;
+  EXPECT_FALSE(decode_image(ktx2, sizeof ktx2, &img, &why));
+  EXPECT_NE(why.find("a KTX2 (Basis Universal) image"), std::string::npos) << why;
 }
 
 }  // namespace

@@ -87,7 +87,7 @@ Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options) {
     if (json_depth(json_text, json_size, max_depth) > max_depth)
       fail("JSON nesting is deeper than " + std::to_string(max_depth) + " levels");
 
-    const nlohmann::json doc = parse_json(json_text, json_size, binary, fail);
+    nlohmann::json doc = parse_json(json_text, json_size, binary, fail);
 
     // Extensions: refuse unsupported required ones before anything else looks at the data.
     const std::vector<std::string> unsupported_used = check_extensions(doc, fail);
@@ -105,6 +105,17 @@ Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options) {
       std::string base = ctx.base.string();
       ctx.prefix = base.empty() || base.back() == '/' ? base : base + "/";
       ctx.bytes_read = bytes.size();
+    }
+    std::string rewritten_json;
+    if (adapt_compressed_for_tinygltf(doc)) {
+      rewritten_json = doc.dump();
+      if (binary) {
+        bytes = replace_glb_json(bytes, rewritten_json);
+        json_text = reinterpret_cast<const char*>(bytes.data() + 20);
+      } else {
+        json_text = rewritten_json.data();
+        json_size = rewritten_json.size();
+      }
     }
     check_uris(doc, binary, ctx, images, fail);
 

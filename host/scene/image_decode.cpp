@@ -15,7 +15,17 @@ const char* sniff_format(const unsigned char* p, size_t n) {
   static const unsigned char png[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
   if (n >= 8 && std::equal(png, png + 8, p)) return "png";
   if (n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF) return "jpeg";
+  if (n >= 12 && std::equal(p, p + 4, "RIFF") && std::equal(p + 8, p + 12, "WEBP")) return "webp";
   return nullptr;
+}
+
+bool is_ktx2(const unsigned char* p, size_t n) {
+  static const unsigned char ktx2[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+  return n >= 12 && std::equal(ktx2, ktx2 + 12, p);
+}
+
+uint32_t read_u32le(const unsigned char* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
 }
 
 uint32_t read_u32be(const unsigned char* p) {
@@ -104,10 +114,19 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
                   uint64_t max_dimension, uint64_t max_pixels) {
   const char* format = sniff_format(data, size);
   if (!format) {
-    *why = size == 0 ? "the image is empty (0 bytes)" : "not a PNG or JPEG image (unknown signature)";
+    *why = size == 0        ? "the image is empty (0 bytes)"
+           : is_ktx2(data, size) ? "a KTX2 (Basis Universal) image, which clpt cannot decode (Debian packages no "
+                                   "KTX2 transcoder; give the texture a PNG or JPEG source)"
+                             : "not a PNG, JPEG or WebP image (unknown signature)";
     return false;
   }
   if (std::string(format) == "png" && !check_png_chunks(data, size, why)) return false;
+  // WebP: a RIFF container whose size field covers the file (libwebp reads past a short one).
+  if (std::string(format) == "webp" && uint64_t(read_u32le(data + 4)) + 8 > size) {
+    *why = "truncated WebP: the RIFF header gives " + std::to_string(uint64_t(read_u32le(data + 4)) + 8) +
+           " bytes, the data has " + std::to_string(size);
+    return false;
+  }
   try {
     OIIO::Filesystem::IOMemReader proxy(data, size);
     // Straight alpha, as glTF means it (OIIO would otherwise premultiply PNG alpha).

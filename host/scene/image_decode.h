@@ -1,4 +1,4 @@
-// PNG and JPEG decoding for textures, from bytes in memory (an external file, a data: URI or
+// PNG, JPEG and WebP decoding for textures, from bytes in memory (an external file, a data: URI or
 // a GLB bufferView), through OpenImageIO. The glTF loader hands it bytes it has already
 // range-checked; this file knows nothing of glTF.
 #pragma once
@@ -20,10 +20,10 @@ struct DecodedImage {
   std::vector<uint32_t> texels;  // width * height RGBA8, R in the low byte, row 0 at the top
 };
 
-// Decodes a PNG or JPEG (recognised by its first bytes, not by a name or media type) into
+// Decodes a PNG, JPEG or WebP (recognised by its first bytes, not by a name or media type) into
 // 8-bit RGBA: grey becomes RGB, a missing alpha is 255, alpha stays unassociated (straight),
 // 16-bit channels are rounded to 8 bits, no colour-space conversion. Returns false with a
-// one-line reason (bad bytes, not PNG/JPEG, too large, decoder error).
+// one-line reason (bad bytes, not PNG/JPEG/WebP (KTX2 named as such), too large, decoder error).
 // max_dimension and max_pixels: the limits (LoadLimits::image_dimension, image_pixels).
 bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std::string* why,
                   uint64_t max_dimension = kMaxImageDimension, uint64_t max_pixels = kMaxImagePixels);

@@ -95,6 +95,11 @@ double decode_component(const unsigned char* p, int ct, bool normalized) {
   }
 }
 
+bool small_integer(int ct) {
+  return ct == TINYGLTF_COMPONENT_TYPE_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+         ct == TINYGLTF_COMPONENT_TYPE_SHORT || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+}
+
 uint32_t decode_index(const unsigned char* p, int ct) {
   switch (ct) {
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[0];
@@ -117,6 +122,11 @@ Converter::ViewBytes Converter::buffer_view(int index, const std::string& user) 
     fail(user + " refers to bufferView " + std::to_string(index) + ", which does not exist (the file has " +
          std::to_string(m_.bufferViews.size()) + ")");
   const tinygltf::BufferView& bv = m_.bufferViews[size_t(index)];
+  auto meshopt = bv.extensions.find("EXT_meshopt_compression");
+  if (meshopt != bv.extensions.end()) {
+    const std::vector<unsigned char>& d = meshopt_view(index, meshopt->second);
+    return {d.data(), d.size(), bv.byteStride};
+  }
   if (bv.buffer < 0 || size_t(bv.buffer) >= m_.buffers.size())
     fail("bufferView " + std::to_string(index) + " refers to buffer " + std::to_string(bv.buffer) +
          ", which does not exist (the file has " + std::to_string(m_.buffers.size()) + ")");
@@ -156,10 +166,29 @@ Converter::Elements Converter::accessor_elements(int index, const std::string& w
       ok = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
            ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
       break;
+    case Components::Position:
+      ok = ct == TINYGLTF_COMPONENT_TYPE_FLOAT || (quantized_ && small_integer(ct));
+      break;
+    case Components::Direction:
+      ok = ct == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+           (quantized_ && acc.normalized &&
+            (ct == TINYGLTF_COMPONENT_TYPE_BYTE || ct == TINYGLTF_COMPONENT_TYPE_SHORT));
+      break;
+    case Components::TexCoord:
+      ok = ct == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+           (acc.normalized && (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                               ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)) ||
+           (quantized_ && small_integer(ct));
+      break;
   }
   if (!ok)
     fail(desc + " has component type " + component_type_name(ct) + (acc.normalized ? " (normalized)" : "") +
-         ", which is not allowed there");
+         ", which is not allowed there" +
+         (!quantized_ && ct != TINYGLTF_COMPONENT_TYPE_FLOAT &&
+                  (allowed == Components::Position || allowed == Components::Direction ||
+                   allowed == Components::TexCoord)
+              ? " (integer attributes need KHR_mesh_quantization in extensionsUsed)"
+              : ""));
 
   Elements e{&acc, nullptr, 0, acc.count, type_components(type), component_size(ct)};
   const uint64_t elem_size = uint64_t(e.ncomp) * e.comp_size;
@@ -167,6 +196,16 @@ Converter::Elements Converter::accessor_elements(int index, const std::string& w
     fail(desc + " has count " + std::to_string(acc.count) + ", more than the limit of " +
          std::to_string(limits_.accessor_count) + " (--limit accessor-count=N)");
 
+  auto decoded = draco_accessors_.find(index);
+  if (decoded != draco_accessors_.end()) {
+    // Decoded by decode_draco in this accessor's layout: count elements, tightly packed.
+    if (decoded->second.size() != acc.count * elem_size)
+      fail(desc + ": the Draco data decodes to " + std::to_string(decoded->second.size()) + " bytes, not " +
+           std::to_string(acc.count) + " elements of " + std::to_string(elem_size) + " bytes");
+    e.data = decoded->second.data();
+    e.stride = elem_size;
+    return e;
+  }
   if (acc.bufferView < 0) {
     if (acc.count > limits_.zero_accessor_count)
       fail(desc + " has no bufferView and count " + std::to_string(acc.count) + ", more than the limit of " +

@@ -21,6 +21,21 @@ const char* const kSupportedExtensions[] = {
     "KHR_texture_transform",
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
+    "KHR_mesh_quantization",       // accessors.cpp: integer attribute types
+    "EXT_meshopt_compression",     // compression.cpp: bufferViews decoded by meshoptimizer
+    "KHR_draco_mesh_compression",  // compression.cpp: primitives decoded by Draco
+    "EXT_texture_webp",            // materials.cpp, image_decode.cpp: WebP through OpenImageIO
+};
+
+// Extensions clpt knows and cannot support, with the reason given when a file requires one.
+struct Refusal {
+  const char* name;
+  const char* why;
+};
+const Refusal kRefused[] = {
+    {"KHR_texture_basisu",
+     "KTX2 / Basis Universal textures need a transcoder, which Debian does not package; "
+     "files that list it only in extensionsUsed render from their PNG/JPEG fallback images"},
 };
 
 bool is_supported_extension(const std::string& name) {
@@ -103,6 +118,27 @@ size_t json_depth(const char* p, size_t n, size_t limit) {
   return max_depth;
 }
 
+// The GLB `glb` with its JSON chunk replaced by `json` (padded with spaces to 4 bytes); the
+// chunks after it are copied as they are. `glb` has passed check_glb.
+std::vector<unsigned char> replace_glb_json(const std::vector<unsigned char>& glb, const std::string& json) {
+  const size_t old_end = 20 + size_t(read_u32le(&glb[12]));
+  const size_t json_len = (json.size() + 3) / 4 * 4;
+  std::vector<unsigned char> out;
+  out.reserve(20 + json_len + (glb.size() - old_end));
+  auto put32 = [&](uint32_t v) {
+    for (int i = 0; i < 4; ++i) out.push_back((unsigned char)(v >> (8 * i)));
+  };
+  put32(kGlbMagic);
+  put32(2);
+  put32(uint32_t(20 + json_len + (glb.size() - old_end)));
+  put32(uint32_t(json_len));
+  put32(kChunkJson);
+  out.insert(out.end(), json.begin(), json.end());
+  out.resize(20 + json_len, ' ');
+  out.insert(out.end(), glb.begin() + long(old_end), glb.end());
+  return out;
+}
+
 // Parses the JSON text (the file, or the GLB's JSON chunk) with nlohmann, for a clear message
 // when it is invalid, and checks that it is a glTF 2.x document (asset.version).
 nlohmann::json parse_json(const char* json_text, size_t json_size, bool binary, const Fail& fail) {
@@ -141,6 +177,9 @@ std::vector<std::string> check_extensions(const nlohmann::json& doc, const Fail&
   };
   collect("extensionsRequired", &unsupported_required);
   collect("extensionsUsed", &unsupported_used);
+  for (const Refusal& r : kRefused)
+    if (std::find(unsupported_required.begin(), unsupported_required.end(), r.name) != unsupported_required.end())
+      fail(std::string("requires extension ") + r.name + ", which clpt does not support (" + r.why + ")");
   if (!unsupported_required.empty())
     fail(std::string("requires extension") + (unsupported_required.size() > 1 ? "s " : " ") +
          join(unsupported_required, ", ") + ", which clpt does not support");
@@ -229,6 +268,12 @@ void check_indices(const nlohmann::json& doc, const Fail& fail) {
       check_map(p, "attributes", at, fail);
       check_field(p, "indices", at, fail);
       check_field(p, "material", at, fail);
+      if (const nlohmann::json* e = member(p, "extensions"))
+        if (const nlohmann::json* d = member(*e, "KHR_draco_mesh_compression")) {
+          const std::string dw = at + ".extensions.KHR_draco_mesh_compression";
+          check_field(*d, "bufferView", dw, fail);
+          check_map(*d, "attributes", dw, fail);
+        }
       each(p, "targets", [&](const nlohmann::json& t, const std::string& tw) {
         if (t.is_object())
           for (auto it = t.begin(); it != t.end(); ++it) check_index(*it, at + "." + tw + "." + it.key(), fail);
@@ -242,10 +287,20 @@ void check_indices(const nlohmann::json& doc, const Fail& fail) {
       if (const nlohmann::json* v = member(*sp, "values")) check_field(*v, "bufferView", w + ".sparse.values", fail);
     }
   });
-  each(doc, "bufferViews", [&](const nlohmann::json& b, const std::string& w) { check_field(b, "buffer", w, fail); });
+  each(doc, "bufferViews", [&](const nlohmann::json& b, const std::string& w) {
+    check_field(b, "buffer", w, fail);
+    // EXT_meshopt_compression's sizes reach the Converter through tinygltf's int as well.
+    if (const nlohmann::json* e = member(b, "extensions"))
+      if (const nlohmann::json* m = member(*e, "EXT_meshopt_compression"))
+        for (const char* key : {"buffer", "byteOffset", "byteLength", "byteStride", "count"})
+          check_field(*m, key, w + ".extensions.EXT_meshopt_compression", fail);
+  });
   each(doc, "textures", [&](const nlohmann::json& t, const std::string& w) {
     check_field(t, "sampler", w, fail);
     check_field(t, "source", w, fail);
+    if (const nlohmann::json* e = member(t, "extensions"))
+      for (const char* ext : {"EXT_texture_webp", "KHR_texture_basisu"})
+        if (const nlohmann::json* x = member(*e, ext)) check_field(*x, "source", w + ".extensions." + ext, fail);
   });
   each(doc, "images", [&](const nlohmann::json& i, const std::string& w) { check_field(i, "bufferView", w, fail); });
   each(doc, "materials", [&](const nlohmann::json& m, const std::string& w) { check_textures(m, w, fail); });

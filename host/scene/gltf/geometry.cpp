@@ -31,11 +31,13 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
   const tinygltf::Primitive& p = m_.meshes[size_t(mesh)].primitives[size_t(prim)];
   const std::string where = "mesh " + std::to_string(mesh) + " primitive " + std::to_string(prim);
   LocalPrimitive lp;
+  auto draco = p.extensions.find("KHR_draco_mesh_compression");
+  if (draco != p.extensions.end()) decode_draco(p, draco->second, where);
 
   auto pos_it = p.attributes.find("POSITION");
   if (pos_it == p.attributes.end()) fail(where + " has no POSITION attribute");
   {
-    std::vector<float> v = read_values(pos_it->second, "POSITION of " + where, TINYGLTF_TYPE_VEC3, Components::Float);
+    std::vector<float> v = read_values(pos_it->second, "POSITION of " + where, TINYGLTF_TYPE_VEC3, Components::Position);
     const size_t n = v.size() / 3;
     lp.positions.resize(n);
     for (size_t i = 0; i < n; ++i) {
@@ -56,7 +58,7 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
   };
   auto nrm_it = p.attributes.find("NORMAL");
   if (nrm_it != p.attributes.end()) {
-    std::vector<float> v = read_values(nrm_it->second, "NORMAL of " + where, TINYGLTF_TYPE_VEC3, Components::Float);
+    std::vector<float> v = read_values(nrm_it->second, "NORMAL of " + where, TINYGLTF_TYPE_VEC3, Components::Direction);
     check_count("NORMAL", v.size() / 3);
     lp.normals.resize(nverts);
     for (size_t i = 0; i < nverts; ++i) {
@@ -69,7 +71,7 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
     auto it = p.attributes.find(name);
     if (it == p.attributes.end()) return;
     std::vector<float> v = read_values(it->second, std::string(name) + " of " + where,
-                                       TINYGLTF_TYPE_VEC2, Components::FloatOrUNorm);
+                                       TINYGLTF_TYPE_VEC2, Components::TexCoord);
     check_count(name, v.size() / 2);
     out.resize(nverts);
     for (size_t i = 0; i < nverts; ++i) {
@@ -81,7 +83,7 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
   read_uv_set("TEXCOORD_1", lp.uvs1);
   auto tan_it = p.attributes.find("TANGENT");
   if (tan_it != p.attributes.end()) {
-    std::vector<float> v = read_values(tan_it->second, "TANGENT of " + where, TINYGLTF_TYPE_VEC4, Components::Float);
+    std::vector<float> v = read_values(tan_it->second, "TANGENT of " + where, TINYGLTF_TYPE_VEC4, Components::Direction);
     check_count("TANGENT", v.size() / 4);
     lp.tangents.resize(nverts);
     for (size_t i = 0; i < nverts; ++i) {
@@ -114,12 +116,12 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
   }
 
   std::vector<uint32_t> idx;
-  if (p.indices >= 0) {
-    idx = read_indices(p.indices, "indices of " + where);
+  if (const int indices = indices_accessor(p); indices >= 0) {
+    idx = read_indices(indices, "indices of " + where);
     for (size_t i = 0; i < idx.size(); ++i)
       if (idx[i] >= nverts)
         fail(where + ": index " + std::to_string(idx[i]) + " (entry " + std::to_string(i) +
-             " of accessor " + std::to_string(p.indices) + ") is not less than the vertex count " +
+             " of accessor " + std::to_string(indices) + ") is not less than the vertex count " +
              std::to_string(nverts));
   } else {
     idx.resize(nverts);

@@ -4,6 +4,7 @@
 //   text.cpp       message text: numbers, sizes, one-line and printable strings
 //   uri.cpp        URI sandbox and file resolution; tinygltf's file-system and image callbacks
 //   document.cpp   GLB container, JSON pre-scan and parse, asset version, supported extensions
+//   compression.cpp  EXT_meshopt_compression bufferViews and KHR_draco_mesh_compression primitives
 //   accessors.cpp  buffer views and accessors (sparse included), range-checked
 //   materials.cpp  materials and textures (images, samplers, KHR_texture_transform)
 //   geometry.cpp   mesh primitives to world-space triangles, EXT_mesh_gpu_instancing
@@ -16,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <set>
@@ -105,10 +107,22 @@ std::pair<const char*, size_t> check_glb(const std::vector<unsigned char>& d, co
 size_t json_depth(const char* p, size_t n, size_t limit);
 nlohmann::json parse_json(const char* json_text, size_t json_size, bool binary, const Fail& fail);
 std::vector<std::string> check_extensions(const nlohmann::json& doc, const Fail& fail);
+std::vector<unsigned char> replace_glb_json(const std::vector<unsigned char>& glb, const std::string& json);
 // Every glTFid of the document (scene, node, mesh, accessor, texture ... references) is an
 // integer in [0, 2^31 - 1]: tinygltf keeps them in int, so 4294967296 became 0 and "scene": -5
 // the absent default (issue 23, class 6). Fails naming the field and its value.
 void check_indices(const nlohmann::json& doc, const Fail& fail);
+
+// ------------------------------------------------------------------------------------------
+// Compressed geometry before tinygltf sees it (compression.cpp)
+
+// tinygltf 2.7 cannot load two kinds of valid compressed files, so the JSON it reads is
+// adapted: EXT_meshopt_compression's fallback buffers (no uri, "fallback": true, no data)
+// become 1-byte data: URIs, which no compressed bufferView reads; a Draco primitive's
+// "indices" (an accessor without a bufferView, which tinygltf refuses) moves into its
+// KHR_draco_mesh_compression object under kDracoIndicesKey. Returns whether the document changed.
+constexpr const char* kDracoIndicesKey = "clpt:indices";
+bool adapt_compressed_for_tinygltf(nlohmann::json& doc);
 
 // ------------------------------------------------------------------------------------------
 // Conversion of the tinygltf model (accessors.cpp, materials.cpp, geometry.cpp, cameras.cpp,
@@ -132,18 +146,25 @@ bool finite(const glm::dvec3& v);
 int type_components(int type);
 
 // What a component type may be for one use of an accessor.
+// Position, Direction and TexCoord widen under KHR_mesh_quantization, as that extension's
+// table of attribute types says.
 enum class Components {
   Float,              // FLOAT only
-  FloatOrUNorm,       // FLOAT, normalized UNSIGNED_BYTE / UNSIGNED_SHORT (TEXCOORD_n)
+  FloatOrUNorm,       // FLOAT, normalized UNSIGNED_BYTE / UNSIGNED_SHORT (COLOR_0)
   FloatOrSNorm,       // FLOAT, normalized BYTE / SHORT (instance ROTATION)
   Index,              // UNSIGNED_BYTE / UNSIGNED_SHORT / UNSIGNED_INT
+  Position,           // FLOAT; quantized: (normalized or not) BYTE, UNSIGNED_BYTE, SHORT, UNSIGNED_SHORT
+  Direction,          // FLOAT; quantized: normalized BYTE / SHORT (NORMAL, TANGENT)
+  TexCoord,           // FLOAT, normalized UNSIGNED_BYTE / UNSIGNED_SHORT; quantized: as Position
 };
 
 class Converter {
  public:
   Converter(const tinygltf::Model& model, std::string display, ImageSources& images,
             const LoadLimits& limits)
-      : m_(model), display_(std::move(display)), images_(images), limits_(limits) {}
+      : m_(model), display_(std::move(display)), images_(images), limits_(limits),
+        quantized_(std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
+                             "KHR_mesh_quantization") != model.extensionsUsed.end()) {}
 
   Scene convert();
 
@@ -180,6 +201,14 @@ class Converter {
   std::vector<float> read_values(int index, const std::string& what, int type, Components allowed) const;
   std::vector<uint32_t> read_indices(int index, const std::string& what) const;
 
+  // Compressed geometry (compression.cpp): an EXT_meshopt_compression bufferView decoded on
+  // first use; a KHR_draco_mesh_compression primitive decoded into draco_accessors_.
+  const std::vector<unsigned char>& meshopt_view(int index, const tinygltf::Value& ext) const;
+  void decode_draco(const tinygltf::Primitive& p, const tinygltf::Value& ext, const std::string& where);
+  int indices_accessor(const tinygltf::Primitive& p) const;  // p.indices, or a Draco primitive's
+  // Counts decoded bytes against the memory budget before they are allocated.
+  void reserve_decoded(uint64_t bytes, const std::string& what) const;
+
   void convert_materials();
   TextureRef texture_ref(int index, int texcoord, const tinygltf::Value* transform, const std::string& where);
   TextureRef texture_info(const tinygltf::Value& info, const std::string& where);
@@ -208,6 +237,10 @@ class Converter {
   std::map<std::pair<int, int>, LocalPrimitive> cache_;
   std::vector<char> on_path_;
   GltfLights lights_{m_, [this](const std::string& message) { fail(message); }};  // KHR_lights_punctual
+  const bool quantized_;                                   // KHR_mesh_quantization in extensionsUsed
+  mutable std::map<int, std::vector<unsigned char>> meshopt_views_;  // decoded, by bufferView
+  std::map<int, std::vector<unsigned char>> draco_accessors_;  // decoded elements, tightly packed, by accessor
+  mutable uint64_t decoded_bytes_ = 0;
   uint64_t visits_ = 0;
   uint64_t skipped_primitives_ = 0;  // points and lines
   std::set<int> skipped_modes_;

@@ -60,13 +60,23 @@ int Converter::scene_texture(int texture, const std::string& where) {
   if (known != texture_of_.end()) return known->second;
   const tinygltf::Texture& gt = m_.textures[size_t(texture)];
   const std::string tdesc = "texture " + std::to_string(texture);
-  if (gt.source < 0) {
-    log::warn(display_ + ": " + tdesc + " has no PNG/JPEG source (e.g. only a KTX2 or WebP one); " + where +
+  // The image: EXT_texture_webp's source when there is one (WebP decodes through OpenImageIO),
+  // else the core source (KHR_texture_basisu's KTX2 source cannot be decoded: its core source
+  // is the fallback the extension defines).
+  int source = gt.source;
+  auto webp = gt.extensions.find("EXT_texture_webp");
+  if (webp != gt.extensions.end()) {
+    if (!webp->second.IsObject() || !webp->second.Has("source") || !webp->second.Get("source").IsInt())
+      fail(tdesc + " EXT_texture_webp has no integer source");
+    source = webp->second.Get("source").GetNumberAsInt();
+  }
+  if (source < 0) {
+    log::warn(display_ + ": " + tdesc + " has no PNG, JPEG or WebP source (e.g. only a KTX2 one); " + where +
               " is rendered without it");
     return texture_of_[texture] = -1;
   }
-  if (size_t(gt.source) >= m_.images.size())
-    fail(tdesc + " refers to image " + std::to_string(gt.source) + ", which does not exist (the file has " +
+  if (size_t(source) >= m_.images.size())
+    fail(tdesc + " refers to image " + std::to_string(source) + ", which does not exist (the file has " +
          std::to_string(m_.images.size()) + ")");
   Texture::Wrap ws = Texture::Wrap::Repeat, wt = Texture::Wrap::Repeat;
   bool nearest = false;
@@ -90,15 +100,15 @@ int Converter::scene_texture(int texture, const std::string& where) {
     wt = wrap(sm.wrapT, "wrapT");
     nearest = sm.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
   }
-  const auto key = std::make_tuple(gt.source, int(ws), int(wt), nearest);
+  const auto key = std::make_tuple(source, int(ws), int(wt), nearest);
   auto shared = textures_.find(key);
   if (shared != textures_.end()) return texture_of_[texture] = shared->second;
-  const DecodedImage& img = image(gt.source, where);
+  const DecodedImage& img = image(source, where);
   total_texels_ += uint64_t(img.width) * img.height;
   Texture t;
-  const tinygltf::Image& gi = m_.images[size_t(gt.source)];
+  const tinygltf::Image& gi = m_.images[size_t(source)];
   t.name = !gi.name.empty() ? gi.name : (!gi.uri.empty() && gi.uri.rfind("data:", 0) != 0 ? gi.uri
-                                                                                          : "image " + std::to_string(gt.source));
+                                                                                          : "image " + std::to_string(source));
   t.width = img.width;
   t.height = img.height;
   t.texels = img.texels;

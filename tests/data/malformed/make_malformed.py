@@ -134,7 +134,36 @@ def main():
             d["extensionsUsed"] = [ext]
             d["extensionsRequired"] = [ext]
         return f
-    variant("draco_required.gltf", require("KHR_draco_mesh_compression"))
+    variant("basisu_required.gltf", require("KHR_texture_basisu"))
+
+    # --- compressed and quantized geometry (host/scene/gltf/compression.cpp, accessors.cpp).
+    # Valid Draco and meshopt data come from their encoders in tests/compressed_geometry_test.cpp;
+    # these are the cases a few JSON fields and bytes can make.
+    variant("quantized_without_extension.gltf",
+            lambda d: d["accessors"][0].update(componentType=U16))
+    def meshopt(fields, chunk=b"\xa0" + b"\0" * 15):
+        def f(d):
+            require("EXT_meshopt_compression")(d)
+            # bufferView 2 (16 bytes of `chunk`) holds the "compressed" positions.
+            ext = {"buffer": 0, "byteOffset": d["bufferViews"][2]["byteOffset"], "byteLength": 16,
+                   "byteStride": 12, "count": 3, "mode": "ATTRIBUTES"}
+            ext.update(fields)
+            d["bufferViews"][0]["extensions"] = {"EXT_meshopt_compression": ext}
+        return f, [chunk]
+    for name, fields in [("meshopt_bad_mode.gltf", {"mode": "STRIPS"}),
+                         ("meshopt_bad_stride.gltf", {"byteStride": 6}),
+                         ("meshopt_past_buffer.gltf", {"byteLength": 4096}),
+                         ("meshopt_count_over_limit.gltf", {"count": 2**31 - 1}),
+                         ("meshopt_garbage.gltf", {"byteStride": 12})]:
+        f, extra = meshopt(fields, chunk=b"\x55" * 16 if name == "meshopt_garbage.gltf" else b"\xa0" + b"\0" * 15)
+        variant(name, f, extra=extra)
+    def draco(d):
+        require("KHR_draco_mesh_compression")(d)
+        d["meshes"][0]["primitives"][0]["extensions"] = {
+            "KHR_draco_mesh_compression": {"bufferView": 2, "attributes": {"POSITION": 0}}}
+        for a in d["accessors"]:
+            del a["bufferView"]
+    variant("draco_garbage.gltf", draco, extra=[b"DRACO\x02\x02\x01\x01\x00" + b"\xff" * 22])
 
     # --- KHR_lights_punctual (host/scene/gltf_lights.cpp): one light on node 1
     def lit(light, node_ext=None):
