@@ -84,6 +84,19 @@ Scene glossy_box() {
   return s;
 }
 
+// The Cornell box whose white surfaces have a KHR_materials_clearcoat (weight 0.7, its
+// textures' values included: not a multiple of 1/65535, so the PathVertex's 16-bit storage
+// must round as material_resolve does) over a rough red-white coat: four-lobe mixtures.
+Scene clearcoat_box() {
+  Scene s = glossy_box();
+  for (Material& m : s.materials)
+    if (m.name == "white") {
+      m.clearcoat = 0.7f;
+      m.clearcoat_roughness = 0.23f;
+    }
+  return s;
+}
+
 // The Cornell box with a rough glass sphere (roughness 0.3, flat facets) floating in the
 // middle: paths refract, so a vertex's camera-side and light-side orientations differ.
 Scene glass_sphere_box() {
@@ -292,6 +305,8 @@ INSTANTIATE_TEST_SUITE_P(
                       MisCase{"cornell_balance", test::cornell_box, dev::MIS_BALANCE, 0},
                       MisCase{"glossy_power", glossy_box, dev::MIS_POWER, 0},
                       MisCase{"glossy_balance", glossy_box, dev::MIS_BALANCE, 0},
+                      MisCase{"clearcoat_power", clearcoat_box, dev::MIS_POWER, 0},
+                      MisCase{"clearcoat_balance_vcm", clearcoat_box, dev::MIS_BALANCE, 0, kEta},
                       MisCase{"glass_sphere_power", glass_sphere_box, dev::MIS_POWER, 100},
                       MisCase{"glass_sphere_balance", glass_sphere_box, dev::MIS_BALANCE, 100},
                       MisCase{"cornell_power_vcm", test::cornell_box, dev::MIS_POWER, 0, kEta},

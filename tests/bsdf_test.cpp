@@ -50,11 +50,13 @@ struct Config {
   float specular = 1.0f;
   float transmission = 0.0f;
   float ior = 1.5f;
+  float clearcoat = 0.0f;
+  float clearcoat_roughness = 0.0f;
 };
 
 std::vector<float> pack(const Config& c) {
-  return {c.base.x,  c.base.y,      c.base.z,     c.spec_color.x, c.spec_color.y, c.spec_color.z,
-          c.metallic, c.roughness, c.specular, c.transmission, c.ior,          0.0f};
+  return {c.base.x,   c.base.y,    c.base.z,   c.spec_color.x, c.spec_color.y, c.spec_color.z, c.metallic,
+          c.roughness, c.specular, c.transmission, c.ior,     c.clearcoat,    c.clearcoat_roughness};
 }
 
 Config lambert(glm::vec3 base = glm::vec3(0.8f, 0.5f, 0.2f)) {
@@ -98,6 +100,13 @@ Config half_transmission() {
   c.transmission = 0.5f;
   c.roughness = 0.5f;
   return c;
+}
+
+// KHR_materials_clearcoat of weight c and roughness r over another configuration.
+Config coated(Config base, float c, float r) {
+  base.clearcoat = c;
+  base.clearcoat_roughness = r;
+  return base;
 }
 
 glm::vec4 direction(double cos_theta, double phi = 0.7) {
@@ -311,6 +320,12 @@ std::vector<Chi2Case> chi2_cases() {
   add("HalfTransmission", half_transmission(), {0.7, 0.1, -0.7});
   add("DeltaCoatOverDiffuse", plastic(0.0f), {0.8, 0.05});
   add("DeltaGlassHalfDiffuse", [] { Config c = half_transmission(); c.roughness = 0.0f; return c; }(), {0.8, -0.5});
+  // KHR_materials_clearcoat: the coat's own GGX lobe over each kind of base.
+  add("ClearcoatPlastic", coated(plastic(0.6f), 1.0f, 0.3f), {0.8, 0.3, 0.05});
+  add("ClearcoatMetal", coated(metal(0.3f), 0.7f, 0.25f), {0.8, 0.3, 0.05});
+  add("DeltaClearcoatMetal", coated(metal(0.3f), 1.0f, 0.0f), {0.8, 0.05});
+  add("ClearcoatGlass", coated(glass(0.3f), 0.8f, 0.4f), {0.8, 0.3, -0.6});
+  add("ClearcoatOverDeltaCoat", coated(plastic(0.0f), 0.5f, 0.2f), {0.8, 0.05});
   // Sharp lobes once more, on a fine grid with its pole on the lobe.
   auto add_pole = [&](const std::string& name, const Config& cfg, double cos_o, int pole, double band_min) {
     Chi2Case k{name, cfg, cos_o};
@@ -491,7 +506,12 @@ std::vector<std::pair<std::string, Config>> consistency_configs() {
           {"mixed", mixed_metal()},        {"specular_0.5", plastic(0.4f, 0.5f)},
           {"coloured_specular", plastic(0.3f, 1.0f, glm::vec3(1.0f, 0.6f, 0.2f))},
           {"half_transmission", half_transmission()},
-          {"delta_coat", plastic(0.0f)}};
+          {"delta_coat", plastic(0.0f)},
+          {"clearcoat_plastic", coated(plastic(0.6f), 1.0f, 0.3f)},
+          {"clearcoat_metal", coated(metal(0.3f), 0.7f, 0.25f)},
+          {"delta_clearcoat_metal", coated(metal(0.3f), 1.0f, 0.0f)},
+          {"clearcoat_glass", coated(glass(0.3f), 0.8f, 0.4f)},
+          {"clearcoat_over_delta_coat", coated(plastic(0.0f), 0.5f, 0.2f)}};
 }
 
 // rel difference of two colours, relative to the larger one's largest channel.
@@ -625,7 +645,10 @@ TEST(BsdfEnergy, AlbedoAtMostOne) {
                                  {"white_metal_0.3", white_metal},
                                  {"white_metal_0", white_metal_smooth},
                                  {"f0_1_plastic", bright_specular},
-                                 {"smooth_glass", glass(0.0f)}});
+                                 {"smooth_glass", glass(0.0f)},
+                                 {"white_clearcoat_plastic", coated(white_plastic, 1.0f, 0.5f)},
+                                 {"white_delta_clearcoat", coated(white_plastic_rough, 1.0f, 0.0f)},
+                                 {"white_clearcoat_metal", coated(white_metal_smooth, 1.0f, 0.8f)}});
   for (const auto& [name, c] : configs) {
     double worst = 0.0;
     for (int k = 0; k < 10; ++k) {

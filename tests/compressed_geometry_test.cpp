@@ -99,7 +99,10 @@ void expect_same_triangles(const clpt::Scene& a, const clpt::Scene& b, const Tol
     for (size_t j = 0; j < tb.size() && !found; ++j) {
       if (used[j]) continue;
       for (int rot = 0; rot < 3 && !found; ++rot)
-        if (corners_match(ta[i], tb[j], rot, tol, worst)) found = used[j] = 1;
+        if (corners_match(ta[i], tb[j], rot, tol, worst)) {
+          used[j] = 1;
+          found = true;
+        }
     }
     if (!found) {
       // The nearest candidate by corner positions, to say how far off the match is.

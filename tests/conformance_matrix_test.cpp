@@ -83,7 +83,7 @@ const std::vector<StageMaterial>& materials() {
       StageMaterial::Metal1,        StageMaterial::GlassSmooth,    StageMaterial::GlassRough,
       StageMaterial::GlassAbsorbing, StageMaterial::GlassSheet,    StageMaterial::Specular,
       StageMaterial::NormalMap,     StageMaterial::AlphaMask,      StageMaterial::AlphaBlend,
-      StageMaterial::EmissiveTexture,
+      StageMaterial::EmissiveTexture, StageMaterial::Clearcoat,
   };
   return list;
 }
@@ -129,6 +129,8 @@ std::vector<std::pair<StageMaterial, StageLight>> scenes() {
   add(StageMaterial::Lambert, StageLight::AreaUp);
   add(StageMaterial::GlassRough, StageLight::AreaDown);
   add(StageMaterial::GlassAbsorbing, StageLight::AreaDown);
+  // The clearcoat's glossy highlight of an area light (its row above has the spot light).
+  add(StageMaterial::Clearcoat, StageLight::AreaDown);
   return list;
 }
 

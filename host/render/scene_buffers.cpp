@@ -35,6 +35,8 @@ dev::Material to_device(const Material& m) {
   d.specular = m.specular;
   d.normal_scale = m.normal_scale;
   d.attenuation_distance = m.attenuation_distance;
+  d.clearcoat = m.clearcoat;
+  d.clearcoat_roughness = m.clearcoat_roughness;
   for (int i = 0; i < 3; ++i) d.specular_color[i] = m.specular_color[i];
   for (int i = 0; i < 3; ++i) d.attenuation_color[i] = m.attenuation_color[i];
   d.flags = 0u;
@@ -47,7 +49,7 @@ dev::Material to_device(const Material& m) {
   const TextureRef* refs[dev::TEX_SLOT_COUNT] = {
       &m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
       &m.emissive_texture,   &m.transmission_texture,       &m.specular_texture,
-      &m.specular_color_texture};
+      &m.specular_color_texture, &m.clearcoat_texture,        &m.clearcoat_roughness_texture};
   for (int i = 0; i < dev::TEX_SLOT_COUNT; ++i) d.tex[i] = to_device(*refs[i]);
   return d;
 }

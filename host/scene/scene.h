@@ -66,9 +66,12 @@ struct Material {
   glm::vec3 attenuation_color{1.0f};  // KHR_materials_volume
   float attenuation_distance = std::numeric_limits<float>::infinity();
   bool volume = false;          // KHR_materials_volume with a finite attenuation distance
+  float clearcoat = 0.0f;       // KHR_materials_clearcoat
+  float clearcoat_roughness = 0.0f;
 
   TextureRef base_color_texture, metallic_roughness_texture, normal_texture, emissive_texture,
-      transmission_texture, specular_texture, specular_color_texture;
+      transmission_texture, specular_texture, specular_color_texture, clearcoat_texture,
+      clearcoat_roughness_texture;
 };
 
 // A KHR_lights_punctual light placed by its node, in world space.

@@ -1,7 +1,8 @@
 /* The BSDF inputs at one surface point, resolved from the material, its textures and the
  * vertex colour (kernels/material/material.cl fills it; kernels/bsdf/ evaluates it). One
  * struct for the whole glTF metallic-roughness model and the extensions clpt reads:
- *   KHR_materials_specular, KHR_materials_transmission, KHR_materials_ior.
+ *   KHR_materials_specular, KHR_materials_transmission, KHR_materials_ior,
+ *   KHR_materials_clearcoat.
  * Device only: the host never builds one. */
 #ifndef CLPT_BSDF_BSDF_PARAMS_H
 #define CLPT_BSDF_BSDF_PARAMS_H
@@ -14,7 +15,14 @@ typedef struct BsdfParams {
   float specular;        /* KHR_materials_specular: specularFactor x texture alpha; 1 = glTF core */
   float transmission;    /* KHR_materials_transmission: [0, 1] */
   float ior;             /* KHR_materials_ior: index of refraction inside the surface (1.5) */
+  float clearcoat;       /* KHR_materials_clearcoat: clearcoatFactor x texture R, [0, 1] (0) */
+  float clearcoat_roughness; /* clearcoatRoughnessFactor x texture G (perceptual) */
 } BsdfParams;
+
+/* The clearcoat inputs are rounded to 16-bit unorm steps (1 / 65535) when resolved, so that
+ * a PathVertex stores them exactly in one word (kernels/shared/bdpt_types.h). */
+inline float bsdf_unorm16(float x) { return rint(clamp(x, 0.0f, 1.0f) * 65535.0f) * (1.0f / 65535.0f); }
+inline uint bsdf_unorm16_bits(float x) { return (uint)rint(clamp(x, 0.0f, 1.0f) * 65535.0f); }
 
 /* Which quantity a path carries: radiance from the camera side, or importance from the
  * light side (light tracing, BDPT light subpaths). The BSDF needs it for the adjoint of

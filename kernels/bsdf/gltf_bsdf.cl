@@ -25,9 +25,19 @@
  * From the back (wo.z < 0) the opaque lobes are mirrored (a double-sided or closed opaque
  *   surface looks the same from both sides); the glass sees eta = 1 / ior.
  *
- * Sampling: one sample from a mixture of three lobes, chosen by u_lobe with probabilities
+ * clearcoat (KHR_materials_clearcoat): a dielectric coat of weight c (ior 1.5, F0 = 0.04,
+ *   the extension's fixed values) with its own GGX roughness over all of the above:
+ *     f = c Fc(wo.h) D_c G2_c / (4 cos_o cos_i)  +  (1 - c Fc(cos_o)) (1 - c Fc(|cos_i|)) f_base,
+ *   Fc Schlick's. The specification writes mix(base, coat, c Fc(NdotV)); attenuating the base
+ *   once per crossing of the coat, as the plastic's own coat above, keeps f reciprocal and the
+ *   albedo <= 1 (BsdfEnergy) and equals it at normal incidence up to (c F0)^2. The coat shares
+ *   the shading normal (clearcoatNormalTexture is not read: README "glTF extensions").
+ *
+ * Sampling: one sample from a mixture of lobes, chosen by u_lobe with probabilities
  * proportional to estimates of each lobe's albedo at wo (Fresnel at cos_o, metallic,
- * transmission): diffuse (cosine), reflection (GGX visible normals, Heitz 2018) and glass
+ * transmission, the clearcoat's c Fc(cos_o), the base's scaled by 1 - c Fc(cos_o)):
+ * clearcoat (its GGX visible normals), diffuse (cosine), reflection (GGX visible normals,
+ * Heitz 2018) and glass
  * (visible normals, then reflection with probability max r(h), else refraction, the
  * rescaled u_lobe deciding). pdf() is that mixture's density, sum_lobe p_lobe pdf_lobe, and
  * a non-delta sample's weight is eval / pdf at the sampled direction, so MIS sees exactly the
@@ -61,7 +71,10 @@ typedef struct GltfLobes {
   float w_metal;     /* metallic */
   float3 f0;         /* coat: min(F0(ior) specular_color, 1) */
   float3 glass_tint; /* scales the glass's exact Fresnel */
-  float p_diffuse, p_reflect, p_glass;
+  float p_diffuse, p_reflect, p_glass, p_coat;
+  float coat;        /* clearcoat weight c in [0, 1] */
+  float alpha_c;     /* clearcoat GGX alpha */
+  int coat_delta;    /* alpha_c < GGX_ALPHA_DELTA */
 } GltfLobes;
 
 inline float avg3(float3 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
@@ -69,6 +82,12 @@ inline float avg3(float3 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
 inline float3 gltf_coat(const BsdfParams* p, const GltfLobes* L, float c) {
   return p->specular * fresnel_schlick(L->f0, c);
 }
+
+/* The clearcoat's reflectance c Fc(x), and the share 1 - c Fc(x) of light that crosses it. */
+inline float gltf_clearcoat_f(const GltfLobes* L, float x) {
+  return L->coat * (0.04f + 0.96f * fresnel_schlick_weight(x));
+}
+inline float gltf_clearcoat_pass(const GltfLobes* L, float x) { return 1.0f - gltf_clearcoat_f(L, x); }
 
 inline float3 gltf_glass_r(const GltfLobes* L, float c) {
   return fmin(L->glass_tint * fresnel_dielectric(c, L->eta), (float3)(1.0f));
@@ -97,13 +116,20 @@ inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outside) {
       L.w_metal * fmax(avg3(fresnel_schlick(p->base_color, cos_o)), GLTF_LOBE_FLOOR);
   const float r_g = max_component(gltf_glass_r(&L, cos_o));
   const float e_g = L.w_glass * fmax(r_g + (1.0f - r_g) * avg3(p->base_color), GLTF_LOBE_FLOOR);
-  const float sum = fmax(e_d, 0.0f) + fmax(e_r, 0.0f) + fmax(e_g, 0.0f);
+  L.coat = clamp(p->clearcoat, 0.0f, 1.0f);
+  L.alpha_c = ggx_alpha(p->clearcoat_roughness);
+  L.coat_delta = L.alpha_c < GGX_ALPHA_DELTA;
+  /* The base lobes are seen through the coat: their estimates shrink by what it reflects. */
+  const float pass = gltf_clearcoat_pass(&L, cos_o);
+  const float e_c = L.coat > 0.0f ? fmax(gltf_clearcoat_f(&L, cos_o), L.coat * GLTF_LOBE_FLOOR) : 0.0f;
+  const float sum = pass * (fmax(e_d, 0.0f) + fmax(e_r, 0.0f) + fmax(e_g, 0.0f)) + e_c;
   if (!(sum > 0.0f)) {
-    L.p_diffuse = L.p_reflect = L.p_glass = 0.0f;
+    L.p_diffuse = L.p_reflect = L.p_glass = L.p_coat = 0.0f;
   } else {
-    L.p_diffuse = fmax(e_d, 0.0f) / sum;
-    L.p_reflect = fmax(e_r, 0.0f) / sum;
-    L.p_glass = fmax(e_g, 0.0f) / sum;
+    L.p_diffuse = pass * fmax(e_d, 0.0f) / sum;
+    L.p_reflect = pass * fmax(e_r, 0.0f) / sum;
+    L.p_glass = pass * fmax(e_g, 0.0f) / sum;
+    L.p_coat = e_c / sum;
   }
   return L;
 }
@@ -128,9 +154,9 @@ inline float3 gltf_reflectance(const BsdfParams* p, const GltfLobes* L, float c)
   return F;
 }
 
-/* f |wi.z| with wo.z > 0 (mirrored). */
-inline float3 gltf_eval_up(const BsdfParams* p, const GltfLobes* L, float3 wo, float3 wi,
-                           int mode) {
+/* f_base |wi.z| (the lobes under the clearcoat) with wo.z > 0 (mirrored). */
+inline float3 gltf_eval_base_up(const BsdfParams* p, const GltfLobes* L, float3 wo, float3 wi,
+                                int mode) {
   if (wi.z > 0.0f) {
     float3 f = (float3)(0.0f);
     if (L->w_plastic > 0.0f) {
@@ -162,8 +188,25 @@ inline float3 gltf_eval_up(const BsdfParams* p, const GltfLobes* L, float3 wo, f
   return (float3)(0.0f);
 }
 
-/* The mixture's density with wo.z > 0 (mirrored). */
-inline float gltf_pdf_up(const GltfLobes* L, float3 wo, float3 wi) {
+/* The clearcoat's GGX reflection f_coat |wi.z| (non-delta coats), wo.z > 0. */
+inline float3 gltf_coat_eval_up(const GltfLobes* L, float3 wo, float3 wi) {
+  if (!(L->coat > 0.0f) || L->coat_delta || !(wi.z > 0.0f)) return (float3)(0.0f);
+  const float3 h = normalize(wo + wi);
+  return (float3)(gltf_clearcoat_f(L, dot(wo, h)) * ggx_d(h, L->alpha_c) * ggx_g2(wo, wi, L->alpha_c) /
+                  (4.0f * wo.z));
+}
+
+/* f |wi.z| with wo.z > 0 (mirrored): the coat, and the base seen through it. */
+inline float3 gltf_eval_up(const BsdfParams* p, const GltfLobes* L, float3 wo, float3 wi,
+                           int mode) {
+  float3 f = gltf_eval_base_up(p, L, wo, wi, mode);
+  if (!(L->coat > 0.0f)) return f;
+  f *= gltf_clearcoat_pass(L, wo.z) * gltf_clearcoat_pass(L, fabs(wi.z));
+  return f + gltf_coat_eval_up(L, wo, wi);
+}
+
+/* The base lobes' part of the mixture's density, wo.z > 0. */
+inline float gltf_pdf_base_up(const GltfLobes* L, float3 wo, float3 wi) {
   if (wi.z > 0.0f) {
     float pdf = L->p_diffuse * warp_cosine_hemisphere_pdf(wi.z);
     if (!L->delta && L->p_reflect + L->p_glass > 0.0f) {
@@ -187,6 +230,16 @@ inline float gltf_pdf_up(const GltfLobes* L, float3 wo, float3 wi) {
   return 0.0f;
 }
 
+/* The mixture's density with wo.z > 0 (mirrored). */
+inline float gltf_pdf_up(const GltfLobes* L, float3 wo, float3 wi) {
+  float coat = 0.0f;
+  if (L->p_coat > 0.0f && !L->coat_delta && wi.z > 0.0f) {
+    const float3 h = normalize(wo + wi);
+    coat = L->p_coat * warp_ggx_vndf_pdf(wo, h, L->alpha_c) / (4.0f * dot(wo, h));
+  }
+  return coat + gltf_pdf_base_up(L, wo, wi);
+}
+
 /* Mirrors w through the tangent plane when flip. */
 inline float3 gltf_flip(float3 w, bool flip) { return flip ? (float3)(w.x, w.y, -w.z) : w; }
 
@@ -195,7 +248,8 @@ inline float3 gltf_flip(float3 w, bool flip) { return flip ? (float3)(w.x, w.y, 
  * (1 - 0)(1 - 0) = 1. These shortcuts give what the general path gives, without the lobe
  * set-up (BsdfLambertLimit compares them with the closed form). */
 inline bool gltf_is_lambert(const BsdfParams* p) {
-  return !(p->specular > 0.0f) && !(p->metallic > 0.0f) && !(p->transmission > 0.0f);
+  return !(p->specular > 0.0f) && !(p->metallic > 0.0f) && !(p->transmission > 0.0f) &&
+         !(p->clearcoat > 0.0f);
 }
 
 /* f(wo, wi) |wi.z| of the non-delta lobes. */
@@ -208,16 +262,17 @@ inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, int mode
   return gltf_eval_up(p, &L, gltf_flip(wo, flip), gltf_flip(wi, flip), mode);
 }
 
-/* The Lambertian factor kd(wo) of the diffuse layer with the coat's cos_i term left out:
- * w_plastic (1 - max F(cos_o)) base / pi, so that f_diffuse(wo, wi) = kd(wo) (1 - max F(cos_i))
- * <= kd(wo) on wo's side. The irradiance cache stands for kd E and path traces the rest,
+/* The Lambertian factor kd(wo) of the diffuse layer with the coats' cos_i terms left out:
+ * w_plastic (1 - max F(cos_o)) (1 - c Fc(cos_o)) base / pi, so that f_diffuse(wo, wi) =
+ * kd(wo) (1 - max F(cos_i)) (1 - c Fc(cos_i)) <= kd(wo) on wo's side. The irradiance cache stands for kd E and path traces the rest,
  * f - kd (kernels/integrators/ic/ic_path.cl); for a Lambertian surface the rest is 0. */
 inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
   if (wo.z == 0.0f) return (float3)(0.0f);
   if (gltf_is_lambert(p)) return p->base_color * INV_PI_F;
   const GltfLobes L = gltf_lobes(p, fabs(wo.z), wo.z > 0.0f);
   if (!(L.w_plastic > 0.0f)) return (float3)(0.0f);
-  return (L.w_plastic * (1.0f - max_component(gltf_coat(p, &L, fabs(wo.z)))) * INV_PI_F) *
+  return (L.w_plastic * (1.0f - max_component(gltf_coat(p, &L, fabs(wo.z)))) *
+          gltf_clearcoat_pass(&L, fabs(wo.z)) * INV_PI_F) *
          p->base_color;
 }
 
@@ -233,6 +288,7 @@ inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
 /* Whether some lobe is not a Dirac delta (NEE and MIS make sense). */
 inline bool gltf_bsdf_has_smooth_lobe(const BsdfParams* p) {
   if (!(ggx_alpha(p->roughness) < GGX_ALPHA_DELTA)) return true;
+  if (p->clearcoat > 0.0f && !(ggx_alpha(p->clearcoat_roughness) < GGX_ALPHA_DELTA)) return true;
   return (1.0f - clamp(p->metallic, 0.0f, 1.0f)) * (1.0f - clamp(p->transmission, 0.0f, 1.0f)) *
              max_component(p->base_color) > 0.0f;
 }
@@ -266,16 +322,33 @@ inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, 
   BsdfSample bs = gltf_absorbed();
   float3 wi;
   bool reflect = true; /* the side wi must end on; the other side absorbs the sample */
-  if (u_lobe < L.p_diffuse) {
+  /* Mirror directions: the delta coat's c Fc(cos_o), and (a delta base) its reflection seen
+   * through the coat twice, share one discrete probability. */
+  const float pass_o = gltf_clearcoat_pass(&L, wo.z);
+  const float coat_mirror_p = L.coat_delta ? L.p_coat : 0.0f;
+  const float3 coat_mirror_f = (float3)(L.coat_delta ? gltf_clearcoat_f(&L, wo.z) : 0.0f);
+  if (u_lobe < L.p_coat) {
+    if (L.coat_delta) {
+      const float p_r = L.delta && L.p_glass > 0.0f ? max_component(gltf_glass_r(&L, wo.z)) : 0.0f;
+      bs.pdf_w = L.p_coat + (L.delta ? L.p_reflect + L.p_glass * p_r : 0.0f);
+      bs.wi = gltf_flip((float3)(-wo.x, -wo.y, wo.z), flip);
+      bs.weight = (coat_mirror_f + (L.delta ? gltf_reflectance(p, &L, wo.z) * (pass_o * pass_o)
+                                            : (float3)(0.0f))) / bs.pdf_w;
+      bs.is_delta = 1;
+      return bs;
+    }
+    const float3 h = warp_ggx_vndf(u, wo, L.alpha_c);
+    wi = 2.0f * dot(wo, h) * h - wo;
+  } else if ((u_lobe -= L.p_coat) < L.p_diffuse) {
     wi = warp_cosine_hemisphere(u);
   } else if (u_lobe < L.p_diffuse + L.p_reflect || !(L.p_glass > 0.0f)) {
     if (!(L.p_reflect > 0.0f)) return bs;
     if (L.delta) {
       /* Mirror: all reflection lobes at once (the glass's share too). */
       const float p_r = L.p_glass > 0.0f ? max_component(gltf_glass_r(&L, wo.z)) : 0.0f;
-      bs.pdf_w = L.p_reflect + L.p_glass * p_r;
+      bs.pdf_w = L.p_reflect + L.p_glass * p_r + coat_mirror_p;
       bs.wi = gltf_flip((float3)(-wo.x, -wo.y, wo.z), flip);
-      bs.weight = gltf_reflectance(p, &L, wo.z) / bs.pdf_w;
+      bs.weight = (gltf_reflectance(p, &L, wo.z) * (pass_o * pass_o) + coat_mirror_f) / bs.pdf_w;
       bs.is_delta = 1;
       return bs;
     }
@@ -289,9 +362,9 @@ inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, 
     if (v < p_r) {
       wi = 2.0f * wo_h * h - wo;
       if (L.delta) {
-        bs.pdf_w = L.p_reflect + L.p_glass * p_r;
+        bs.pdf_w = L.p_reflect + L.p_glass * p_r + coat_mirror_p;
         bs.wi = gltf_flip(wi, flip);
-        bs.weight = gltf_reflectance(p, &L, wo.z) / bs.pdf_w;
+        bs.weight = (gltf_reflectance(p, &L, wo.z) * (pass_o * pass_o) + coat_mirror_f) / bs.pdf_w;
         bs.is_delta = 1;
         return bs;
       }
@@ -301,7 +374,7 @@ inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, 
       if (L.delta) {
         bs.pdf_w = L.p_glass * (1.0f - p_r);
         bs.wi = gltf_flip(wi, flip);
-        bs.weight = (L.w_glass / L.p_glass) * p->base_color;
+        bs.weight = (L.w_glass / L.p_glass) * pass_o * gltf_clearcoat_pass(&L, fabs(wi.z)) * p->base_color;
         if (mode == TRANSPORT_RADIANCE) bs.weight /= L.eta * L.eta;
         bs.is_delta = 1;
         return bs;

@@ -74,6 +74,11 @@ inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
       vload3(0, m->specular_color) *
       texture_slot_sample(s, &m->tex[TEX_SPECULAR_COLOR], uv0, uv1, true, white).xyz;
   sh->bsdf.ior = m->ior;
+  sh->bsdf.clearcoat = bsdf_unorm16(
+      m->clearcoat * texture_slot_sample(s, &m->tex[TEX_CLEARCOAT], uv0, uv1, false, white).x);
+  sh->bsdf.clearcoat_roughness = bsdf_unorm16(
+      m->clearcoat_roughness *
+      texture_slot_sample(s, &m->tex[TEX_CLEARCOAT_ROUGHNESS], uv0, uv1, false, white).y);
   sh->emission = material_emission_uv(s, m, uv0, uv1);
   if (m->tex[TEX_NORMAL].texture >= 0) sh->ns = material_normal_map(s, m, sh);
 }

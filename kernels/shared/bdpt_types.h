@@ -18,10 +18,11 @@ typedef struct PathVertex {
   float base_color[3];     /* the resolved BSDF (BsdfParams) */
   float specular_color[3];
   float metallic, roughness, specular, transmission, ior;
+  u32 clearcoat;           /* clearcoat (bits 0-15) and its roughness (16-31), unorm16: the
+                            * values material_resolve rounds them to (PATH_VERTEX_UNORM16) */
   float dvcm, dvc, dvm;    /* recursive MIS quantities (Georgiev 2012); dvm for merging */
-  u32 front;               /* SurfaceHit.front */
   u32 depth;               /* index k of the vertex y_k: 1 for the first surface hit */
-  u32 material;
+  u32 material;            /* bits 0-30: the material; bit 31: SurfaceHit.front */
 } PathVertex;
 
 CLPT_END_SHARED

@@ -67,7 +67,9 @@ enum TextureSlotId {
   TEX_TRANSMISSION = 4,       /* linear; R */
   TEX_SPECULAR = 5,           /* linear; A specularFactor */
   TEX_SPECULAR_COLOR = 6,     /* sRGB; RGB specularColorFactor */
-  TEX_SLOT_COUNT = 7
+  TEX_CLEARCOAT = 7,          /* linear; R clearcoatFactor */
+  TEX_CLEARCOAT_ROUGHNESS = 8, /* linear; G clearcoatRoughnessFactor */
+  TEX_SLOT_COUNT = 9
 };
 
 typedef struct TextureSlot {
@@ -96,6 +98,9 @@ typedef struct Material {
   float specular;      /* KHR_materials_specular specularFactor (1) */
   float normal_scale;  /* normalTexture.scale (1) */
   float attenuation_distance; /* KHR_materials_volume (infinity: none) */
+  float clearcoat;            /* KHR_materials_clearcoat clearcoatFactor (0) */
+  float clearcoat_roughness;  /* clearcoatRoughnessFactor (0) */
+  float pad[2];
   float specular_color[4];    /* KHR_materials_specular specularColorFactor (1,1,1), w unused */
   float attenuation_color[4]; /* KHR_materials_volume (1,1,1), w unused */
   TextureSlot tex[TEX_SLOT_COUNT];

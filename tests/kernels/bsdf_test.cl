@@ -1,6 +1,7 @@
 /* Thin wrappers around kernels/bsdf/ for tests/bsdf_test.cpp.
- * A BSDF configuration arrives as 12 floats (tests/bsdf_test.cpp `pack`): base colour[3],
- * specular colour[3], metallic, roughness, specular, transmission, ior, unused. Directions
+ * A BSDF configuration arrives as 13 floats (tests/bsdf_test.cpp `pack`): base colour[3],
+ * specular colour[3], metallic, roughness, specular, transmission, ior, clearcoat, and
+ * clearcoat roughness. Directions
  * are local (+z the front-face normal) unless the kernel says world. Sample outputs:
  *   dir_pdf[i]  = (wi, pdf_w): pdf_w 0 for an absorbed sample, the discrete probability for
  *                 a delta one;
@@ -16,6 +17,8 @@ inline BsdfParams test_params(__global const float* c) {
   p.specular = c[8];
   p.transmission = c[9];
   p.ior = c[10];
+  p.clearcoat = c[11];
+  p.clearcoat_roughness = c[12];
   return p;
 }
 

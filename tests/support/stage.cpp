@@ -189,6 +189,14 @@ Material object_material(Scene& scene, StageMaterial kind) {
       m.emissive_texture.texture = add_texture(scene, 8, 4, texels, true);
       break;
     }
+    case StageMaterial::Clearcoat:
+      // A rough red plastic under a glossy KHR_materials_clearcoat (alpha 0.0225).
+      m.base_color = glm::vec4(0.7f, 0.15f, 0.1f, 1.0f);
+      m.roughness = 0.6f;
+      m.specular = 1.0f;
+      m.clearcoat = 1.0f;
+      m.clearcoat_roughness = 0.15f;
+      break;
   }
   return m;
 }
@@ -284,6 +292,7 @@ std::string stage_material_name(StageMaterial m) {
     case StageMaterial::AlphaMask: return "alpha_mask";
     case StageMaterial::AlphaBlend: return "alpha_blend";
     case StageMaterial::EmissiveTexture: return "emissive_texture";
+    case StageMaterial::Clearcoat: return "clearcoat";
   }
   throw std::logic_error("stage material");
 }

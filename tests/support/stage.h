@@ -35,6 +35,7 @@ enum class StageMaterial {
   AlphaMask,        // diffuse with an alpha-masked checker of holes
   AlphaBlend,       // diffuse, alpha 0.5 (stochastic transparency)
   EmissiveTexture,  // diffuse with an emissive checker texture (a second, textured light)
+  Clearcoat,        // rough red plastic under a glossy KHR_materials_clearcoat
 };
 
 enum class StageLight {

@@ -18,6 +18,7 @@ const char* const kSupportedExtensions[] = {
     "KHR_materials_ior",
     "KHR_materials_specular",
     "KHR_materials_volume",
+    "KHR_materials_clearcoat",  // materials.cpp, kernels/bsdf/gltf_bsdf.cl (no clearcoatNormalTexture)
     "KHR_texture_transform",
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",

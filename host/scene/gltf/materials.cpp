@@ -201,7 +201,7 @@ const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& ext, const c
 
 void Converter::convert_materials() {
   scene_.materials.reserve(m_.materials.size() + 1);
-  size_t occlusion = 0;
+  size_t occlusion = 0, coat_normals = 0;
   for (size_t i = 0; i < m_.materials.size(); ++i) {
     const tinygltf::Material& gm = m_.materials[i];
     const std::string where = "material " + std::to_string(i);
@@ -303,6 +303,14 @@ void Converter::convert_materials() {
       mat.specular_texture = ext_texture(*e, n, "specularTexture");
       mat.specular_color_texture = ext_texture(*e, n, "specularColorTexture");
     }
+    if (const tinygltf::Value* e = extension("KHR_materials_clearcoat")) {
+      const char* n = "KHR_materials_clearcoat";
+      mat.clearcoat = float(std::clamp(ext_number(*e, n, "clearcoatFactor", 0.0), 0.0, 1.0));
+      mat.clearcoat_roughness = float(std::clamp(ext_number(*e, n, "clearcoatRoughnessFactor", 0.0), 0.0, 1.0));
+      mat.clearcoat_texture = ext_texture(*e, n, "clearcoatTexture");
+      mat.clearcoat_roughness_texture = ext_texture(*e, n, "clearcoatRoughnessTexture");
+      if (e->Has("clearcoatNormalTexture")) ++coat_normals;
+    }
     if (const tinygltf::Value* e = extension("KHR_materials_volume")) {
       const char* n = "KHR_materials_volume";
       const double inf = std::numeric_limits<double>::infinity();
@@ -317,6 +325,9 @@ void Converter::convert_materials() {
     }
     scene_.materials.push_back(std::move(mat));
   }
+  if (coat_normals > 0)
+    log::verbose(display_ + ": " + std::to_string(coat_normals) +
+                 " material(s) have a clearcoatNormalTexture; ignored (the coat follows the shading normal)");
   if (occlusion > 0)
     log::verbose(display_ + ": " + std::to_string(occlusion) +
                  " material(s) have an occlusion texture; ignored (a path tracer computes occlusion)");

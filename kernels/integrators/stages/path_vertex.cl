@@ -28,12 +28,12 @@ inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* sh, floa
   v->specular = sh->bsdf.specular;
   v->transmission = sh->bsdf.transmission;
   v->ior = sh->bsdf.ior;
+  v->clearcoat = bsdf_unorm16_bits(sh->bsdf.clearcoat) | bsdf_unorm16_bits(sh->bsdf.clearcoat_roughness) << 16;
   v->dvcm = st->dvcm;
   v->dvc = st->dvc;
   v->dvm = st->dvm;
-  v->front = sh->front;
   v->depth = depth;
-  v->material = sh->material;
+  v->material = (sh->material & 0x7fffffffu) | (sh->front ? 0x80000000u : 0u);
 }
 
 /* The subpath state stored with a vertex. */
@@ -58,9 +58,9 @@ inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   sh.color = (float4)(1.0f);
   sh.tangent = (float4)(0.0f);
   sh.triangle = 0u;
-  sh.material = v->material;
-  sh.front = v->front;
-  sh.flipped = v->front ? 0u : 1u; /* stored oriented to the side the ray arrived from */
+  sh.material = v->material & 0x7fffffffu;
+  sh.front = v->material >> 31;
+  sh.flipped = sh.front ? 0u : 1u; /* stored oriented to the side the ray arrived from */
   sh.bsdf.base_color = vload3(0, v->base_color);
   sh.bsdf.specular_color = vload3(0, v->specular_color);
   sh.bsdf.metallic = v->metallic;
@@ -68,6 +68,8 @@ inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   sh.bsdf.specular = v->specular;
   sh.bsdf.transmission = v->transmission;
   sh.bsdf.ior = v->ior;
+  sh.bsdf.clearcoat = (float)(v->clearcoat & 0xffffu) * (1.0f / 65535.0f);
+  sh.bsdf.clearcoat_roughness = (float)(v->clearcoat >> 16) * (1.0f / 65535.0f);
   sh.emission = (float3)(0.0f);
   return sh;
 }
