@@ -106,6 +106,9 @@ sh_spec_bdpt    | @scenes-extensions/SpecularTest/glTF-Binary/SpecularTest.glb |
 sh_normal_pt    | @scenes/NormalTangentMirrorTest/glTF-Binary/NormalTangentMirrorTest.glb | --integrator pt --background 1,1,1
 sh_vcolor_lt    | @scenes/VertexColorTest/glTF-Binary/VertexColorTest.glb | --integrator lt --background 1,1,1
 sh_multiuv_pm   | @scenes/MultiUVTest/glTF-Binary/MultiUVTest.glb | --integrator pm --background 1,1,1 --photons 20000 --caustic-photons 20000
+sh_coat_pt      | @scenes-extensions/ClearCoatTest/glTF-Binary/ClearCoatTest.glb | --integrator pt --background 1,1,1
+sh_irid_pt      | @scenes-extensions/IridescenceSuzanne/glTF-Binary/IridescenceSuzanne.glb | --integrator pt --background 0.6,0.6,0.6
+sh_irid_bdpt    | @scenes-extensions/IridescenceLamp/glTF/IridescenceLamp.gltf | --integrator bdpt --background 1,1,1
 EOF
 )
 

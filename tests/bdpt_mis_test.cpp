@@ -114,6 +114,20 @@ Scene glass_sphere_box() {
   return s;
 }
 
+// The glass sphere box with a KHR_materials_iridescence film on the sphere: the film sets the
+// split between reflection and refraction that both subpaths' pdfs must agree on, from
+// either side of the glass, and a PathVertex must carry it to the light side's connections.
+Scene iridescent_sphere_box() {
+  Scene s = glass_sphere_box();
+  for (Material& m : s.materials)
+    if (m.name == "rough_glass") {
+      m.iridescence = 0.8f;
+      m.iridescence_ior = 1.7f;
+      m.iridescence_thickness_max = 380.0f;
+    }
+  return s;
+}
+
 struct MisCase {
   const char* name;
   Scene (*scene)();
@@ -309,6 +323,7 @@ INSTANTIATE_TEST_SUITE_P(
                       MisCase{"clearcoat_balance_vcm", clearcoat_box, dev::MIS_BALANCE, 0, kEta},
                       MisCase{"glass_sphere_power", glass_sphere_box, dev::MIS_POWER, 100},
                       MisCase{"glass_sphere_balance", glass_sphere_box, dev::MIS_BALANCE, 100},
+                      MisCase{"iridescent_sphere_power", iridescent_sphere_box, dev::MIS_POWER, 100},
                       MisCase{"cornell_power_vcm", test::cornell_box, dev::MIS_POWER, 0, kEta},
                       MisCase{"glossy_balance_vcm", glossy_box, dev::MIS_BALANCE, 0, kEta},
                       MisCase{"glass_sphere_power_vcm", glass_sphere_box, dev::MIS_POWER, 100, kEta}),

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "integrators/bdpt.h"
+#include "shared/bdpt_types.h"
 #include "render/renderer.h"
 #include "stats/image_stats.h"
 #include "support/device.h"
@@ -96,7 +97,7 @@ TEST(CrossIntegrator, BdptWithLightVertexCachingMatchesPt) {
   s.bdpt_lvc = 2;
   test::expect_matches_reference(test::render_batches(scene, s, 16, 1700), ref, "bdpt lvc 2");
   s.bdpt_lvc = 3;
-  s.bdpt_memory_bytes = 7 * 128 * 100;  // about 100 light paths per tile and cache
+  s.bdpt_memory_bytes = 7 * sizeof(dev::PathVertex) * 100;  // about 100 light paths per tile and cache
   test::expect_matches_reference(test::render_batches(scene, s, 12, 1800), ref,
                                  "bdpt lvc 3, caches of ~100 paths");
 }
@@ -194,7 +195,8 @@ TEST(Bdpt, TilesGiveTheSameImageAsOnePass) {
   s.integrator = "bdpt";
   Renderer whole(test::device_context(), scene, s);
   const FilmResult a = whole.render().film;
-  s.bdpt_memory_bytes = 7 * 128 * 37;  // 37 light paths per tile at max depth 8
+  constexpr size_t kVertex = sizeof(dev::PathVertex);
+  s.bdpt_memory_bytes = 7 * kVertex * 37;  // 37 light paths per tile at max depth 8
   Renderer tiled(test::device_context(), scene, s);
   const FilmResult b = tiled.render().film;
   ASSERT_EQ(a.mean.rgb.size(), b.mean.rgb.size());
@@ -203,7 +205,7 @@ TEST(Bdpt, TilesGiveTheSameImageAsOnePass) {
     max_rel = std::max(max_rel, std::fabs(double(a.mean.rgb[i]) - b.mean.rgb[i]) /
                                     (std::fabs(double(a.mean.rgb[i])) + 1e-3));
   EXPECT_LT(max_rel, 1e-4);
-  EXPECT_EQ(BidirectionalPathTracer::tile_paths(7 * 128 * 37 + 37 * 4, 7, 256), 37u);
+  EXPECT_EQ(BidirectionalPathTracer::tile_paths(7 * kVertex * 37 + 37 * 4, 7, 256), 37u);
   EXPECT_EQ(BidirectionalPathTracer::tile_paths(size_t(1) << 30, 7, 256), 256u);
   EXPECT_EQ(BidirectionalPathTracer::vertex_capacity(8), 7u);
   EXPECT_EQ(BidirectionalPathTracer::vertex_capacity(0), 1u);

@@ -52,11 +52,15 @@ struct Config {
   float ior = 1.5f;
   float clearcoat = 0.0f;
   float clearcoat_roughness = 0.0f;
+  float iridescence = 0.0f;
+  float iridescence_ior = 1.3f;
+  float iridescence_thickness = 400.0f;
 };
 
 std::vector<float> pack(const Config& c) {
   return {c.base.x,   c.base.y,    c.base.z,   c.spec_color.x, c.spec_color.y, c.spec_color.z, c.metallic,
-          c.roughness, c.specular, c.transmission, c.ior,     c.clearcoat,    c.clearcoat_roughness};
+          c.roughness, c.specular, c.transmission, c.ior,     c.clearcoat,    c.clearcoat_roughness,
+          c.iridescence, c.iridescence_ior, c.iridescence_thickness};
 }
 
 Config lambert(glm::vec3 base = glm::vec3(0.8f, 0.5f, 0.2f)) {
@@ -106,6 +110,14 @@ Config half_transmission() {
 Config coated(Config base, float c, float r) {
   base.clearcoat = c;
   base.clearcoat_roughness = r;
+  return base;
+}
+
+// KHR_materials_iridescence of weight k, film index ior and thickness d (nm) over another.
+Config iridescent(Config base, float k, float ior, float d) {
+  base.iridescence = k;
+  base.iridescence_ior = ior;
+  base.iridescence_thickness = d;
   return base;
 }
 
@@ -326,6 +338,11 @@ std::vector<Chi2Case> chi2_cases() {
   add("DeltaClearcoatMetal", coated(metal(0.3f), 1.0f, 0.0f), {0.8, 0.05});
   add("ClearcoatGlass", coated(glass(0.3f), 0.8f, 0.4f), {0.8, 0.3, -0.6});
   add("ClearcoatOverDeltaCoat", coated(plastic(0.0f), 0.5f, 0.2f), {0.8, 0.05});
+  // KHR_materials_iridescence: the film changes reflectances, so the glass's split between
+  // reflection and refraction (sampled by the film's r) is what can go wrong.
+  add("IridescentMetal", iridescent(metal(0.3f), 1.0f, 1.3f, 400.0f), {0.8, 0.3});
+  add("IridescentPlastic", iridescent(plastic(0.4f), 1.0f, 1.8f, 300.0f), {0.8, 0.3});
+  add("IridescentGlass", iridescent(glass(0.3f), 1.0f, 1.5f, 500.0f), {0.8, 0.3, -0.9, -0.6});
   // Sharp lobes once more, on a fine grid with its pole on the lobe.
   auto add_pole = [&](const std::string& name, const Config& cfg, double cos_o, int pole, double band_min) {
     Chi2Case k{name, cfg, cos_o};
@@ -511,7 +528,11 @@ std::vector<std::pair<std::string, Config>> consistency_configs() {
           {"clearcoat_metal", coated(metal(0.3f), 0.7f, 0.25f)},
           {"delta_clearcoat_metal", coated(metal(0.3f), 1.0f, 0.0f)},
           {"clearcoat_glass", coated(glass(0.3f), 0.8f, 0.4f)},
-          {"clearcoat_over_delta_coat", coated(plastic(0.0f), 0.5f, 0.2f)}};
+          {"clearcoat_over_delta_coat", coated(plastic(0.0f), 0.5f, 0.2f)},
+          {"iridescent_metal", iridescent(metal(0.3f), 1.0f, 1.3f, 400.0f)},
+          {"iridescent_plastic", iridescent(plastic(0.4f), 0.7f, 1.8f, 300.0f)},
+          {"iridescent_glass", iridescent(glass(0.3f), 1.0f, 1.5f, 500.0f)},
+          {"coated_iridescent_plastic", coated(iridescent(plastic(0.4f), 1.0f, 1.4f, 250.0f), 1.0f, 0.2f)}};
 }
 
 // rel difference of two colours, relative to the larger one's largest channel.
@@ -648,7 +669,12 @@ TEST(BsdfEnergy, AlbedoAtMostOne) {
                                  {"smooth_glass", glass(0.0f)},
                                  {"white_clearcoat_plastic", coated(white_plastic, 1.0f, 0.5f)},
                                  {"white_delta_clearcoat", coated(white_plastic_rough, 1.0f, 0.0f)},
-                                 {"white_clearcoat_metal", coated(white_metal_smooth, 1.0f, 0.8f)}});
+                                 {"white_clearcoat_metal", coated(white_metal_smooth, 1.0f, 0.8f)},
+                                 {"white_iridescent_metal_0", iridescent(white_metal_smooth, 1.0f, 1.3f, 300.0f)},
+                                 {"white_iridescent_metal_0.3", iridescent(white_metal, 1.0f, 2.0f, 600.0f)},
+                                 {"white_iridescent_plastic", iridescent(white_plastic, 1.0f, 1.8f, 400.0f)},
+                                 {"white_iridescent_delta_coat", iridescent(white_delta_coat, 1.0f, 1.3f, 150.0f)},
+                                 {"iridescent_smooth_glass", iridescent(glass(0.0f), 1.0f, 1.5f, 500.0f)}});
   for (const auto& [name, c] : configs) {
     double worst = 0.0;
     for (int k = 0; k < 10; ++k) {

@@ -10,16 +10,14 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <string>
-
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "support/device.h"
+#include "support/gltf_plane.h"
 #include "stats/image_stats.h"
 #include "support/scenes.h"
 #include "util/log.h"
@@ -31,47 +29,15 @@ namespace fs = std::filesystem;
 
 double schlick_coat(double mu) { return 0.04 + 0.96 * std::pow(1.0 - mu, 5.0); }
 
-// A 6 m square tilted 55 degrees about x, in front of the camera (0, 0, 2) looking down -z,
-// as a glTF file with the material's KHR_materials_clearcoat: what a user's file holds.
+// The tilted plane (support/gltf_plane.h) with the material's KHR_materials_clearcoat: what
+// a user's file holds.
 fs::path write_plane(double clearcoat, double rho) {
-  const double t = 55.0 * M_PI / 180.0, h = 3.0;
-  // Corners of the square in its own (u, v) frame, rotated: v runs along (0, cos t, -sin t).
-  auto corner = [&](double u, double v) {
-    return std::vector<double>{u, v * std::cos(t), -v * std::sin(t)};
-  };
-  std::vector<float> pos;
-  for (auto c : {corner(-h, -h), corner(h, -h), corner(h, h), corner(-h, h)})
-    for (double x : c) pos.push_back(float(x));
-  const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
-  std::string bin(reinterpret_cast<const char*>(pos.data()), pos.size() * 4);
-  bin.append(reinterpret_cast<const char*>(idx), sizeof idx);
-  bin.append(2, '\0');
-  const fs::path dir = fs::temp_directory_path() / ("clpt-clearcoat-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  std::ofstream(dir / "plane.bin", std::ios::binary) << bin;
-  nlohmann::json d = {
-      {"asset", {{"version", "2.0"}}},
-      {"extensionsUsed", {"KHR_materials_clearcoat", "KHR_materials_specular"}},
-      {"scene", 0},
-      {"scenes", {{{"nodes", {0}}}}},
-      {"nodes", {{{"mesh", 0}}}},
-      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}}}}}}},
-      {"materials",
-       {{{"pbrMetallicRoughness", {{"baseColorFactor", {rho, rho, rho, 1.0}}, {"metallicFactor", 0.0}}},
-         {"doubleSided", true},
-         {"extensions",
-          {{"KHR_materials_clearcoat", {{"clearcoatFactor", clearcoat}, {"clearcoatRoughnessFactor", 0.0}}},
-           {"KHR_materials_specular", {{"specularFactor", 0.0}}}}}}}},
-      {"buffers", {{{"uri", "plane.bin"}, {"byteLength", bin.size()}}}},
-      {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
-                       {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 12}}}},
-      {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"},
-                      {"min", {-h, -h * std::cos(t), -h * std::sin(t)}},
-                      {"max", {h, h * std::cos(t), h * std::sin(t)}}},
-                     {{"bufferView", 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
-  };
-  std::ofstream(dir / "plane.gltf") << d.dump(1);
-  return dir / "plane.gltf";
+  const nlohmann::json material = {
+      {"pbrMetallicRoughness", {{"baseColorFactor", {rho, rho, rho, 1.0}}, {"metallicFactor", 0.0}}},
+      {"extensions",
+       {{"KHR_materials_clearcoat", {{"clearcoatFactor", clearcoat}, {"clearcoatRoughnessFactor", 0.0}}},
+        {"KHR_materials_specular", {{"specularFactor", 0.0}}}}}};
+  return test::write_tilted_plane("clearcoat", material, {"KHR_materials_clearcoat", "KHR_materials_specular"});
 }
 
 TEST(Clearcoat, SmoothCoatOverLambertShowsItsClosedForm) {
@@ -93,8 +59,7 @@ TEST(Clearcoat, SmoothCoatOverLambertShowsItsClosedForm) {
   const FilmResult f = r.render().film;
   ASSERT_EQ(f.dropped_samples, 0u);
 
-  const double t = 55.0 * M_PI / 180.0;
-  const glm::dvec3 n(0.0, std::sin(t), std::cos(t));  // towards the camera
+  const glm::dvec3 n = test::tilted_plane_normal();  // towards the camera
   const double fbar = 0.04 + 0.96 / 21.0;
   Image ref(kSize, kSize), ref_var(kSize, kSize);
   double lo = 1.0, hi = 0.0;

@@ -83,7 +83,7 @@ const std::vector<StageMaterial>& materials() {
       StageMaterial::Metal1,        StageMaterial::GlassSmooth,    StageMaterial::GlassRough,
       StageMaterial::GlassAbsorbing, StageMaterial::GlassSheet,    StageMaterial::Specular,
       StageMaterial::NormalMap,     StageMaterial::AlphaMask,      StageMaterial::AlphaBlend,
-      StageMaterial::EmissiveTexture, StageMaterial::Clearcoat,
+      StageMaterial::EmissiveTexture, StageMaterial::Clearcoat,   StageMaterial::IridescentGlass,
   };
   return list;
 }
@@ -131,6 +131,8 @@ std::vector<std::pair<StageMaterial, StageLight>> scenes() {
   add(StageMaterial::GlassAbsorbing, StageLight::AreaDown);
   // The clearcoat's glossy highlight of an area light (its row above has the spot light).
   add(StageMaterial::Clearcoat, StageLight::AreaDown);
+  // The film on rough glass under the area light too (its row above has the directional).
+  add(StageMaterial::IridescentGlass, StageLight::AreaDown);
   return list;
 }
 

@@ -344,7 +344,7 @@ TEST(UnwritableOutput, NeverOverAnInputAnotherOutputOrANonRegularFile) {
   // (a FIFO opened for reading or writing would also block the run).
   const fs::path fifo = dir / "stats.fifo";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  for (const std::string target : {fifo.string(), std::string("/dev/null")}) {
+  for (const std::string& target : {fifo.string(), std::string("/dev/null")}) {
     SCOPED_TRACE(target);
     const Result r = run_clpt_env(tiny({scene, "-o", img, "--stats", target}), {}, dir);
     EXPECT_EQ(r.exit_code, 4) << r.err;

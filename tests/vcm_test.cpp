@@ -28,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "integrators/vcm.h"
+#include "shared/bdpt_types.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
 #include "stats/image_stats.h"
@@ -137,7 +138,7 @@ TEST(CrossIntegrator, VcmMatchesPtOnCornellBox) {
   test::expect_matches_reference(test::render_batches(scene, s, 16, 700), ref, "vcm cornell");
   // Tiles of about 100 light paths: each camera path merges with its tile's light vertices
   // only, over eta = pi r^2 (paths of the tile).
-  s.bdpt_memory_bytes = 8 * (128 + 12) * 100;
+  s.bdpt_memory_bytes = 8 * (sizeof(dev::PathVertex) + 12) * 100;
   test::expect_matches_reference(test::render_batches(scene, s, 16, 1700), ref, "vcm tiles");
 }
 

@@ -68,10 +68,14 @@ struct Material {
   bool volume = false;          // KHR_materials_volume with a finite attenuation distance
   float clearcoat = 0.0f;       // KHR_materials_clearcoat
   float clearcoat_roughness = 0.0f;
+  float iridescence = 0.0f;     // KHR_materials_iridescence
+  float iridescence_ior = 1.3f;
+  float iridescence_thickness_min = 100.0f;  // nm
+  float iridescence_thickness_max = 400.0f;
 
   TextureRef base_color_texture, metallic_roughness_texture, normal_texture, emissive_texture,
       transmission_texture, specular_texture, specular_color_texture, clearcoat_texture,
-      clearcoat_roughness_texture;
+      clearcoat_roughness_texture, iridescence_texture, iridescence_thickness_texture;
 };
 
 // A KHR_lights_punctual light placed by its node, in world space.

@@ -2,7 +2,7 @@
  * vertex colour (kernels/material/material.cl fills it; kernels/bsdf/ evaluates it). One
  * struct for the whole glTF metallic-roughness model and the extensions clpt reads:
  *   KHR_materials_specular, KHR_materials_transmission, KHR_materials_ior,
- *   KHR_materials_clearcoat.
+ *   KHR_materials_clearcoat, KHR_materials_iridescence.
  * Device only: the host never builds one. */
 #ifndef CLPT_BSDF_BSDF_PARAMS_H
 #define CLPT_BSDF_BSDF_PARAMS_H
@@ -17,6 +17,9 @@ typedef struct BsdfParams {
   float ior;             /* KHR_materials_ior: index of refraction inside the surface (1.5) */
   float clearcoat;       /* KHR_materials_clearcoat: clearcoatFactor x texture R, [0, 1] (0) */
   float clearcoat_roughness; /* clearcoatRoughnessFactor x texture G (perceptual) */
+  float iridescence;     /* KHR_materials_iridescence: iridescenceFactor x texture R, [0, 1] (0) */
+  float iridescence_ior; /* the film's index of refraction (1.3) */
+  float iridescence_thickness; /* nm: mix(minimum, maximum, thickness texture G) */
 } BsdfParams;
 
 /* The clearcoat inputs are rounded to 16-bit unorm steps (1 / 65535) when resolved, so that

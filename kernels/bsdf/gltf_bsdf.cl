@@ -33,6 +33,13 @@
  *   albedo <= 1 (BsdfEnergy) and equals it at normal incidence up to (c F0)^2. The coat shares
  *   the shading normal (clearcoatNormalTexture is not read: README "glTF extensions").
  *
+ * iridescence (KHR_materials_iridescence): a thin film of weight k over the base. Each
+ *   reflectance above (the metal's, the plastic's coat, the glass's r) becomes
+ *   mix(F, R_film(cos, f0), k), R_film the film's RGB reflectance over a base of that lobe's
+ *   f0 (kernels/bsdf/thin_film.cl); what the base transmits follows from it as before (the
+ *   diffuse layer's 1 - max F, the glass's 1 - max r). The lobe probabilities keep Schlick's
+ *   estimates: the film changes what a direction carries, not how it is sampled.
+ *
  * Sampling: one sample from a mixture of lobes, chosen by u_lobe with probabilities
  * proportional to estimates of each lobe's albedo at wo (Fresnel at cos_o, metallic,
  * transmission, the clearcoat's c Fc(cos_o), the base's scaled by 1 - c Fc(cos_o)):
@@ -49,6 +56,7 @@
 #include "bsdf/bsdf_params.h"
 #include "bsdf/fresnel.cl"
 #include "bsdf/microfacet.cl"
+#include "bsdf/thin_film.cl"
 #include "core/warp.cl"
 
 typedef struct BsdfSample {
@@ -75,12 +83,27 @@ typedef struct GltfLobes {
   float coat;        /* clearcoat weight c in [0, 1] */
   float alpha_c;     /* clearcoat GGX alpha */
   int coat_delta;    /* alpha_c < GGX_ALPHA_DELTA */
+  float irid;        /* iridescence weight k in [0, 1] */
+  float irid_ior, irid_d; /* the film's index and thickness (nm) */
+  int outside;       /* wo on the front side */
 } GltfLobes;
 
 inline float avg3(float3 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
 
+/* Iridescence: the reflectance F of a lobe whose base has normal-incidence reflectance f0,
+ * blended with the thin film's over that base by the weight k, mix(F, R_film, k), at the
+ * outside cosine c (the extension's rule; F is kept exactly where k = 0). */
+inline float3 gltf_iridescent(const GltfLobes* L, float3 F, float3 f0, float c) {
+  if (!(L->irid > 0.0f)) return F;
+  return mix(F, thin_film_reflectance(c, L->irid_ior, L->irid_d, f0), L->irid);
+}
+
+/* The plastic's coat and the metal's reflectance at cos(wo, h) = c. */
 inline float3 gltf_coat(const BsdfParams* p, const GltfLobes* L, float c) {
-  return p->specular * fresnel_schlick(L->f0, c);
+  return p->specular * gltf_iridescent(L, fresnel_schlick(L->f0, c), L->f0, c);
+}
+inline float3 gltf_metal(const BsdfParams* p, const GltfLobes* L, float c) {
+  return gltf_iridescent(L, fresnel_schlick(p->base_color, c), p->base_color, c);
 }
 
 /* The clearcoat's reflectance c Fc(x), and the share 1 - c Fc(x) of light that crosses it. */
@@ -89,8 +112,23 @@ inline float gltf_clearcoat_f(const GltfLobes* L, float x) {
 }
 inline float gltf_clearcoat_pass(const GltfLobes* L, float x) { return 1.0f - gltf_clearcoat_f(L, x); }
 
+/* The glass's reflectance at cos(wo, h) = c on wo's side. A film sits on the outside: seen
+ * from inside, it is evaluated at the cosine of the same wave outside, so that reflectance
+ * (and with it transmission, 1 - r) is the same from both sides of a pair, as the exact
+ * Fresnel term's is (a lossless stack reflects equally from both sides). */
 inline float3 gltf_glass_r(const GltfLobes* L, float c) {
-  return fmin(L->glass_tint * fresnel_dielectric(c, L->eta), (float3)(1.0f));
+  const float F = fresnel_dielectric(c, L->eta);
+  float3 r = (float3)(F);
+  if (L->irid > 0.0f && F < 1.0f) {
+    float c_out = c;
+    if (!L->outside) {
+      const float ci = clamp(c, 0.0f, 1.0f);
+      c_out = sqrt(fmax(0.0f, 1.0f - (1.0f - ci * ci) / (L->eta * L->eta)));
+    }
+    const float ior = L->outside ? L->eta : 1.0f / L->eta;
+    r = gltf_iridescent(L, r, (float3)(fresnel_f0_from_ior(ior)), c_out);
+  }
+  return fmin(L->glass_tint * r, (float3)(1.0f));
 }
 
 /* Weights and lobe probabilities at wo, given cos_o = |wo.z| and the side of wo. */
@@ -100,6 +138,10 @@ inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outside) {
   L.delta = L.alpha < GGX_ALPHA_DELTA;
   const float ior = fmax(p->ior, 1.0f);
   L.eta = outside ? ior : 1.0f / ior;
+  L.outside = outside;
+  L.irid = clamp(p->iridescence, 0.0f, 1.0f);
+  L.irid_ior = fmax(p->iridescence_ior, 1.0f);
+  L.irid_d = fmax(p->iridescence_thickness, 0.0f);
   const float m = clamp(p->metallic, 0.0f, 1.0f), t = clamp(p->transmission, 0.0f, 1.0f);
   L.w_metal = m;
   L.w_plastic = (1.0f - m) * (1.0f - t);
@@ -148,7 +190,7 @@ inline float3 gltf_transmission_half(float3 wo, float3 wi, float eta) {
 
 /* Combined reflectance of the three specular reflection lobes at cos(wo, h) = c. */
 inline float3 gltf_reflectance(const BsdfParams* p, const GltfLobes* L, float c) {
-  float3 F = L->w_metal * fresnel_schlick(p->base_color, c);
+  float3 F = L->w_metal * gltf_metal(p, L, c);
   if (L->w_plastic > 0.0f) F += L->w_plastic * gltf_coat(p, L, c);
   if (L->w_glass > 0.0f) F += L->w_glass * gltf_glass_r(L, c);
   return F;
@@ -302,6 +344,24 @@ inline BsdfSample gltf_absorbed(void) {
   return bs;
 }
 
+/* The mirror direction of wo (mirrored frame), carrying every Dirac reflection at once: the
+ * delta coat's c Fc(cos_o) and, for a delta base, its reflection seen through the coat twice.
+ * They share one discrete probability, whichever of their lobes u_lobe picked. */
+inline BsdfSample gltf_mirror_sample(const BsdfParams* p, const GltfLobes* L, float3 wo, bool flip) {
+  const float p_r = L->delta && L->p_glass > 0.0f ? max_component(gltf_glass_r(L, wo.z)) : 0.0f;
+  const float base_p = L->delta ? L->p_reflect + L->p_glass * p_r : 0.0f;
+  const float coat_p = L->coat_delta ? L->p_coat : 0.0f;
+  const float pass_o = gltf_clearcoat_pass(L, wo.z);
+  const float3 base_f = L->delta ? gltf_reflectance(p, L, wo.z) * (pass_o * pass_o) : (float3)(0.0f);
+  const float3 coat_f = (float3)(L->coat_delta ? gltf_clearcoat_f(L, wo.z) : 0.0f);
+  BsdfSample bs;
+  bs.pdf_w = base_p + coat_p;
+  bs.wi = gltf_flip((float3)(-wo.x, -wo.y, wo.z), flip);
+  bs.weight = (base_f + coat_f) / bs.pdf_w;
+  bs.is_delta = 1;
+  return bs;
+}
+
 /* One direction from the lobe mixture: u picks the direction within the lobe, u_lobe the
  * lobe (and, rescaled, reflection or refraction within the glass lobe). */
 inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, float u_lobe,
@@ -322,36 +382,15 @@ inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, 
   BsdfSample bs = gltf_absorbed();
   float3 wi;
   bool reflect = true; /* the side wi must end on; the other side absorbs the sample */
-  /* Mirror directions: the delta coat's c Fc(cos_o), and (a delta base) its reflection seen
-   * through the coat twice, share one discrete probability. */
-  const float pass_o = gltf_clearcoat_pass(&L, wo.z);
-  const float coat_mirror_p = L.coat_delta ? L.p_coat : 0.0f;
-  const float3 coat_mirror_f = (float3)(L.coat_delta ? gltf_clearcoat_f(&L, wo.z) : 0.0f);
   if (u_lobe < L.p_coat) {
-    if (L.coat_delta) {
-      const float p_r = L.delta && L.p_glass > 0.0f ? max_component(gltf_glass_r(&L, wo.z)) : 0.0f;
-      bs.pdf_w = L.p_coat + (L.delta ? L.p_reflect + L.p_glass * p_r : 0.0f);
-      bs.wi = gltf_flip((float3)(-wo.x, -wo.y, wo.z), flip);
-      bs.weight = (coat_mirror_f + (L.delta ? gltf_reflectance(p, &L, wo.z) * (pass_o * pass_o)
-                                            : (float3)(0.0f))) / bs.pdf_w;
-      bs.is_delta = 1;
-      return bs;
-    }
+    if (L.coat_delta) return gltf_mirror_sample(p, &L, wo, flip);
     const float3 h = warp_ggx_vndf(u, wo, L.alpha_c);
     wi = 2.0f * dot(wo, h) * h - wo;
   } else if ((u_lobe -= L.p_coat) < L.p_diffuse) {
     wi = warp_cosine_hemisphere(u);
   } else if (u_lobe < L.p_diffuse + L.p_reflect || !(L.p_glass > 0.0f)) {
     if (!(L.p_reflect > 0.0f)) return bs;
-    if (L.delta) {
-      /* Mirror: all reflection lobes at once (the glass's share too). */
-      const float p_r = L.p_glass > 0.0f ? max_component(gltf_glass_r(&L, wo.z)) : 0.0f;
-      bs.pdf_w = L.p_reflect + L.p_glass * p_r + coat_mirror_p;
-      bs.wi = gltf_flip((float3)(-wo.x, -wo.y, wo.z), flip);
-      bs.weight = (gltf_reflectance(p, &L, wo.z) * (pass_o * pass_o) + coat_mirror_f) / bs.pdf_w;
-      bs.is_delta = 1;
-      return bs;
-    }
+    if (L.delta) return gltf_mirror_sample(p, &L, wo, flip); /* the glass's share too */
     const float3 h = warp_ggx_vndf(u, wo, L.alpha);
     wi = 2.0f * dot(wo, h) * h - wo;
   } else {
@@ -360,21 +399,16 @@ inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, 
     const float wo_h = dot(wo, h);
     const float p_r = max_component(gltf_glass_r(&L, wo_h));
     if (v < p_r) {
+      if (L.delta) return gltf_mirror_sample(p, &L, wo, flip);
       wi = 2.0f * wo_h * h - wo;
-      if (L.delta) {
-        bs.pdf_w = L.p_reflect + L.p_glass * p_r + coat_mirror_p;
-        bs.wi = gltf_flip(wi, flip);
-        bs.weight = (gltf_reflectance(p, &L, wo.z) * (pass_o * pass_o) + coat_mirror_f) / bs.pdf_w;
-        bs.is_delta = 1;
-        return bs;
-      }
     } else {
       if (!refract_dir(wo, h, L.eta, &wi)) return bs;
       reflect = false;
       if (L.delta) {
         bs.pdf_w = L.p_glass * (1.0f - p_r);
         bs.wi = gltf_flip(wi, flip);
-        bs.weight = (L.w_glass / L.p_glass) * pass_o * gltf_clearcoat_pass(&L, fabs(wi.z)) * p->base_color;
+        bs.weight = (L.w_glass / L.p_glass) * gltf_clearcoat_pass(&L, wo.z) *
+                    gltf_clearcoat_pass(&L, fabs(wi.z)) * p->base_color;
         if (mode == TRANSPORT_RADIANCE) bs.weight /= L.eta * L.eta;
         bs.is_delta = 1;
         return bs;

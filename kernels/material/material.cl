@@ -74,11 +74,27 @@ inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
       vload3(0, m->specular_color) *
       texture_slot_sample(s, &m->tex[TEX_SPECULAR_COLOR], uv0, uv1, true, white).xyz;
   sh->bsdf.ior = m->ior;
-  sh->bsdf.clearcoat = bsdf_unorm16(
-      m->clearcoat * texture_slot_sample(s, &m->tex[TEX_CLEARCOAT], uv0, uv1, false, white).x);
-  sh->bsdf.clearcoat_roughness = bsdf_unorm16(
-      m->clearcoat_roughness *
-      texture_slot_sample(s, &m->tex[TEX_CLEARCOAT_ROUGHNESS], uv0, uv1, false, white).y);
+  /* The layers' textures are read only where their factor makes them matter (most
+   * materials have neither layer: their four slot look-ups would be spent for nothing). */
+  sh->bsdf.clearcoat = sh->bsdf.clearcoat_roughness = 0.0f;
+  if (m->clearcoat > 0.0f) {
+    sh->bsdf.clearcoat = bsdf_unorm16(
+        m->clearcoat * texture_slot_sample(s, &m->tex[TEX_CLEARCOAT], uv0, uv1, false, white).x);
+    sh->bsdf.clearcoat_roughness = bsdf_unorm16(
+        m->clearcoat_roughness *
+        texture_slot_sample(s, &m->tex[TEX_CLEARCOAT_ROUGHNESS], uv0, uv1, false, white).y);
+  }
+  sh->bsdf.iridescence = 0.0f;
+  sh->bsdf.iridescence_ior = m->iridescence_ior;
+  sh->bsdf.iridescence_thickness = m->iridescence_thickness_max;
+  if (m->iridescence > 0.0f) {
+    sh->bsdf.iridescence =
+        m->iridescence * texture_slot_sample(s, &m->tex[TEX_IRIDESCENCE], uv0, uv1, false, white).x;
+    /* Without a thickness texture G reads 1: the maximum, as the extension says. */
+    sh->bsdf.iridescence_thickness =
+        mix(m->iridescence_thickness_min, m->iridescence_thickness_max,
+            texture_slot_sample(s, &m->tex[TEX_IRIDESCENCE_THICKNESS], uv0, uv1, false, white).y);
+  }
   sh->emission = material_emission_uv(s, m, uv0, uv1);
   if (m->tex[TEX_NORMAL].texture >= 0) sh->ns = material_normal_map(s, m, sh);
 }

@@ -69,7 +69,9 @@ enum TextureSlotId {
   TEX_SPECULAR_COLOR = 6,     /* sRGB; RGB specularColorFactor */
   TEX_CLEARCOAT = 7,          /* linear; R clearcoatFactor */
   TEX_CLEARCOAT_ROUGHNESS = 8, /* linear; G clearcoatRoughnessFactor */
-  TEX_SLOT_COUNT = 9
+  TEX_IRIDESCENCE = 9,        /* linear; R iridescenceFactor */
+  TEX_IRIDESCENCE_THICKNESS = 10, /* linear; G: mix(thickness minimum, maximum, G) */
+  TEX_SLOT_COUNT = 11
 };
 
 typedef struct TextureSlot {
@@ -100,6 +102,10 @@ typedef struct Material {
   float attenuation_distance; /* KHR_materials_volume (infinity: none) */
   float clearcoat;            /* KHR_materials_clearcoat clearcoatFactor (0) */
   float clearcoat_roughness;  /* clearcoatRoughnessFactor (0) */
+  float iridescence;          /* KHR_materials_iridescence iridescenceFactor (0) */
+  float iridescence_ior;      /* iridescenceIor (1.3): the film's index */
+  float iridescence_thickness_min; /* iridescenceThicknessMinimum, nm (100) */
+  float iridescence_thickness_max; /* iridescenceThicknessMaximum, nm (400) */
   float pad[2];
   float specular_color[4];    /* KHR_materials_specular specularColorFactor (1,1,1), w unused */
   float attenuation_color[4]; /* KHR_materials_volume (1,1,1), w unused */

@@ -1,7 +1,7 @@
 /* Thin wrappers around kernels/bsdf/ for tests/bsdf_test.cpp.
- * A BSDF configuration arrives as 13 floats (tests/bsdf_test.cpp `pack`): base colour[3],
- * specular colour[3], metallic, roughness, specular, transmission, ior, clearcoat, and
- * clearcoat roughness. Directions
+ * A BSDF configuration arrives as 16 floats (tests/bsdf_test.cpp `pack`): base colour[3],
+ * specular colour[3], metallic, roughness, specular, transmission, ior, clearcoat,
+ * clearcoat roughness, iridescence, its film's ior and thickness (nm). Directions
  * are local (+z the front-face normal) unless the kernel says world. Sample outputs:
  *   dir_pdf[i]  = (wi, pdf_w): pdf_w 0 for an absorbed sample, the discrete probability for
  *                 a delta one;
@@ -19,6 +19,9 @@ inline BsdfParams test_params(__global const float* c) {
   p.ior = c[10];
   p.clearcoat = c[11];
   p.clearcoat_roughness = c[12];
+  p.iridescence = c[13];
+  p.iridescence_ior = c[14];
+  p.iridescence_thickness = c[15];
   return p;
 }
 

@@ -197,6 +197,14 @@ Material object_material(Scene& scene, StageMaterial kind) {
       m.clearcoat = 1.0f;
       m.clearcoat_roughness = 0.15f;
       break;
+    case StageMaterial::IridescentGlass:
+      // The film colours reflection and, through 1 - r, transmission; seen from inside it
+      // must reflect as from outside (kernels/bsdf/gltf_bsdf.cl, gltf_glass_r).
+      m = glass_material(0.3f);
+      m.iridescence = 1.0f;
+      m.iridescence_ior = 1.8f;
+      m.iridescence_thickness_max = 450.0f;
+      break;
   }
   return m;
 }
@@ -293,6 +301,7 @@ std::string stage_material_name(StageMaterial m) {
     case StageMaterial::AlphaBlend: return "alpha_blend";
     case StageMaterial::EmissiveTexture: return "emissive_texture";
     case StageMaterial::Clearcoat: return "clearcoat";
+    case StageMaterial::IridescentGlass: return "iridescent_glass";
   }
   throw std::logic_error("stage material");
 }

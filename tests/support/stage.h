@@ -36,6 +36,7 @@ enum class StageMaterial {
   AlphaBlend,       // diffuse, alpha 0.5 (stochastic transparency)
   EmissiveTexture,  // diffuse with an emissive checker texture (a second, textured light)
   Clearcoat,        // rough red plastic under a glossy KHR_materials_clearcoat
+  IridescentGlass,  // rough glass (as GlassRough) under a KHR_materials_iridescence film
 };
 
 enum class StageLight {

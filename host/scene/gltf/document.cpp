@@ -19,6 +19,7 @@ const char* const kSupportedExtensions[] = {
     "KHR_materials_specular",
     "KHR_materials_volume",
     "KHR_materials_clearcoat",  // materials.cpp, kernels/bsdf/gltf_bsdf.cl (no clearcoatNormalTexture)
+    "KHR_materials_iridescence",  // materials.cpp, kernels/bsdf/thin_film.cl
     "KHR_texture_transform",
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",

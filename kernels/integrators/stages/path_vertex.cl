@@ -34,6 +34,10 @@ inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* sh, floa
   v->dvm = st->dvm;
   v->depth = depth;
   v->material = (sh->material & 0x7fffffffu) | (sh->front ? 0x80000000u : 0u);
+  v->iridescence = sh->bsdf.iridescence;
+  v->iridescence_ior = sh->bsdf.iridescence_ior;
+  v->iridescence_thickness = sh->bsdf.iridescence_thickness;
+  v->unused = 0u;
 }
 
 /* The subpath state stored with a vertex. */
@@ -70,6 +74,9 @@ inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   sh.bsdf.ior = v->ior;
   sh.bsdf.clearcoat = (float)(v->clearcoat & 0xffffu) * (1.0f / 65535.0f);
   sh.bsdf.clearcoat_roughness = (float)(v->clearcoat >> 16) * (1.0f / 65535.0f);
+  sh.bsdf.iridescence = v->iridescence;
+  sh.bsdf.iridescence_ior = v->iridescence_ior;
+  sh.bsdf.iridescence_thickness = v->iridescence_thickness;
   sh.emission = (float3)(0.0f);
   return sh;
 }
