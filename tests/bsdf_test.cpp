@@ -55,12 +55,15 @@ struct Config {
   float iridescence = 0.0f;
   float iridescence_ior = 1.3f;
   float iridescence_thickness = 400.0f;
+  float diffuse_transmission = 0.0f;
+  glm::vec3 dt_color{1.0f};
 };
 
 std::vector<float> pack(const Config& c) {
   return {c.base.x,   c.base.y,    c.base.z,   c.spec_color.x, c.spec_color.y, c.spec_color.z, c.metallic,
           c.roughness, c.specular, c.transmission, c.ior,     c.clearcoat,    c.clearcoat_roughness,
-          c.iridescence, c.iridescence_ior, c.iridescence_thickness};
+          c.iridescence, c.iridescence_ior, c.iridescence_thickness, c.diffuse_transmission,
+          c.dt_color.x, c.dt_color.y, c.dt_color.z};
 }
 
 Config lambert(glm::vec3 base = glm::vec3(0.8f, 0.5f, 0.2f)) {
@@ -118,6 +121,13 @@ Config iridescent(Config base, float k, float ior, float d) {
   base.iridescence = k;
   base.iridescence_ior = ior;
   base.iridescence_thickness = d;
+  return base;
+}
+
+// KHR_materials_diffuse_transmission: a share dt of the diffuse layer, of colour col, crosses.
+Config translucent(Config base, float dt, glm::vec3 col) {
+  base.diffuse_transmission = dt;
+  base.dt_color = col;
   return base;
 }
 
@@ -343,6 +353,10 @@ std::vector<Chi2Case> chi2_cases() {
   add("IridescentMetal", iridescent(metal(0.3f), 1.0f, 1.3f, 400.0f), {0.8, 0.3});
   add("IridescentPlastic", iridescent(plastic(0.4f), 1.0f, 1.8f, 300.0f), {0.8, 0.3});
   add("IridescentGlass", iridescent(glass(0.3f), 1.0f, 1.5f, 500.0f), {0.8, 0.3, -0.9, -0.6});
+  // KHR_materials_diffuse_transmission: a cosine lobe on the far side, from either side.
+  add("DiffuseTransmission", translucent(plastic(0.5f), 0.6f, {0.9f, 0.5f, 0.2f}), {0.8, 0.3, 0.05, -0.7});
+  add("DiffuseTransmissionCoated", coated(translucent(plastic(0.0f), 0.4f, glm::vec3(1.0f)), 0.8f, 0.3f), {0.8, 0.2});
+  add("DiffuseTransmissionHalfMetal", translucent(mixed_metal(), 1.0f, {0.3f, 0.8f, 0.6f}), {0.7, -0.4});
   // Sharp lobes once more, on a fine grid with its pole on the lobe.
   auto add_pole = [&](const std::string& name, const Config& cfg, double cos_o, int pole, double band_min) {
     Chi2Case k{name, cfg, cos_o};
@@ -532,6 +546,9 @@ std::vector<std::pair<std::string, Config>> consistency_configs() {
           {"iridescent_metal", iridescent(metal(0.3f), 1.0f, 1.3f, 400.0f)},
           {"iridescent_plastic", iridescent(plastic(0.4f), 0.7f, 1.8f, 300.0f)},
           {"iridescent_glass", iridescent(glass(0.3f), 1.0f, 1.5f, 500.0f)},
+          {"translucent_plastic", translucent(plastic(0.5f), 0.6f, {0.9f, 0.5f, 0.2f})},
+          {"translucent_coated", coated(translucent(plastic(0.4f), 0.4f, glm::vec3(1.0f)), 0.8f, 0.3f)},
+          {"translucent_half_metal", translucent(mixed_metal(), 1.0f, {0.3f, 0.8f, 0.6f})},
           {"coated_iridescent_plastic", coated(iridescent(plastic(0.4f), 1.0f, 1.4f, 250.0f), 1.0f, 0.2f)}};
 }
 
@@ -674,7 +691,9 @@ TEST(BsdfEnergy, AlbedoAtMostOne) {
                                  {"white_iridescent_metal_0.3", iridescent(white_metal, 1.0f, 2.0f, 600.0f)},
                                  {"white_iridescent_plastic", iridescent(white_plastic, 1.0f, 1.8f, 400.0f)},
                                  {"white_iridescent_delta_coat", iridescent(white_delta_coat, 1.0f, 1.3f, 150.0f)},
-                                 {"iridescent_smooth_glass", iridescent(glass(0.0f), 1.0f, 1.5f, 500.0f)}});
+                                 {"iridescent_smooth_glass", iridescent(glass(0.0f), 1.0f, 1.5f, 500.0f)},
+                                 {"white_translucent_plastic", translucent(white_plastic, 0.5f, glm::vec3(1.0f))},
+                                 {"white_translucent_delta_coat", translucent(white_delta_coat, 0.8f, glm::vec3(1.0f))}});
   for (const auto& [name, c] : configs) {
     double worst = 0.0;
     for (int k = 0; k < 10; ++k) {
@@ -699,6 +718,25 @@ TEST(BsdfEnergy, LambertWhiteIsOne) {
     const double sigma = std::sqrt(m.var.x / 16384.0);
     std::cout << "[ energy   ] lambert white cos " << cos_o << ": " << m.mean.x << " +- " << sigma << "\n";
     EXPECT_NEAR(m.mean.x, 1.0, std::max(4.0 * sigma, 1e-5));
+  }
+}
+
+// A white diffuse layer (specular 0) that transmits a share dt of what it scatters: reflected
+// and transmitted together carry everything, from either side, and the transmitted share of
+// the samples is dt (the two lobes' albedos are 1 - dt and dt, each a cosine lobe).
+TEST(BsdfEnergy, DiffuseTransmissionWhiteIsOne) {
+  constexpr uint32_t n = 16384;
+  for (double cos_o : {1.0, 0.5, 0.05, -0.7}) {
+    const Config c = translucent(lambert(glm::vec3(1.0f)), 0.3f, glm::vec3(1.0f));
+    const Samples s = sample(c, kRadiance, {direction(cos_o)}, 9, n);
+    const Moments m = weight_moments(s);
+    double through = 0.0;
+    for (size_t i = 0; i < n; ++i) through += (s.dir_pdf[i].z * cos_o < 0 ? s.weight[i].x : 0.0) / n;
+    const double sigma = std::sqrt(m.var.x / n);
+    std::cout << "[ energy   ] white diffuse transmission 0.3, cos " << cos_o << ": " << m.mean.x
+              << " +- " << sigma << ", through " << through << "\n";
+    EXPECT_NEAR(m.mean.x, 1.0, std::max(4.0 * sigma, 1e-5)) << "cos " << cos_o;
+    EXPECT_NEAR(through, 0.3, 4.0 * std::sqrt(0.3 * 0.7 / n)) << "cos " << cos_o;
   }
 }
 
@@ -755,7 +793,9 @@ TEST(BsdfReciprocity, ReflectionAndRefraction) {
         err = std::max(err, rel_diff(ab_imp[i], ab[i]));  // no eta factor for reflection
       } else {
         // eta of each direction's side: 1 outside (z > 0), ior inside.
-        const double ea = a[i].z > 0 ? 1.0 : c.ior, eb = b[i].z > 0 ? 1.0 : c.ior;
+        // Diffuse transmission (a thin surface) has none: such configurations have no glass.
+        const double ior = c.transmission > 0 ? c.ior : 1.0;
+        const double ea = a[i].z > 0 ? 1.0 : ior, eb = b[i].z > 0 ? 1.0 : ior;
         err = rel_diff(ab[i] / (ea * ea), ba[i] / (eb * eb));
         err = std::max(err, rel_diff(ab_imp[i], ba[i]));  // importance is the adjoint
         if (ab[i].x > 0 || ab[i].y > 0 || ab[i].z > 0) ++refractions;

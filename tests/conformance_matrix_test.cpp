@@ -84,6 +84,7 @@ const std::vector<StageMaterial>& materials() {
       StageMaterial::GlassAbsorbing, StageMaterial::GlassSheet,    StageMaterial::Specular,
       StageMaterial::NormalMap,     StageMaterial::AlphaMask,      StageMaterial::AlphaBlend,
       StageMaterial::EmissiveTexture, StageMaterial::Clearcoat,   StageMaterial::IridescentGlass,
+      StageMaterial::Translucent,
   };
   return list;
 }
@@ -133,6 +134,8 @@ std::vector<std::pair<StageMaterial, StageLight>> scenes() {
   add(StageMaterial::Clearcoat, StageLight::AreaDown);
   // The film on rough glass under the area light too (its row above has the directional).
   add(StageMaterial::IridescentGlass, StageLight::AreaDown);
+  // Light through the translucent object into its shadow on the floor.
+  add(StageMaterial::Translucent, StageLight::AreaDown);
   return list;
 }
 

@@ -57,7 +57,7 @@ TEST(SharedLayout, FixedSizes) {
   EXPECT_EQ(sizeof(dev::Vertex), 32u);
   EXPECT_EQ(sizeof(dev::VertexExtra), 48u);
   EXPECT_EQ(sizeof(dev::Light), 96u);
-  EXPECT_EQ(sizeof(dev::Material), 480u);
+  EXPECT_EQ(sizeof(dev::Material), 560u);
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 
 namespace clpt {
 
-static_assert(sizeof(dev::PathVertex) == 144, "PathVertex: 144 bytes, a multiple of 16");
+static_assert(sizeof(dev::PathVertex) == 160, "PathVertex: 160 bytes, a multiple of 16");
 
 BidirectionalPathTracer::BidirectionalPathTracer(const cl::Context& ctx, const SceneBuffers& scene,
                                                  size_t path_memory_bytes)

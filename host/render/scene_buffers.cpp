@@ -41,6 +41,8 @@ dev::Material to_device(const Material& m) {
   d.iridescence_ior = m.iridescence_ior;
   d.iridescence_thickness_min = m.iridescence_thickness_min;
   d.iridescence_thickness_max = m.iridescence_thickness_max;
+  d.diffuse_transmission = m.diffuse_transmission;
+  for (int i = 0; i < 3; ++i) d.diffuse_transmission_color[i] = m.diffuse_transmission_color[i];
   for (int i = 0; i < 3; ++i) d.specular_color[i] = m.specular_color[i];
   for (int i = 0; i < 3; ++i) d.attenuation_color[i] = m.attenuation_color[i];
   d.flags = 0u;
@@ -54,7 +56,8 @@ dev::Material to_device(const Material& m) {
       &m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
       &m.emissive_texture,   &m.transmission_texture,       &m.specular_texture,
       &m.specular_color_texture, &m.clearcoat_texture,        &m.clearcoat_roughness_texture,
-      &m.iridescence_texture,    &m.iridescence_thickness_texture};
+      &m.iridescence_texture,    &m.iridescence_thickness_texture,
+      &m.diffuse_transmission_texture, &m.diffuse_transmission_color_texture};
   for (int i = 0; i < dev::TEX_SLOT_COUNT; ++i) d.tex[i] = to_device(*refs[i]);
   return d;
 }

@@ -2,7 +2,7 @@
  * vertex colour (kernels/material/material.cl fills it; kernels/bsdf/ evaluates it). One
  * struct for the whole glTF metallic-roughness model and the extensions clpt reads:
  *   KHR_materials_specular, KHR_materials_transmission, KHR_materials_ior,
- *   KHR_materials_clearcoat, KHR_materials_iridescence.
+ *   KHR_materials_clearcoat, KHR_materials_iridescence, KHR_materials_diffuse_transmission.
  * Device only: the host never builds one. */
 #ifndef CLPT_BSDF_BSDF_PARAMS_H
 #define CLPT_BSDF_BSDF_PARAMS_H
@@ -10,6 +10,8 @@
 typedef struct BsdfParams {
   float3 base_color;     /* linear RGB: factor x texture x COLOR_0 */
   float3 specular_color; /* KHR_materials_specular: specularColorFactor x texture (linear) */
+  float3 diffuse_transmission_color; /* KHR_materials_diffuse_transmission: colour factor x
+                                      * texture RGB (linear), [0, 1] */
   float metallic;        /* [0, 1] */
   float roughness;       /* perceptual roughness [0, 1]; GGX alpha = roughness^2 */
   float specular;        /* KHR_materials_specular: specularFactor x texture alpha; 1 = glTF core */
@@ -20,6 +22,7 @@ typedef struct BsdfParams {
   float iridescence;     /* KHR_materials_iridescence: iridescenceFactor x texture R, [0, 1] (0) */
   float iridescence_ior; /* the film's index of refraction (1.3) */
   float iridescence_thickness; /* nm: mix(minimum, maximum, thickness texture G) */
+  float diffuse_transmission; /* KHR_materials_diffuse_transmission: factor x texture A, [0, 1] */
 } BsdfParams;
 
 /* The clearcoat inputs are rounded to 16-bit unorm steps (1 / 65535) when resolved, so that

@@ -33,6 +33,12 @@
  *   albedo <= 1 (BsdfEnergy) and equals it at normal incidence up to (c F0)^2. The coat shares
  *   the shading normal (clearcoatNormalTexture is not read: README "glTF extensions").
  *
+ * diffuse transmission (KHR_materials_diffuse_transmission): a share dt of the plastic's
+ *   diffuse layer leaves through the far side instead, Lambertian with its own colour,
+ *     f_dt = w_plastic dt color / pi (1 - max F(cos_o)) (1 - max F(|cos_i|)),  wi below,
+ *   and the reflected diffuse layer keeps (1 - dt) of its weight. Symmetric in wo and wi and
+ *   with no eta (the extension's thin surface), and its own cosine lobe in the mixture.
+ *
  * iridescence (KHR_materials_iridescence): a thin film of weight k over the base. Each
  *   reflectance above (the metal's, the plastic's coat, the glass's r) becomes
  *   mix(F, R_film(cos, f0), k), R_film the film's RGB reflectance over a base of that lobe's
@@ -79,7 +85,8 @@ typedef struct GltfLobes {
   float w_metal;     /* metallic */
   float3 f0;         /* coat: min(F0(ior) specular_color, 1) */
   float3 glass_tint; /* scales the glass's exact Fresnel */
-  float p_diffuse, p_reflect, p_glass, p_coat;
+  float p_diffuse, p_reflect, p_glass, p_coat, p_dtrans;
+  float dt;          /* diffuse transmission: the plastic's diffuse share that crosses */
   float coat;        /* clearcoat weight c in [0, 1] */
   float alpha_c;     /* clearcoat GGX alpha */
   int coat_delta;    /* alpha_c < GGX_ALPHA_DELTA */
@@ -151,8 +158,10 @@ inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outside) {
   L.f0 = fmin(f0_ior * spec_color, (float3)(1.0f));
   L.glass_tint = p->specular * (f0_ior > 0.0f ? L.f0 / f0_ior : spec_color);
 
+  L.dt = clamp(p->diffuse_transmission, 0.0f, 1.0f);
   const float coat = max_component(gltf_coat(p, &L, cos_o));
-  const float e_d = L.w_plastic * avg3(p->base_color) * (1.0f - coat);
+  const float e_d = L.w_plastic * (1.0f - L.dt) * avg3(p->base_color) * (1.0f - coat);
+  const float e_t = L.dt > 0.0f ? L.w_plastic * L.dt * avg3(p->diffuse_transmission_color) * (1.0f - coat) : 0.0f;
   const float e_r =
       L.w_plastic * p->specular * fmax(max_component(fresnel_schlick(L.f0, cos_o)), GLTF_LOBE_FLOOR) +
       L.w_metal * fmax(avg3(fresnel_schlick(p->base_color, cos_o)), GLTF_LOBE_FLOOR);
@@ -164,11 +173,12 @@ inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outside) {
   /* The base lobes are seen through the coat: their estimates shrink by what it reflects. */
   const float pass = gltf_clearcoat_pass(&L, cos_o);
   const float e_c = L.coat > 0.0f ? fmax(gltf_clearcoat_f(&L, cos_o), L.coat * GLTF_LOBE_FLOOR) : 0.0f;
-  const float sum = pass * (fmax(e_d, 0.0f) + fmax(e_r, 0.0f) + fmax(e_g, 0.0f)) + e_c;
+  const float sum = pass * (fmax(e_d, 0.0f) + fmax(e_t, 0.0f) + fmax(e_r, 0.0f) + fmax(e_g, 0.0f)) + e_c;
   if (!(sum > 0.0f)) {
-    L.p_diffuse = L.p_reflect = L.p_glass = L.p_coat = 0.0f;
+    L.p_diffuse = L.p_reflect = L.p_glass = L.p_coat = L.p_dtrans = 0.0f;
   } else {
     L.p_diffuse = pass * fmax(e_d, 0.0f) / sum;
+    L.p_dtrans = pass * fmax(e_t, 0.0f) / sum;
     L.p_reflect = pass * fmax(e_r, 0.0f) / sum;
     L.p_glass = pass * fmax(e_g, 0.0f) / sum;
     L.p_coat = e_c / sum;
@@ -205,7 +215,7 @@ inline float3 gltf_eval_base_up(const BsdfParams* p, const GltfLobes* L, float3 
       const float3 d = (1.0f - max_component(gltf_coat(p, L, wo.z))) *
                        (1.0f - max_component(gltf_coat(p, L, wi.z))) * INV_PI_F *
                        p->base_color;
-      f += L->w_plastic * d;
+      f += L->w_plastic * (1.0f - L->dt) * d;
     }
     if (!L->delta) {
       const float3 h = normalize(wo + wi);
@@ -214,9 +224,19 @@ inline float3 gltf_eval_base_up(const BsdfParams* p, const GltfLobes* L, float3 
     }
     return f * wi.z;
   }
-  if (wi.z < 0.0f && !L->delta && L->w_glass > 0.0f) {
+  if (!(wi.z < 0.0f)) return (float3)(0.0f);
+  float3 f = (float3)(0.0f);
+  if (L->dt > 0.0f && L->w_plastic > 0.0f) {
+    /* Diffuse transmission: the diffuse layer's Lambertian share dt leaves through the far
+     * side, through the coat there (symmetric in wo and wi: no eta, a thin surface). */
+    const float3 d = (1.0f - max_component(gltf_coat(p, L, wo.z))) *
+                     (1.0f - max_component(gltf_coat(p, L, -wi.z))) * INV_PI_F *
+                     p->diffuse_transmission_color;
+    f += L->w_plastic * L->dt * d * (-wi.z);
+  }
+  if (!L->delta && L->w_glass > 0.0f) {
     const float3 h = gltf_transmission_half(wo, wi, L->eta);
-    if (h.z == 0.0f) return (float3)(0.0f);
+    if (h.z == 0.0f) return f;
     const float wo_h = dot(wo, h), wi_h = dot(wi, h);
     const float3 T = p->base_color * (1.0f - max_component(gltf_glass_r(L, wo_h)));
     const float denom = wo_h + L->eta * wi_h;
@@ -225,9 +245,9 @@ inline float3 gltf_eval_base_up(const BsdfParams* p, const GltfLobes* L, float3 
     float k = ggx_d(h, L->alpha) * ggx_g2(wo, wi, L->alpha) * fabs(wi_h) * wo_h /
               (wo.z * denom * denom);
     if (mode == TRANSPORT_IMPORTANCE) k *= L->eta * L->eta;
-    return L->w_glass * T * k;
+    f += L->w_glass * T * k;
   }
-  return (float3)(0.0f);
+  return f;
 }
 
 /* The clearcoat's GGX reflection f_coat |wi.z| (non-delta coats), wo.z > 0. */
@@ -260,16 +280,18 @@ inline float gltf_pdf_base_up(const GltfLobes* L, float3 wo, float3 wi) {
     }
     return pdf;
   }
-  if (wi.z < 0.0f && !L->delta && L->p_glass > 0.0f) {
+  if (!(wi.z < 0.0f)) return 0.0f;
+  float pdf = L->p_dtrans > 0.0f ? L->p_dtrans * warp_cosine_hemisphere_pdf(-wi.z) : 0.0f;
+  if (!L->delta && L->p_glass > 0.0f) {
     const float3 h = gltf_transmission_half(wo, wi, L->eta);
-    if (h.z == 0.0f) return 0.0f;
+    if (h.z == 0.0f) return pdf;
     const float wo_h = dot(wo, h), wi_h = dot(wi, h);
     const float p_t = 1.0f - max_component(gltf_glass_r(L, wo_h));
     const float denom = wo_h + L->eta * wi_h;
-    return L->p_glass * p_t * warp_ggx_vndf_pdf(wo, h, L->alpha) * L->eta * L->eta *
+    pdf += L->p_glass * p_t * warp_ggx_vndf_pdf(wo, h, L->alpha) * L->eta * L->eta *
            fabs(wi_h) / (denom * denom);
   }
-  return 0.0f;
+  return pdf;
 }
 
 /* The mixture's density with wo.z > 0 (mirrored). */
@@ -291,7 +313,7 @@ inline float3 gltf_flip(float3 w, bool flip) { return flip ? (float3)(w.x, w.y, 
  * set-up (BsdfLambertLimit compares them with the closed form). */
 inline bool gltf_is_lambert(const BsdfParams* p) {
   return !(p->specular > 0.0f) && !(p->metallic > 0.0f) && !(p->transmission > 0.0f) &&
-         !(p->clearcoat > 0.0f);
+         !(p->clearcoat > 0.0f) && !(p->diffuse_transmission > 0.0f);
 }
 
 /* f(wo, wi) |wi.z| of the non-delta lobes. */
@@ -313,7 +335,7 @@ inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
   if (gltf_is_lambert(p)) return p->base_color * INV_PI_F;
   const GltfLobes L = gltf_lobes(p, fabs(wo.z), wo.z > 0.0f);
   if (!(L.w_plastic > 0.0f)) return (float3)(0.0f);
-  return (L.w_plastic * (1.0f - max_component(gltf_coat(p, &L, fabs(wo.z)))) *
+  return (L.w_plastic * (1.0f - L.dt) * (1.0f - max_component(gltf_coat(p, &L, fabs(wo.z)))) *
           gltf_clearcoat_pass(&L, fabs(wo.z)) * INV_PI_F) *
          p->base_color;
 }
@@ -332,7 +354,8 @@ inline bool gltf_bsdf_has_smooth_lobe(const BsdfParams* p) {
   if (!(ggx_alpha(p->roughness) < GGX_ALPHA_DELTA)) return true;
   if (p->clearcoat > 0.0f && !(ggx_alpha(p->clearcoat_roughness) < GGX_ALPHA_DELTA)) return true;
   return (1.0f - clamp(p->metallic, 0.0f, 1.0f)) * (1.0f - clamp(p->transmission, 0.0f, 1.0f)) *
-             max_component(p->base_color) > 0.0f;
+             fmax(max_component(p->base_color),
+                  p->diffuse_transmission * max_component(p->diffuse_transmission_color)) > 0.0f;
 }
 
 inline BsdfSample gltf_absorbed(void) {
@@ -388,13 +411,17 @@ inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, 
     wi = 2.0f * dot(wo, h) * h - wo;
   } else if ((u_lobe -= L.p_coat) < L.p_diffuse) {
     wi = warp_cosine_hemisphere(u);
-  } else if (u_lobe < L.p_diffuse + L.p_reflect || !(L.p_glass > 0.0f)) {
+  } else if (u_lobe < L.p_diffuse + L.p_dtrans) {
+    wi = warp_cosine_hemisphere(u);
+    wi.z = -wi.z;
+    reflect = false;
+  } else if (u_lobe < L.p_diffuse + L.p_dtrans + L.p_reflect || !(L.p_glass > 0.0f)) {
     if (!(L.p_reflect > 0.0f)) return bs;
     if (L.delta) return gltf_mirror_sample(p, &L, wo, flip); /* the glass's share too */
     const float3 h = warp_ggx_vndf(u, wo, L.alpha);
     wi = 2.0f * dot(wo, h) * h - wo;
   } else {
-    const float v = fmin((u_lobe - L.p_diffuse - L.p_reflect) / L.p_glass, 0x1.fffffep-1f);
+    const float v = fmin((u_lobe - L.p_diffuse - L.p_dtrans - L.p_reflect) / L.p_glass, 0x1.fffffep-1f);
     const float3 h = L.delta ? (float3)(0.0f, 0.0f, 1.0f) : warp_ggx_vndf(u, wo, L.alpha);
     const float wo_h = dot(wo, h);
     const float p_r = max_component(gltf_glass_r(&L, wo_h));

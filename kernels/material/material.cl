@@ -95,6 +95,15 @@ inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
         mix(m->iridescence_thickness_min, m->iridescence_thickness_max,
             texture_slot_sample(s, &m->tex[TEX_IRIDESCENCE_THICKNESS], uv0, uv1, false, white).y);
   }
+  sh->bsdf.diffuse_transmission = 0.0f;
+  sh->bsdf.diffuse_transmission_color = vload3(0, m->diffuse_transmission_color);
+  if (m->diffuse_transmission > 0.0f) {
+    sh->bsdf.diffuse_transmission =
+        m->diffuse_transmission *
+        texture_slot_sample(s, &m->tex[TEX_DIFFUSE_TRANSMISSION], uv0, uv1, false, white).w;
+    sh->bsdf.diffuse_transmission_color *=
+        texture_slot_sample(s, &m->tex[TEX_DIFFUSE_TRANSMISSION_COLOR], uv0, uv1, true, white).xyz;
+  }
   sh->emission = material_emission_uv(s, m, uv0, uv1);
   if (m->tex[TEX_NORMAL].texture >= 0) sh->ns = material_normal_map(s, m, sh);
 }

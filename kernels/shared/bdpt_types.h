@@ -1,7 +1,7 @@
 /* What bidirectional path tracing keeps of a light subpath between its two kernels
  * (kernels/integrators/bdpt.cl): one PathVertex per stored light vertex, a fixed number of
  * slots per light path (RenderParams.light_vertex_capacity). Plain floats, so the host
- * knows its size (144 bytes) for the buffer it allocates. */
+ * knows its size (160 bytes) for the buffer it allocates. */
 #ifndef CLPT_SHARED_BDPT_TYPES_H
 #define CLPT_SHARED_BDPT_TYPES_H
 
@@ -24,6 +24,8 @@ typedef struct PathVertex {
   u32 depth;               /* index k of the vertex y_k: 1 for the first surface hit */
   u32 material;            /* bits 0-30: the material; bit 31: SurfaceHit.front */
   float iridescence, iridescence_ior, iridescence_thickness; /* KHR_materials_iridescence */
+  float diffuse_transmission;              /* KHR_materials_diffuse_transmission */
+  float diffuse_transmission_color[3];
   u32 unused;              /* free: keeps the size a multiple of 16 bytes */
 } PathVertex;
 

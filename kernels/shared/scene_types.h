@@ -71,7 +71,9 @@ enum TextureSlotId {
   TEX_CLEARCOAT_ROUGHNESS = 8, /* linear; G clearcoatRoughnessFactor */
   TEX_IRIDESCENCE = 9,        /* linear; R iridescenceFactor */
   TEX_IRIDESCENCE_THICKNESS = 10, /* linear; G: mix(thickness minimum, maximum, G) */
-  TEX_SLOT_COUNT = 11
+  TEX_DIFFUSE_TRANSMISSION = 11,  /* linear; A diffuseTransmissionFactor */
+  TEX_DIFFUSE_TRANSMISSION_COLOR = 12, /* sRGB; RGB diffuseTransmissionColorFactor */
+  TEX_SLOT_COUNT = 13
 };
 
 typedef struct TextureSlot {
@@ -106,9 +108,11 @@ typedef struct Material {
   float iridescence_ior;      /* iridescenceIor (1.3): the film's index */
   float iridescence_thickness_min; /* iridescenceThicknessMinimum, nm (100) */
   float iridescence_thickness_max; /* iridescenceThicknessMaximum, nm (400) */
-  float pad[2];
+  float diffuse_transmission; /* KHR_materials_diffuse_transmission factor (0) */
+  float pad;
   float specular_color[4];    /* KHR_materials_specular specularColorFactor (1,1,1), w unused */
   float attenuation_color[4]; /* KHR_materials_volume (1,1,1), w unused */
+  float diffuse_transmission_color[4]; /* diffuseTransmissionColorFactor (1,1,1), w unused */
   TextureSlot tex[TEX_SLOT_COUNT];
 } Material;
 

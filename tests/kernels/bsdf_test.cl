@@ -1,7 +1,8 @@
 /* Thin wrappers around kernels/bsdf/ for tests/bsdf_test.cpp.
- * A BSDF configuration arrives as 16 floats (tests/bsdf_test.cpp `pack`): base colour[3],
+ * A BSDF configuration arrives as 20 floats (tests/bsdf_test.cpp `pack`): base colour[3],
  * specular colour[3], metallic, roughness, specular, transmission, ior, clearcoat,
- * clearcoat roughness, iridescence, its film's ior and thickness (nm). Directions
+ * clearcoat roughness, iridescence, its film's ior and thickness (nm), diffuse transmission
+ * and its colour[3]. Directions
  * are local (+z the front-face normal) unless the kernel says world. Sample outputs:
  *   dir_pdf[i]  = (wi, pdf_w): pdf_w 0 for an absorbed sample, the discrete probability for
  *                 a delta one;
@@ -22,6 +23,8 @@ inline BsdfParams test_params(__global const float* c) {
   p.iridescence = c[13];
   p.iridescence_ior = c[14];
   p.iridescence_thickness = c[15];
+  p.diffuse_transmission = c[16];
+  p.diffuse_transmission_color = (float3)(c[17], c[18], c[19]);
   return p;
 }
 

@@ -1,17 +1,17 @@
 /* tests/path_vertex_test.cpp: a SurfaceHit stored into a PathVertex and read back
  * (kernels/integrators/stages/path_vertex.cl), for every field the BSDF and the connection
- * code read. in[i]: 20 floats per item (base colour[3], specular colour[3], metallic,
+ * code read. in[i]: 24 floats per item (base colour[3], specular colour[3], metallic,
  * roughness, specular, transmission, ior, clearcoat, clearcoat roughness, material as a float,
- * front, unused, iridescence, its ior and thickness, unused), each BSDF input rounded by
- * bsdf_unorm16 where material_resolve rounds it; out[i]: the same 20 read back from the stored
- * vertex (15: flipped). */
+ * front, unused, iridescence, its ior and thickness, diffuse transmission, its colour[3],
+ * unused), each BSDF input rounded by bsdf_unorm16 where material_resolve rounds it; out[i]:
+ * the same 24 read back from the stored vertex (15: flipped). */
 #include "integrators/stages/path_vertex.cl"
 
 __kernel void path_vertex_round_trip(__global const float* in, __global PathVertex* vertices,
                                      __global float* out, uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;
-  __global const float* c = in + 20 * i;
+  __global const float* c = in + 24 * i;
   SurfaceHit sh;
   sh.p = (float3)(1.0f, 2.0f, 3.0f);
   sh.ng = sh.ns = (float3)(0.0f, 0.0f, 1.0f);
@@ -27,6 +27,8 @@ __kernel void path_vertex_round_trip(__global const float* in, __global PathVert
   sh.bsdf.iridescence = c[16];
   sh.bsdf.iridescence_ior = c[17];
   sh.bsdf.iridescence_thickness = c[18];
+  sh.bsdf.diffuse_transmission = c[19];
+  sh.bsdf.diffuse_transmission_color = (float3)(c[20], c[21], c[22]);
   sh.material = (u32)c[13];
   sh.front = (u32)c[14];
   SubpathState st;
@@ -34,7 +36,7 @@ __kernel void path_vertex_round_trip(__global const float* in, __global PathVert
   st.dvcm = st.dvc = st.dvm = 0.0f;
   path_vertex_store(&vertices[i], &sh, (float3)(0.0f, 0.0f, 1.0f), &st, 1u);
   const SurfaceHit r = path_vertex_surface(&vertices[i]);
-  __global float* o = out + 20 * i;
+  __global float* o = out + 24 * i;
   o[0] = r.bsdf.base_color.x, o[1] = r.bsdf.base_color.y, o[2] = r.bsdf.base_color.z;
   o[3] = r.bsdf.specular_color.x, o[4] = r.bsdf.specular_color.y, o[5] = r.bsdf.specular_color.z;
   o[6] = r.bsdf.metallic, o[7] = r.bsdf.roughness, o[8] = r.bsdf.specular;
@@ -43,5 +45,7 @@ __kernel void path_vertex_round_trip(__global const float* in, __global PathVert
   o[12] = r.bsdf.clearcoat_roughness - sh.bsdf.clearcoat_roughness;
   o[13] = (float)r.material, o[14] = (float)r.front, o[15] = (float)r.flipped;
   o[16] = r.bsdf.iridescence, o[17] = r.bsdf.iridescence_ior, o[18] = r.bsdf.iridescence_thickness;
-  o[19] = 0.0f;
+  o[19] = r.bsdf.diffuse_transmission;
+  o[20] = r.bsdf.diffuse_transmission_color.x, o[21] = r.bsdf.diffuse_transmission_color.y;
+  o[22] = r.bsdf.diffuse_transmission_color.z, o[23] = 0.0f;
 }

@@ -205,6 +205,15 @@ Material object_material(Scene& scene, StageMaterial kind) {
       m.iridescence_ior = 1.8f;
       m.iridescence_thickness_max = 450.0f;
       break;
+    case StageMaterial::Translucent:
+      // Light enters the closed object diffusely, scatters off its inside and leaves it.
+      m.base_color = glm::vec4(0.7f, 0.7f, 0.7f, 1.0f);
+      m.roughness = 0.5f;
+      m.specular = 1.0f;
+      m.diffuse_transmission = 0.6f;
+      m.diffuse_transmission_color = glm::vec3(0.9f, 0.5f, 0.3f);
+      m.double_sided = true;
+      break;
   }
   return m;
 }
@@ -302,6 +311,7 @@ std::string stage_material_name(StageMaterial m) {
     case StageMaterial::EmissiveTexture: return "emissive_texture";
     case StageMaterial::Clearcoat: return "clearcoat";
     case StageMaterial::IridescentGlass: return "iridescent_glass";
+    case StageMaterial::Translucent: return "translucent";
   }
   throw std::logic_error("stage material");
 }

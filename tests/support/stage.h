@@ -37,6 +37,7 @@ enum class StageMaterial {
   EmissiveTexture,  // diffuse with an emissive checker texture (a second, textured light)
   Clearcoat,        // rough red plastic under a glossy KHR_materials_clearcoat
   IridescentGlass,  // rough glass (as GlassRough) under a KHR_materials_iridescence film
+  Translucent,      // rough plastic whose diffuse layer transmits 0.6 (KHR_materials_diffuse_transmission)
 };
 
 enum class StageLight {

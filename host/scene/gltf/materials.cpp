@@ -325,6 +325,13 @@ void Converter::convert_materials() {
       mat.iridescence_texture = ext_texture(*e, n, "iridescenceTexture");
       mat.iridescence_thickness_texture = ext_texture(*e, n, "iridescenceThicknessTexture");
     }
+    if (const tinygltf::Value* e = extension("KHR_materials_diffuse_transmission")) {
+      const char* n = "KHR_materials_diffuse_transmission";
+      mat.diffuse_transmission = float(std::clamp(ext_number(*e, n, "diffuseTransmissionFactor", 0.0), 0.0, 1.0));
+      mat.diffuse_transmission_texture = ext_texture(*e, n, "diffuseTransmissionTexture");
+      mat.diffuse_transmission_color = glm::min(ext_color(*e, n, "diffuseTransmissionColorFactor"), glm::vec3(1.0f));
+      mat.diffuse_transmission_color_texture = ext_texture(*e, n, "diffuseTransmissionColorTexture");
+    }
     if (const tinygltf::Value* e = extension("KHR_materials_volume")) {
       const char* n = "KHR_materials_volume";
       const double inf = std::numeric_limits<double>::infinity();

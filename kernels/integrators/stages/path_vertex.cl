@@ -37,6 +37,8 @@ inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* sh, floa
   v->iridescence = sh->bsdf.iridescence;
   v->iridescence_ior = sh->bsdf.iridescence_ior;
   v->iridescence_thickness = sh->bsdf.iridescence_thickness;
+  v->diffuse_transmission = sh->bsdf.diffuse_transmission;
+  vstore3(sh->bsdf.diffuse_transmission_color, 0, v->diffuse_transmission_color);
   v->unused = 0u;
 }
 
@@ -77,6 +79,8 @@ inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   sh.bsdf.iridescence = v->iridescence;
   sh.bsdf.iridescence_ior = v->iridescence_ior;
   sh.bsdf.iridescence_thickness = v->iridescence_thickness;
+  sh.bsdf.diffuse_transmission = v->diffuse_transmission;
+  sh.bsdf.diffuse_transmission_color = vload3(0, v->diffuse_transmission_color);
   sh.emission = (float3)(0.0f);
   return sh;
 }
