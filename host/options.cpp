@@ -59,6 +59,12 @@ struct Parser {
                    ->type_name("SECONDS")
                    ->check(CLI::PositiveNumber.description(""))
                    ->check(kFinite);
+    app.add_option("--pass-seconds", o.pass_seconds,
+                   "Length a pass of samples aims at (progress, Ctrl-C and --time act between passes) "
+                   "[0.1; 0.03 on GPUs]")
+        ->type_name("SECONDS")
+        ->check(CLI::PositiveNumber.description(""))
+        ->check(kFinite);
     app.add_option("--resolution", resolution, "Image size WxH [640 wide, camera aspect]")
         ->type_name("WxH");
     app.add_option("--camera", o.camera,

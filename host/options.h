@@ -15,6 +15,7 @@ struct Options {
   bool list_devices = false;
   uint64_t spp = 64;              // 0: no sample limit (only with --time)
   double time_limit = 0.0;        // seconds; 0: none
+  double pass_seconds = 0.0;      // pass length aimed at; 0: the renderer's default
   uint32_t width = 0, height = 0; // 0: from the camera's aspect ratio
   std::string camera;
   std::string env;                // equirectangular environment map (.hdr, .exr); empty: none

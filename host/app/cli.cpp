@@ -151,6 +151,7 @@ int run(const Options& opt) {
   settings.height = opt.height;
   settings.spp = opt.spp;
   settings.time_limit = opt.time_limit;
+  settings.target_pass_seconds = opt.pass_seconds;
   settings.max_depth = opt.max_depth;
   settings.seed = opt.seed;
   settings.integrator = opt.integrator;

@@ -80,6 +80,10 @@ class Integrator {
   // Enqueues one pass of params.samples_per_pass (> 0) samples; it completes by the next
   // blocking call on the queue (film read, finish).
   virtual void render_pass(const dev::RenderParams& params, Film& film) = 0;
+  // Whether the image is the same however the samples are split into passes (each sample
+  // is a function of its index alone). Metropolis is not: a pass runs whole mutations per
+  // chain, so the renderer gives it a schedule that does not look at the clock.
+  virtual bool pass_invariant() const { return true; }
   // How its program was obtained (cache or build) and how long that took.
   virtual const cl::BuildInfo& build_info() const = 0;
   // Shadow rays of connection strategies so far (bdpt); 0 for integrators without them.

@@ -30,6 +30,7 @@ class Metropolis final : public Integrator {
   const char* name() const override { return "mlt"; }
   void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;
+  bool pass_invariant() const override { return false; }
   const cl::BuildInfo& build_info() const override { return program_.build_info(); }
   MetropolisStats metropolis_stats() const override;
 

@@ -168,6 +168,14 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
                              : ctx_.device().is_gpu()              ? 0.03
                                                                    : 0.1;
   integrator_->set_stop(stop);
+  // Pass sizes follow the clock (each pass aims at pass_seconds), except for integrators
+  // whose image depends on the split (pass_invariant) in a render with a sample count: they
+  // double from 1 spp up to kFixedPassSamples samples a pass, so that the same seed gives
+  // the same image however fast or busy the machine is. A --time render stops by the
+  // clock and is not reproducible anyway.
+  constexpr uint64_t kFixedPassSamples = uint64_t(1) << 20;
+  const bool by_clock = target == 0 || integrator_->pass_invariant();
+  const uint64_t fixed_cap = std::max<uint64_t>(1, kFixedPassSamples / (uint64_t(width_) * height_));
   const auto start = Clock::now();
   uint64_t done = start_spp_;
   uint64_t pass_spp = 1;
@@ -203,7 +211,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
     // Aim the next pass at pass_seconds, growing at most 2x per pass.
     seconds_per_spp = dt / double(n);
     const double fit = seconds_per_spp > 0.0 ? pass_seconds / seconds_per_spp : 2.0 * n;
-    pass_spp = std::clamp<uint64_t>(uint64_t(fit), 1, 2 * n);
+    pass_spp = by_clock ? std::clamp<uint64_t>(uint64_t(fit), 1, 2 * n) : std::min(2 * pass_spp, fixed_cap);
     if (progress) progress(done, target, seconds_since(start));
   }
   stats_.render_seconds = seconds_since(start);
