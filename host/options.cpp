@@ -300,6 +300,10 @@ struct Parser {
     app.add_option("--kernel-dir", o.kernel_dir,
                    "Load kernel sources from this folder instead of the built-in ones")
         ->type_name("DIR");
+    app.add_option("--dump-kernels", o.dump_kernels,
+                   "Write each kernel program's source, as a device is given it, and its build "
+                   "options (programs.tsv) to a new folder, and exit")
+        ->type_name("DIR");
   }
 };
 
@@ -349,7 +353,7 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
     throw Error(ExitCode::Usage, std::string(e.what()) + "\nRun 'clpt --help' for the options.");
   }
   Options o = p.o;
-  if (o.list_devices) return o;
+  if (o.list_devices || !o.dump_kernels.empty()) return o;
   if (o.scene.empty())
     throw Error(ExitCode::Usage, "no scene given\nusage: clpt [options] scene.gltf|scene.glb "
                                  "(run 'clpt --help' for the options)");

@@ -13,6 +13,7 @@ struct Options {
   std::string output = "clpt.exr";
   std::string device;             // --device spec; empty: first GPU, else PoCL
   bool list_devices = false;
+  std::string dump_kernels;       // --dump-kernels DIR: write the programs' sources and exit
   uint64_t spp = 64;              // 0: no sample limit (only with --time)
   double time_limit = 0.0;        // seconds; 0: none
   double pass_seconds = 0.0;      // pass length aimed at; 0: the renderer's default

@@ -10,6 +10,13 @@ packages=(
   libopenimageio-dev openimageio-tools
   libdraco-dev libmeshoptimizer-dev
   libgtest-dev libboost-math-dev
+  # The vendor compile checks (scripts/kernel_compile_check.py, ctest label portability):
+  # clang-15 and libclc for NVIDIA PTX and AMD GCN, Intel's offline compiler ocloc (it comes
+  # with Intel's OpenCL ICD, which also registers /etc/OpenCL/vendors/intel.icd; the test
+  # scripts keep sanitized processes away from it, scripts/test-sanitize.sh says why).
+  python3 clang-15 libclc-15 intel-opencl-icd
+  # Oclgrind: a simulated OpenCL device with memory checks (scripts/oclgrind-check.sh).
+  oclgrind bc
 )
 
 missing=()

@@ -33,6 +33,14 @@ printf '%s\n' '# Allocations PoCL and LLVM keep until exit by design (scripts/te
 export ASAN_OPTIONS="detect_leaks=${CLPT_SANITIZE_LEAKS:-1}:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
 export LSAN_OPTIONS="suppressions=$PWD/build-asan/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+# Only PoCL's ICD: the OpenCL ICD loader opens every registered driver in the process, and
+# Intel's (intel-opencl-icd, which scripts/install-deps.sh installs for ocloc, as a user's
+# machine with an Intel GPU has it) dlopens a library with RTLD_DEEPBIND, which the ASan runtime
+# refuses: every sanitized process that touches OpenCL would abort at its first call.
+mkdir -p build-asan/icd
+rm -f build-asan/icd/*.icd
+ln -s /etc/OpenCL/vendors/pocl.icd build-asan/icd/pocl.icd
+export OCL_ICD_VENDORS="$PWD/build-asan/icd"
 cmake --build --preset asan
 built=$(date +%s)
 

@@ -15,6 +15,7 @@
 
 #include "app/bdpt_mosaic.h"
 #include "cl/context.h"
+#include "cl/programs.h"
 #include "io/image_io.h"
 #include "io/output_path.h"
 #include "options.h"
@@ -113,6 +114,12 @@ int run(const Options& opt) {
   }
   install_signal_handlers();  // from here on, Ctrl-C stops cleanly and saves what was rendered
   if (!opt.kernel_dir.empty()) ::setenv("CLPT_KERNEL_DIR", opt.kernel_dir.c_str(), 1);
+  if (!opt.dump_kernels.empty()) {
+    const size_t n = programs::dump(opt.dump_kernels);
+    log::info("wrote " + std::to_string(n) + " kernel programs and programs.tsv to " +
+              opt.dump_kernels);
+    return 0;
+  }
   {
     std::vector<NamedPath> outputs = {{"output", opt.output}}, inputs = {{"the scene", opt.scene}};
     if (opt.stats && *opt.stats != "-") outputs.push_back({"--stats", *opt.stats});

@@ -226,11 +226,15 @@ std::vector<unsigned char> program_binary(cl_program program) {
 // ---------------------------------------------------------------------------------------
 // Program
 
+std::string build_options(const std::string& extra) {
+  return "-cl-std=CL1.2" + (extra.empty() ? "" : " " + extra);
+}
+
 Program::Program(const Context& ctx, const std::string& entry_file, const std::string& extra_options,
                  const KernelSources& sources) {
   const auto t0 = std::chrono::steady_clock::now();
   const DeviceInfo& dev = ctx.device();
-  const std::string options = "-cl-std=CL1.2" + (extra_options.empty() ? "" : " " + extra_options);
+  const std::string options = build_options(extra_options);
   const std::string source = resolve_kernel_source(entry_file, sources);
   const CacheKey key = make_key(dev, options, source);
   const fs::path cache_dir = kernel_cache_dir();

@@ -28,6 +28,17 @@ struct KernelSources {
 // markers naming the real files. Throws Error(Device) for a missing file.
 std::string resolve_kernel_source(const std::string& entry_file, const KernelSources& sources);
 
+// One OpenCL program: its entry file under kernels/ and the build options beyond the ones
+// every program gets (build_options). A name of its own for files that hold it (the dump).
+struct ProgramSpec {
+  const char* name;        // e.g. "mmlt"
+  const char* entry_file;  // e.g. "integrators/mlt.cl"
+  const char* options;     // e.g. "-DCLPT_MLT_MULTIPLEXED=1"; "" for none
+};
+
+// The options a program is built with: "-cl-std=CL1.2" and then `extra`.
+std::string build_options(const std::string& extra);
+
 struct BuildInfo {
   bool from_cache = false;
   double seconds = 0.0;  // wall time to get a usable program (cache load or full build)
@@ -45,6 +56,8 @@ class Program {
   // carrying the build log.
   Program(const Context& ctx, const std::string& entry_file, const std::string& options = "",
           const KernelSources& sources = KernelSources::core());
+  Program(const Context& ctx, const ProgramSpec& spec)
+      : Program(ctx, spec.entry_file, spec.options) {}
   ~Program();
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "cl/programs.h"
 #include "shared/bdpt_types.h"
 #include "util/error.h"
 
@@ -13,7 +14,7 @@ BidirectionalPathTracer::BidirectionalPathTracer(const cl::Context& ctx, const S
                                                  size_t path_memory_bytes)
     : ctx_(ctx),
       budget_(path_memory_bytes),
-      program_(ctx, "integrators/bdpt.cl"),
+      program_(ctx, programs::kBdpt),
       light_kernel_(program_, "bdpt_light"),
       camera_kernel_(program_, "bdpt_camera"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <unordered_map>
 
+#include "cl/programs.h"
 #include "util/error.h"
 #include "util/timer.h"
 
@@ -34,7 +35,7 @@ IcRecords::IcRecords(const cl::Context& ctx, const SceneBuffers& scene, const Ic
                      dev::IcGather gather)
     : ctx_(ctx),
       config_(config),
-      program_(ctx, "integrators/ic.cl"),
+      program_(ctx, programs::kIc),
       place_kernel_(program_, "ic_place"),
       rays_kernel_(program_, "ic_record_rays"),
       finish_kernel_(program_, "ic_record_finish"),

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "cl/programs.h"
+
 namespace clpt {
 
 std::vector<float> OneBounceIndirect::area_cdf(const std::vector<float>& areas, double* total) {
@@ -24,7 +26,7 @@ std::vector<float> OneBounceIndirect::area_cdf(const std::vector<float>& areas, 
 OneBounceIndirect::OneBounceIndirect(const cl::Context& ctx, const SceneBuffers& scene,
                                      uint32_t generator)
     : ctx_(ctx),
-      program_(ctx, "integrators/indirect1.cl"),
+      program_(ctx, programs::kIndirect1),
       kernel_(program_, "indirect1_render"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
       indirect_params_(ctx, sizeof(dev::IndirectParams), CL_MEM_READ_ONLY, nullptr,

@@ -1,5 +1,6 @@
 #include "integrators/integrator.h"
 
+#include "cl/programs.h"
 #include "integrators/bdpt.h"
 #include "integrators/indirect1.h"
 #include "integrators/irradiance_cache.h"
@@ -17,18 +18,18 @@ namespace {
 using Config = IntegratorConfig;
 
 std::unique_ptr<Integrator> make_pt(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
-  return std::make_unique<MegakernelIntegrator>(ctx, s, "pt", "integrators/pt.cl", "pt_render");
+  return std::make_unique<MegakernelIntegrator>(ctx, s, "pt", programs::kPt, "pt_render");
 }
 // `direct` is the path tracer stopped after one bounce (the row's max_depth_cap).
 std::unique_ptr<Integrator> make_direct(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
-  return std::make_unique<MegakernelIntegrator>(ctx, s, "direct", "integrators/pt.cl", "pt_render");
+  return std::make_unique<MegakernelIntegrator>(ctx, s, "direct", programs::kPt, "pt_render");
 }
 // `indirect1`: the light after exactly one bounce, by the generator --indirect names.
 std::unique_ptr<Integrator> make_indirect1(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
   return std::make_unique<OneBounceIndirect>(ctx, s, c.indirect);
 }
 std::unique_ptr<Integrator> make_ao(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
-  return std::make_unique<MegakernelIntegrator>(ctx, s, "ao", "integrators/ao.cl", "ao_render");
+  return std::make_unique<MegakernelIntegrator>(ctx, s, "ao", programs::kAo, "ao_render");
 }
 std::unique_ptr<Integrator> make_lt(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
   return std::make_unique<LightTracer>(ctx, s);

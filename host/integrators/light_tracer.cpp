@@ -1,12 +1,13 @@
 #include "integrators/light_tracer.h"
 
+#include "cl/programs.h"
 #include "util/error.h"
 
 namespace clpt {
 
 LightTracer::LightTracer(const cl::Context& ctx, const SceneBuffers& scene)
     : ctx_(ctx),
-      program_(ctx, "integrators/lt.cl"),
+      program_(ctx, programs::kLt),
       kernel_(program_, "lt_render"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
   film_arg_ = scene.bind(kernel_, 0);

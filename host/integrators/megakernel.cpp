@@ -3,11 +3,11 @@
 namespace clpt {
 
 MegakernelIntegrator::MegakernelIntegrator(const cl::Context& ctx, const SceneBuffers& scene,
-                                           const char* name, const char* program_file,
+                                           const char* name, const cl::ProgramSpec& program,
                                            const char* kernel_name)
     : ctx_(ctx),
       name_(name),
-      program_(ctx, program_file),
+      program_(ctx, program),
       kernel_(program_, kernel_name),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
   film_arg_ = scene.bind(kernel_, 0);

@@ -10,7 +10,7 @@ namespace clpt {
 class MegakernelIntegrator final : public Integrator {
  public:
   MegakernelIntegrator(const cl::Context& ctx, const SceneBuffers& scene, const char* name,
-                       const char* program_file, const char* kernel_name);
+                       const cl::ProgramSpec& program, const char* kernel_name);
   const char* name() const override { return name_; }
   void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "cl/programs.h"
 #include "util/error.h"
 #include "util/log.h"
 #include "util/timer.h"
@@ -57,7 +58,7 @@ size_t chain_bytes(uint32_t dims) { return sizeof(dev::MltChain) + size_t(dims) 
 Metropolis::Metropolis(const cl::Context& ctx, const SceneBuffers& scene, const MltConfig& config)
     : ctx_(ctx),
       config_(checked(config)),
-      program_(ctx, "integrators/mlt.cl", config_.multiplexed ? "-DCLPT_MLT_MULTIPLEXED=1" : ""),
+      program_(ctx, config_.multiplexed ? programs::kMmlt : programs::kPssmlt),
       bootstrap_kernel_(program_, "mlt_bootstrap"),
       start_kernel_(program_, "mlt_start"),
       mutate_kernel_(program_, "mlt_mutate"),

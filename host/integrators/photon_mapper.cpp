@@ -1,5 +1,6 @@
 #include "integrators/photon_mapper.h"
 
+#include "cl/programs.h"
 #include "util/log.h"
 #include "util/timer.h"
 
@@ -15,7 +16,7 @@ PhotonMapper::PhotonMapper(const cl::Context& ctx, const SceneBuffers& scene, ui
                                                  dev::IC_GATHER_PHOTONS_NO_CAUSTICS)
                    : nullptr),
       no_cache_(cache ? nullptr : std::make_unique<IcNoCache>(ctx)),
-      program_(ctx, "integrators/pm.cl"),
+      program_(ctx, programs::kPm),
       kernel_(program_, "pm_render"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
   first_arg_ = scene.bind(kernel_, 0);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "cl/programs.h"
 #include "integrators/photon_mapper.h"
 #include "util/error.h"
 #include "util/timer.h"
@@ -16,7 +17,7 @@ Sppm::Sppm(const cl::Context& ctx, const SceneBuffers& scene, uint64_t paths_per
     : ctx_(ctx),
       paths_per_pass_(paths_per_pass),
       tracer_(ctx, scene),
-      program_(ctx, "integrators/sppm.cl"),
+      program_(ctx, programs::kSppm),
       insert_kernel_(program_, "sppm_grid_insert"),
       pass_kernel_(program_, "sppm_pass"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cl/programs.h"
 #include "shared/bdpt_types.h"
 #include "util/error.h"
 #include "util/timer.h"
@@ -14,7 +15,7 @@ VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const S
     : ctx_(ctx),
       config_(config),
       budget_(memory_bytes),
-      program_(ctx, "integrators/vcm.cl"),
+      program_(ctx, programs::kVcm),
       light_kernel_(program_, "vcm_light"),
       insert_kernel_(program_, "vcm_grid_insert"),
       camera_kernel_(program_, "vcm_camera"),

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "cl/programs.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -10,7 +11,7 @@ static_assert(sizeof(dev::Photon) == 64, "Photon should stay 64 bytes");
 
 PhotonTracer::PhotonTracer(const cl::Context& ctx, const SceneBuffers& scene)
     : ctx_(ctx),
-      program_(ctx, "integrators/photon.cl"),
+      program_(ctx, programs::kPhoton),
       kernel_(program_, "photon_emit"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
       count_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "photon count"),

@@ -17,7 +17,7 @@
 
 /* Orients the hit's normals to wo's side (sh->front keeps the side the ray arrived from,
  * sh->flipped whether the normals now face the back). */
-inline void bsdf_orient(SurfaceHit* sh, float3 wo) {
+static inline void bsdf_orient(SurfaceHit* sh, float3 wo) {
   if (dot(sh->ng, wo) < 0.0f) {
     sh->ng = -sh->ng;
     sh->ns = -sh->ns;
@@ -31,7 +31,7 @@ typedef struct BsdfFrame {
   float go; /* dot(ng, wo) with ng as stored in sh */
 } BsdfFrame;
 
-inline BsdfFrame bsdf_frame(const SurfaceHit* sh, float3 wo) {
+static inline BsdfFrame bsdf_frame(const SurfaceHit* sh, float3 wo) {
   BsdfFrame f;
   f.go = dot(sh->ng, wo);
   /* ng and ns are on one side, the front one unless bsdf_orient flipped them. That is read
@@ -45,23 +45,24 @@ inline BsdfFrame bsdf_frame(const SurfaceHit* sh, float3 wo) {
   return f;
 }
 
-inline float3 bsdf_to_local(const BsdfFrame* f, float3 w) {
+static inline float3 bsdf_to_local(const BsdfFrame* f, float3 w) {
   return (float3)(dot(w, f->t), dot(w, f->b), dot(w, f->n));
 }
 
-inline float3 bsdf_to_world(const BsdfFrame* f, float3 w) {
+static inline float3 bsdf_to_world(const BsdfFrame* f, float3 w) {
   return w.x * f->t + w.y * f->b + w.z * f->n;
 }
 
 /* Whether the geometric normal agrees with the shading frame about the side of wi. */
-inline bool bsdf_sides_agree(const BsdfFrame* f, const SurfaceHit* sh, float3 wo_l, float3 wi_l,
-                             float3 wi) {
+static inline bool bsdf_sides_agree(const BsdfFrame* f, const SurfaceHit* sh, float3 wo_l,
+                                    float3 wi_l,
+                                    float3 wi) {
   const float gi = dot(sh->ng, wi);
   return (wo_l.z * wi_l.z > 0.0f) ? (gi * f->go > 0.0f) : (gi * f->go < 0.0f);
 }
 
 /* f(wo, wi) |cos(ns, wi)| of the non-delta lobes. */
-inline float3 bsdf_eval_cos(const SurfaceHit* sh, float3 wo, float3 wi, int mode) {
+static inline float3 bsdf_eval_cos(const SurfaceHit* sh, float3 wo, float3 wi, int mode) {
   const BsdfFrame f = bsdf_frame(sh, wo);
   const float3 wo_l = bsdf_to_local(&f, wo), wi_l = bsdf_to_local(&f, wi);
   if (!bsdf_sides_agree(&f, sh, wo_l, wi_l, wi)) return (float3)(0.0f);
@@ -71,8 +72,9 @@ inline float3 bsdf_eval_cos(const SurfaceHit* sh, float3 wo, float3 wi, int mode
 /* f(wo, wi) of the non-delta lobes without the cosine: photon density estimation, whose
  * photons' flux per area already holds the cosine at their arrival. The frame f =
  * bsdf_frame(sh, wo) and wo_l = wo in it are made once for all the photons of an estimate. */
-inline float3 bsdf_eval_in_frame(const SurfaceHit* sh, const BsdfFrame* f, float3 wo_l, float3 wi,
-                                 int mode) {
+static inline float3 bsdf_eval_in_frame(const SurfaceHit* sh, const BsdfFrame* f, float3 wo_l,
+                                        float3 wi,
+                                        int mode) {
   const float3 wi_l = bsdf_to_local(f, wi);
   const float c = fabs(wi_l.z);
   if (!(c > 1e-6f) || !bsdf_sides_agree(f, sh, wo_l, wi_l, wi)) return (float3)(0.0f);
@@ -81,25 +83,26 @@ inline float3 bsdf_eval_in_frame(const SurfaceHit* sh, const BsdfFrame* f, float
 
 /* gltf_diffuse_factor at wo: the diffuse layer's f for directions on wo's side, its coat
  * term at wi left out. */
-inline float3 bsdf_diffuse_factor(const SurfaceHit* sh, float3 wo) {
+static inline float3 bsdf_diffuse_factor(const SurfaceHit* sh, float3 wo) {
   const BsdfFrame f = bsdf_frame(sh, wo);
   return gltf_diffuse_factor(&sh->bsdf, bsdf_to_local(&f, wo));
 }
 
 /* Density of bsdf_sample at wi (solid angle), the delta lobes left out. */
-inline float bsdf_pdf_w(const SurfaceHit* sh, float3 wo, float3 wi) {
+static inline float bsdf_pdf_w(const SurfaceHit* sh, float3 wo, float3 wi) {
   const BsdfFrame f = bsdf_frame(sh, wo);
   return gltf_bsdf_pdf(&sh->bsdf, bsdf_to_local(&f, wo), bsdf_to_local(&f, wi));
 }
 
 /* Whether the BSDF has a non-delta lobe: NEE and MIS apply only then. */
-inline bool bsdf_has_smooth_lobe(const SurfaceHit* sh) {
+static inline bool bsdf_has_smooth_lobe(const SurfaceHit* sh) {
   return gltf_bsdf_has_smooth_lobe(&sh->bsdf);
 }
 
 /* A direction from the BSDF's lobe mixture (u: within the lobe, u_lobe: which lobe). A
  * direction on the wrong geometric side keeps its pdf but gets weight 0. */
-inline BsdfSample bsdf_sample(const SurfaceHit* sh, float3 wo, float2 u, float u_lobe, int mode) {
+static inline BsdfSample bsdf_sample(const SurfaceHit* sh, float3 wo, float2 u, float u_lobe,
+                                     int mode) {
   const BsdfFrame f = bsdf_frame(sh, wo);
   const float3 wo_l = bsdf_to_local(&f, wo);
   BsdfSample bs = gltf_bsdf_sample(&sh->bsdf, wo_l, u, u_lobe, mode);

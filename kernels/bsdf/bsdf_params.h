@@ -27,8 +27,10 @@ typedef struct BsdfParams {
 
 /* The clearcoat inputs are rounded to 16-bit unorm steps (1 / 65535) when resolved, so that
  * a PathVertex stores them exactly in one word (kernels/shared/bdpt_types.h). */
-inline float bsdf_unorm16(float x) { return rint(clamp(x, 0.0f, 1.0f) * 65535.0f) * (1.0f / 65535.0f); }
-inline uint bsdf_unorm16_bits(float x) { return (uint)rint(clamp(x, 0.0f, 1.0f) * 65535.0f); }
+static inline float bsdf_unorm16(float x) { return rint(clamp(x, 0.0f,
+                                 1.0f) * 65535.0f) * (1.0f / 65535.0f); }
+static inline uint bsdf_unorm16_bits(float x) { return (uint)rint(clamp(x, 0.0f,
+                                     1.0f) * 65535.0f); }
 
 /* Which quantity a path carries: radiance from the camera side, or importance from the
  * light side (light tracing, BDPT light subpaths). The BSDF needs it for the adjoint of

@@ -9,18 +9,18 @@
 #include "core/math.cl"
 
 /* (1 - cos)^5, cos clamped to [0, 1]. */
-inline float fresnel_schlick_weight(float cos_theta) {
+static inline float fresnel_schlick_weight(float cos_theta) {
   const float m = clamp(1.0f - cos_theta, 0.0f, 1.0f);
   const float m2 = m * m;
   return m2 * m2 * m;
 }
 
-inline float3 fresnel_schlick(float3 f0, float cos_theta) {
+static inline float3 fresnel_schlick(float3 f0, float cos_theta) {
   return f0 + ((float3)(1.0f) - f0) * fresnel_schlick_weight(cos_theta);
 }
 
 /* Reflectance at normal incidence of a boundary with relative index of refraction ior. */
-inline float fresnel_f0_from_ior(float ior) {
+static inline float fresnel_f0_from_ior(float ior) {
   const float r = (ior - 1.0f) / (ior + 1.0f);
   return r * r;
 }
@@ -29,7 +29,7 @@ inline float fresnel_f0_from_ior(float ior) {
  * surface normal, on the incident side) at a boundary with eta = eta_t / eta_i (the index of
  * the far side over the near side). 1 under total internal reflection. Symmetric: the
  * transmitted direction, seen from the other side with 1 / eta, has the same reflectance. */
-inline float fresnel_dielectric(float cos_i, float eta) {
+static inline float fresnel_dielectric(float cos_i, float eta) {
   cos_i = clamp(cos_i, 0.0f, 1.0f);
   const float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
   if (sin2_t >= 1.0f) return 1.0f;
@@ -41,7 +41,7 @@ inline float fresnel_dielectric(float cos_i, float eta) {
 
 /* Snell's law: the direction refracted from w (pointing away from the boundary, w.n > 0)
  * into the far side, with eta = eta_t / eta_i; false under total internal reflection. */
-inline bool refract_dir(float3 w, float3 n, float eta, float3* wt) {
+static inline bool refract_dir(float3 w, float3 n, float eta, float3* wt) {
   const float cos_i = dot(w, n);
   const float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
   if (sin2_t >= 1.0f) return false;

@@ -95,35 +95,36 @@ typedef struct GltfLobes {
   int outside;       /* wo on the front side */
 } GltfLobes;
 
-inline float avg3(float3 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
+static inline float avg3(float3 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
 
 /* Iridescence: the reflectance F of a lobe whose base has normal-incidence reflectance f0,
  * blended with the thin film's over that base by the weight k, mix(F, R_film, k), at the
  * outside cosine c (the extension's rule; F is kept exactly where k = 0). */
-inline float3 gltf_iridescent(const GltfLobes* L, float3 F, float3 f0, float c) {
+static inline float3 gltf_iridescent(const GltfLobes* L, float3 F, float3 f0, float c) {
   if (!(L->irid > 0.0f)) return F;
   return mix(F, thin_film_reflectance(c, L->irid_ior, L->irid_d, f0), L->irid);
 }
 
 /* The plastic's coat and the metal's reflectance at cos(wo, h) = c. */
-inline float3 gltf_coat(const BsdfParams* p, const GltfLobes* L, float c) {
+static inline float3 gltf_coat(const BsdfParams* p, const GltfLobes* L, float c) {
   return p->specular * gltf_iridescent(L, fresnel_schlick(L->f0, c), L->f0, c);
 }
-inline float3 gltf_metal(const BsdfParams* p, const GltfLobes* L, float c) {
+static inline float3 gltf_metal(const BsdfParams* p, const GltfLobes* L, float c) {
   return gltf_iridescent(L, fresnel_schlick(p->base_color, c), p->base_color, c);
 }
 
 /* The clearcoat's reflectance c Fc(x), and the share 1 - c Fc(x) of light that crosses it. */
-inline float gltf_clearcoat_f(const GltfLobes* L, float x) {
+static inline float gltf_clearcoat_f(const GltfLobes* L, float x) {
   return L->coat * (0.04f + 0.96f * fresnel_schlick_weight(x));
 }
-inline float gltf_clearcoat_pass(const GltfLobes* L, float x) { return 1.0f - gltf_clearcoat_f(L, x); }
+static inline float gltf_clearcoat_pass(const GltfLobes* L,
+                                        float x) { return 1.0f - gltf_clearcoat_f(L, x); }
 
 /* The glass's reflectance at cos(wo, h) = c on wo's side. A film sits on the outside: seen
  * from inside, it is evaluated at the cosine of the same wave outside, so that reflectance
  * (and with it transmission, 1 - r) is the same from both sides of a pair, as the exact
  * Fresnel term's is (a lossless stack reflects equally from both sides). */
-inline float3 gltf_glass_r(const GltfLobes* L, float c) {
+static inline float3 gltf_glass_r(const GltfLobes* L, float c) {
   const float F = fresnel_dielectric(c, L->eta);
   float3 r = (float3)(F);
   if (L->irid > 0.0f && F < 1.0f) {
@@ -139,7 +140,7 @@ inline float3 gltf_glass_r(const GltfLobes* L, float c) {
 }
 
 /* Weights and lobe probabilities at wo, given cos_o = |wo.z| and the side of wo. */
-inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outside) {
+static inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outside) {
   GltfLobes L;
   L.alpha = ggx_alpha(p->roughness);
   L.delta = L.alpha < GGX_ALPHA_DELTA;
@@ -188,7 +189,7 @@ inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outside) {
 
 /* The microfacet normal of a refraction pair (wo above, wi below, after mirroring), on wo's
  * side, or 0 when the pair cannot refract through any microfacet (Walter et al. 2007, eq. 16). */
-inline float3 gltf_transmission_half(float3 wo, float3 wi, float eta) {
+static inline float3 gltf_transmission_half(float3 wo, float3 wi, float eta) {
   float3 h = wo + eta * wi;
   const float len2 = dot(h, h);
   if (!(len2 > 1e-12f)) return (float3)(0.0f);
@@ -199,7 +200,7 @@ inline float3 gltf_transmission_half(float3 wo, float3 wi, float eta) {
 }
 
 /* Combined reflectance of the three specular reflection lobes at cos(wo, h) = c. */
-inline float3 gltf_reflectance(const BsdfParams* p, const GltfLobes* L, float c) {
+static inline float3 gltf_reflectance(const BsdfParams* p, const GltfLobes* L, float c) {
   float3 F = L->w_metal * gltf_metal(p, L, c);
   if (L->w_plastic > 0.0f) F += L->w_plastic * gltf_coat(p, L, c);
   if (L->w_glass > 0.0f) F += L->w_glass * gltf_glass_r(L, c);
@@ -207,8 +208,9 @@ inline float3 gltf_reflectance(const BsdfParams* p, const GltfLobes* L, float c)
 }
 
 /* f_base |wi.z| (the lobes under the clearcoat) with wo.z > 0 (mirrored). */
-inline float3 gltf_eval_base_up(const BsdfParams* p, const GltfLobes* L, float3 wo, float3 wi,
-                                int mode) {
+static inline float3 gltf_eval_base_up(const BsdfParams* p, const GltfLobes* L, float3 wo,
+                                       float3 wi,
+                                       int mode) {
   if (wi.z > 0.0f) {
     float3 f = (float3)(0.0f);
     if (L->w_plastic > 0.0f) {
@@ -251,7 +253,7 @@ inline float3 gltf_eval_base_up(const BsdfParams* p, const GltfLobes* L, float3 
 }
 
 /* The clearcoat's GGX reflection f_coat |wi.z| (non-delta coats), wo.z > 0. */
-inline float3 gltf_coat_eval_up(const GltfLobes* L, float3 wo, float3 wi) {
+static inline float3 gltf_coat_eval_up(const GltfLobes* L, float3 wo, float3 wi) {
   if (!(L->coat > 0.0f) || L->coat_delta || !(wi.z > 0.0f)) return (float3)(0.0f);
   const float3 h = normalize(wo + wi);
   return (float3)(gltf_clearcoat_f(L, dot(wo, h)) * ggx_d(h, L->alpha_c) * ggx_g2(wo, wi, L->alpha_c) /
@@ -259,8 +261,8 @@ inline float3 gltf_coat_eval_up(const GltfLobes* L, float3 wo, float3 wi) {
 }
 
 /* f |wi.z| with wo.z > 0 (mirrored): the coat, and the base seen through it. */
-inline float3 gltf_eval_up(const BsdfParams* p, const GltfLobes* L, float3 wo, float3 wi,
-                           int mode) {
+static inline float3 gltf_eval_up(const BsdfParams* p, const GltfLobes* L, float3 wo, float3 wi,
+                                  int mode) {
   float3 f = gltf_eval_base_up(p, L, wo, wi, mode);
   if (!(L->coat > 0.0f)) return f;
   f *= gltf_clearcoat_pass(L, wo.z) * gltf_clearcoat_pass(L, fabs(wi.z));
@@ -268,7 +270,7 @@ inline float3 gltf_eval_up(const BsdfParams* p, const GltfLobes* L, float3 wo, f
 }
 
 /* The base lobes' part of the mixture's density, wo.z > 0. */
-inline float gltf_pdf_base_up(const GltfLobes* L, float3 wo, float3 wi) {
+static inline float gltf_pdf_base_up(const GltfLobes* L, float3 wo, float3 wi) {
   if (wi.z > 0.0f) {
     float pdf = L->p_diffuse * warp_cosine_hemisphere_pdf(wi.z);
     if (!L->delta && L->p_reflect + L->p_glass > 0.0f) {
@@ -295,7 +297,7 @@ inline float gltf_pdf_base_up(const GltfLobes* L, float3 wo, float3 wi) {
 }
 
 /* The mixture's density with wo.z > 0 (mirrored). */
-inline float gltf_pdf_up(const GltfLobes* L, float3 wo, float3 wi) {
+static inline float gltf_pdf_up(const GltfLobes* L, float3 wo, float3 wi) {
   float coat = 0.0f;
   if (L->p_coat > 0.0f && !L->coat_delta && wi.z > 0.0f) {
     const float3 h = normalize(wo + wi);
@@ -305,19 +307,19 @@ inline float gltf_pdf_up(const GltfLobes* L, float3 wo, float3 wi) {
 }
 
 /* Mirrors w through the tangent plane when flip. */
-inline float3 gltf_flip(float3 w, bool flip) { return flip ? (float3)(w.x, w.y, -w.z) : w; }
+static inline float3 gltf_flip(float3 w, bool flip) { return flip ? (float3)(w.x, w.y, -w.z) : w; }
 
 /* A purely Lambertian surface (metallic 0, no transmission, specular 0: the project's own
  * scenes, and many exported ones): the mixture has the diffuse lobe alone, with factor
  * (1 - 0)(1 - 0) = 1. These shortcuts give what the general path gives, without the lobe
  * set-up (BsdfLambertLimit compares them with the closed form). */
-inline bool gltf_is_lambert(const BsdfParams* p) {
+static inline bool gltf_is_lambert(const BsdfParams* p) {
   return !(p->specular > 0.0f) && !(p->metallic > 0.0f) && !(p->transmission > 0.0f) &&
          !(p->clearcoat > 0.0f) && !(p->diffuse_transmission > 0.0f);
 }
 
 /* f(wo, wi) |wi.z| of the non-delta lobes. */
-inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, int mode) {
+static inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, int mode) {
   if (wo.z == 0.0f) return (float3)(0.0f);
   if (gltf_is_lambert(p))
     return wo.z * wi.z > 0.0f ? p->base_color * (INV_PI_F * fabs(wi.z)) : (float3)(0.0f);
@@ -330,7 +332,7 @@ inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, int mode
  * w_plastic (1 - max F(cos_o)) (1 - c Fc(cos_o)) base / pi, so that f_diffuse(wo, wi) =
  * kd(wo) (1 - max F(cos_i)) (1 - c Fc(cos_i)) <= kd(wo) on wo's side. The irradiance cache stands for kd E and path traces the rest,
  * f - kd (kernels/integrators/ic/ic_path.cl); for a Lambertian surface the rest is 0. */
-inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
+static inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
   if (wo.z == 0.0f) return (float3)(0.0f);
   if (gltf_is_lambert(p)) return p->base_color * INV_PI_F;
   const GltfLobes L = gltf_lobes(p, fabs(wo.z), wo.z > 0.0f);
@@ -341,7 +343,7 @@ inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
 }
 
 /* Density of gltf_bsdf_sample at wi, per steradian, the delta lobes left out. */
-inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
+static inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
   if (wo.z == 0.0f) return 0.0f;
   if (gltf_is_lambert(p)) return wo.z * wi.z > 0.0f ? warp_cosine_hemisphere_pdf(fabs(wi.z)) : 0.0f;
   const bool flip = wo.z < 0.0f;
@@ -350,7 +352,7 @@ inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
 }
 
 /* Whether some lobe is not a Dirac delta (NEE and MIS make sense). */
-inline bool gltf_bsdf_has_smooth_lobe(const BsdfParams* p) {
+static inline bool gltf_bsdf_has_smooth_lobe(const BsdfParams* p) {
   if (!(ggx_alpha(p->roughness) < GGX_ALPHA_DELTA)) return true;
   if (p->clearcoat > 0.0f && !(ggx_alpha(p->clearcoat_roughness) < GGX_ALPHA_DELTA)) return true;
   return (1.0f - clamp(p->metallic, 0.0f, 1.0f)) * (1.0f - clamp(p->transmission, 0.0f, 1.0f)) *
@@ -358,7 +360,7 @@ inline bool gltf_bsdf_has_smooth_lobe(const BsdfParams* p) {
                   p->diffuse_transmission * max_component(p->diffuse_transmission_color)) > 0.0f;
 }
 
-inline BsdfSample gltf_absorbed(void) {
+static inline BsdfSample gltf_absorbed(void) {
   BsdfSample bs;
   bs.wi = (float3)(0.0f, 0.0f, 1.0f);
   bs.weight = (float3)(0.0f);
@@ -370,7 +372,8 @@ inline BsdfSample gltf_absorbed(void) {
 /* The mirror direction of wo (mirrored frame), carrying every Dirac reflection at once: the
  * delta coat's c Fc(cos_o) and, for a delta base, its reflection seen through the coat twice.
  * They share one discrete probability, whichever of their lobes u_lobe picked. */
-inline BsdfSample gltf_mirror_sample(const BsdfParams* p, const GltfLobes* L, float3 wo, bool flip) {
+static inline BsdfSample gltf_mirror_sample(const BsdfParams* p, const GltfLobes* L, float3 wo,
+                                            bool flip) {
   const float p_r = L->delta && L->p_glass > 0.0f ? max_component(gltf_glass_r(L, wo.z)) : 0.0f;
   const float base_p = L->delta ? L->p_reflect + L->p_glass * p_r : 0.0f;
   const float coat_p = L->coat_delta ? L->p_coat : 0.0f;
@@ -387,8 +390,8 @@ inline BsdfSample gltf_mirror_sample(const BsdfParams* p, const GltfLobes* L, fl
 
 /* One direction from the lobe mixture: u picks the direction within the lobe, u_lobe the
  * lobe (and, rescaled, reflection or refraction within the glass lobe). */
-inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, float u_lobe,
-                                   int mode) {
+static inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, float u_lobe,
+                                          int mode) {
   if (wo_in.z == 0.0f) return gltf_absorbed();
   const bool flip = wo_in.z < 0.0f;
   if (gltf_is_lambert(p)) {

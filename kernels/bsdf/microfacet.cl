@@ -21,14 +21,14 @@
  * pixel footprint, and its D peaks at ~3e5, still far from float trouble. */
 #define GGX_ALPHA_DELTA 1e-3f
 
-inline float ggx_alpha(float roughness) {
+static inline float ggx_alpha(float roughness) {
   const float r = clamp(roughness, 0.0f, 1.0f);
   return r * r;
 }
 
 /* D(h) = 1 / (pi alpha^2 cos^4 (1 + tan^2 / alpha^2)^2), written with the components of h so
  * no 1 - cos^2 cancels near the peak. 0 for h below the surface. */
-inline float ggx_d(float3 h, float alpha) {
+static inline float ggx_d(float3 h, float alpha) {
   if (h.z <= 0.0f) return 0.0f;
   const float a2 = alpha * alpha;
   const float t = (h.x * h.x + h.y * h.y) / a2 + h.z * h.z;
@@ -37,28 +37,28 @@ inline float ggx_d(float3 h, float alpha) {
 
 /* Lambda(w) = (sqrt(1 + alpha^2 tan^2) - 1) / 2 = a / (2 (1 + sqrt(1 + a))), a = alpha^2 tan^2,
  * the second form without cancellation near the normal. */
-inline float ggx_lambda(float3 w, float alpha) {
+static inline float ggx_lambda(float3 w, float alpha) {
   const float z2 = w.z * w.z;
   if (!(z2 > 0.0f)) return INFINITY;
   const float a = alpha * alpha * (w.x * w.x + w.y * w.y) / z2;
   return a / (2.0f * (1.0f + sqrt(1.0f + a)));
 }
 
-inline float ggx_g1(float3 w, float alpha) { return 1.0f / (1.0f + ggx_lambda(w, alpha)); }
+static inline float ggx_g1(float3 w, float alpha) { return 1.0f / (1.0f + ggx_lambda(w, alpha)); }
 
-inline float ggx_g2(float3 wo, float3 wi, float alpha) {
+static inline float ggx_g2(float3 wo, float3 wi, float alpha) {
   return 1.0f / (1.0f + ggx_lambda(wo, alpha) + ggx_lambda(wi, alpha));
 }
 
 /* The frame of Heitz 2018 around the stretched view direction vh. */
-inline void ggx_vndf_frame(float3 vh, float3* t1, float3* t2) {
+static inline void ggx_vndf_frame(float3 vh, float3* t1, float3* t2) {
   const float len2 = vh.x * vh.x + vh.y * vh.y;
   *t1 = len2 > 0.0f ? (float3)(-vh.y, vh.x, 0.0f) * rsqrt(len2) : (float3)(1.0f, 0.0f, 0.0f);
   *t2 = cross(vh, *t1);
 }
 
 /* A microfacet normal h visible from wo (wo.z > 0), with density warp_ggx_vndf_pdf. */
-inline float3 warp_ggx_vndf(float2 u, float3 wo, float alpha) {
+static inline float3 warp_ggx_vndf(float2 u, float3 wo, float alpha) {
   const float3 vh = normalize((float3)(alpha * wo.x, alpha * wo.y, wo.z));
   float3 t1, t2;
   ggx_vndf_frame(vh, &t1, &t2);
@@ -73,14 +73,14 @@ inline float3 warp_ggx_vndf(float2 u, float3 wo, float alpha) {
 }
 
 /* Density of h per steradian of h: G1(wo) max(0, wo.h) D(h) / wo.z. */
-inline float warp_ggx_vndf_pdf(float3 wo, float3 h, float alpha) {
+static inline float warp_ggx_vndf_pdf(float3 wo, float3 h, float alpha) {
   const float wo_h = dot(wo, h);
   if (!(wo.z > 0.0f) || !(wo_h > 0.0f)) return 0.0f;
   return ggx_g1(wo, alpha) * wo_h * ggx_d(h, alpha) / wo.z;
 }
 
 /* The u that warp_ggx_vndf maps to h (h visible from wo). */
-inline float2 warp_ggx_vndf_invert(float3 wo, float3 h, float alpha) {
+static inline float2 warp_ggx_vndf_invert(float3 wo, float3 h, float alpha) {
   const float3 vh = normalize((float3)(alpha * wo.x, alpha * wo.y, wo.z));
   float3 t1, t2;
   ggx_vndf_frame(vh, &t1, &t2);

@@ -27,7 +27,7 @@
  * The extension's sample code leaves this last step out, which tints every fringe term by
  * the RGB of the equal-energy white, (1.205, 0.948, 0.910), and makes a film of vanishing
  * thickness reddish instead of the base. opd in nm. */
-inline float3 thin_film_sensitivity(float opd, float3 shift) {
+static inline float3 thin_film_sensitivity(float opd, float3 shift) {
   const float phase = 2.0f * PI_F * 1e-9f * opd;
   const float3 val = (float3)(5.4856e-13f, 4.4201e-13f, 5.2481e-13f);
   const float3 pos = (float3)(1.6810e6f, 1.7953e6f, 2.2084e6f);
@@ -45,14 +45,14 @@ inline float3 thin_film_sensitivity(float opd, float3 shift) {
 }
 
 /* The index of refraction whose normal-incidence reflectance against index 1 is f0. */
-inline float3 thin_film_ior_from_f0(float3 f0) {
+static inline float3 thin_film_ior_from_f0(float3 f0) {
   const float3 s = sqrt(clamp(f0, 0.0f, 0.9999f));
   return (1.0f + s) / (1.0f - s);
 }
 
 /* cos1: the cosine of the angle of incidence on the film, outside (>= 0). Clamped to [0, 1]:
  * the Gaussian fit can overshoot by a little. */
-inline float3 thin_film_reflectance(float cos1, float eta2, float d, float3 f0) {
+static inline float3 thin_film_reflectance(float cos1, float eta2, float d, float3 f0) {
   cos1 = clamp(cos1, 0.0f, 1.0f);
   if (!(d > 0.0f)) return fresnel_schlick(f0, cos1); /* no film */
   const float sin2_2 = (1.0f - cos1 * cos1) / (eta2 * eta2);

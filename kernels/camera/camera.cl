@@ -11,32 +11,33 @@
 
 /* Film coordinates of pixel (x, y) (y = 0 is the top row) offset by u in [0,1)^2,
  * mapped to [-1, 1]^2 with +y up. */
-inline float2 film_point(u32 x, u32 y, u32 width, u32 height, float2 u) {
+static inline float2 film_point(u32 x, u32 y, u32 width, u32 height, float2 u) {
   return (float2)(2.0f * ((float)x + u.x) / (float)width - 1.0f,
                   1.0f - 2.0f * ((float)y + u.y) / (float)height);
 }
 
 /* Inverse of film_point: the raster position (pixels, x right, y down) of film point `film`. */
-inline float2 film_raster(float2 film, u32 width, u32 height) {
+static inline float2 film_raster(float2 film, u32 width, u32 height) {
   return (float2)(0.5f * (film.x + 1.0f) * (float)width, 0.5f * (1.0f - film.y) * (float)height);
 }
 
 /* Area of the film, [-1, 1]^2 on the plane at distance 1 in front of a pinhole. */
-inline float camera_film_area(__constant const CameraData* cam) {
+static inline float camera_film_area(__constant const CameraData* cam) {
   return 4.0f * length(vload3(0, cam->right)) * length(vload3(0, cam->up));
 }
 
 /* Inverse of the perspective camera_ray for the pinhole ray: the film point whose ray has
  * direction d (any length, dot(d, forward) > 0). right, up and forward are orthogonal. */
-inline float2 camera_film_of_direction(__constant const CameraData* cam, float3 d) {
+static inline float2 camera_film_of_direction(__constant const CameraData* cam, float3 d) {
   const float3 r = vload3(0, cam->right), u = vload3(0, cam->up), f = vload3(0, cam->forward);
   const float3 q = d / dot(d, f); /* on the film plane: f + sx r + sy u */
   return (float2)(dot(q, r) / dot(r, r), dot(q, u) / dot(u, u));
 }
 
 /* The ray through film point `film`; `lens` in [0,1)^2 picks the point on the aperture. */
-inline void camera_ray(__constant const CameraData* cam, float2 film, float2 lens, float3* org,
-                       float3* dir) {
+static inline void camera_ray(__constant const CameraData* cam, float2 film, float2 lens,
+                              float3* org,
+                              float3* dir) {
   const float3 o = vload3(0, cam->origin), r = vload3(0, cam->right), u = vload3(0, cam->up),
                f = vload3(0, cam->forward);
   if (cam->type == CAMERA_ORTHOGRAPHIC) {

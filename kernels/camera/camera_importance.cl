@@ -29,8 +29,9 @@ typedef struct CameraConnection {
   int valid;     /* 0: behind the camera or off the film */
 } CameraConnection;
 
-inline CameraConnection camera_connect(__constant const CameraData* cam, u32 width, u32 height,
-                                       float3 x, float2 u_lens) {
+static inline CameraConnection camera_connect(__constant const CameraData* cam, u32 width,
+                                              u32 height,
+                                              float3 x, float2 u_lens) {
   CameraConnection c;
   c.valid = 0;
   c.We = 0.0f;
@@ -78,7 +79,7 @@ inline CameraConnection camera_connect(__constant const CameraData* cam, u32 wid
  * 1 / (A cos^3 theta) for a film point uniform over the whole film (area A), theta the angle
  * between d and the forward axis; 0 behind the camera. The same for a thin lens: the film
  * point maps linearly onto the plane in focus. */
-inline float camera_ray_pdf_w(__constant const CameraData* cam, float3 d) {
+static inline float camera_ray_pdf_w(__constant const CameraData* cam, float3 d) {
   const float c = dot(d, vload3(0, cam->forward));
   if (!(c > 0.0f) || cam->type != CAMERA_PERSPECTIVE) return 0.0f;
   return 1.0f / (camera_film_area(cam) * c * c * c);

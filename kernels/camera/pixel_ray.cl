@@ -10,24 +10,26 @@
 
 /* The ray through pixel (x, y) at offset `jitter` in [0,1)^2, with the lens point from the
  * sample. */
-inline void jittered_pixel_ray(__constant const RenderParams* p, const Sampler* sampler, u32 x,
-                               u32 y, float2 jitter, float3* org, float3* dir) {
+static inline void jittered_pixel_ray(__constant const RenderParams* p, const Sampler* sampler,
+                                      u32 x,
+                                      u32 y, float2 jitter, float3* org, float3* dir) {
   const float2 film = film_point(x, y, p->width, p->height, jitter);
   const float2 lens =
       p->camera.lens_radius > 0.0f ? sample_2d(sampler, DIM_CAMERA_LENS) : (float2)(0.5f);
   camera_ray(&p->camera, film, lens, org, dir);
 }
 
-inline void pixel_ray(__constant const RenderParams* p, const Sampler* sampler, u32 x, u32 y,
-                      float3* org, float3* dir) {
+static inline void pixel_ray(__constant const RenderParams* p, const Sampler* sampler, u32 x, u32 y,
+                             float3* org, float3* dir) {
   jittered_pixel_ray(p, sampler, x, y, sample_2d(sampler, DIM_PIXEL), org, dir);
 }
 
 /* DIM_PIXEL spans the whole image: u in [0,1)^2 is the raster position (u.x * width,
  * u.y * height), so a uniform u is the same film density as pixel_ray over uniform pixels.
  * Returns the pixel it falls in. */
-inline u32 film_sample_ray(__constant const RenderParams* p, const Sampler* sampler, float3* org,
-                           float3* dir) {
+static inline u32 film_sample_ray(__constant const RenderParams* p, const Sampler* sampler,
+                                  float3* org,
+                                  float3* dir) {
   const float2 u = sample_2d(sampler, DIM_PIXEL);
   const float fx = u.x * (float)p->width, fy = u.y * (float)p->height;
   const u32 x = min((u32)fx, p->width - 1u), y = min((u32)fy, p->height - 1u);

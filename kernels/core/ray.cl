@@ -21,7 +21,7 @@
  * A smaller step is safe here because intersect_triangle also rejects any t within its
  * rounding-error bound (kernels/bvh/intersect.cl), which is what keeps large triangles from
  * re-hitting themselves (Reintersect.*). */
-inline float3 offset_ray_origin(float3 p, float3 ng) {
+static inline float3 offset_ray_origin(float3 p, float3 ng) {
   const float origin = 1.0f / 32.0f;
   const float float_scale = 1.0f / 268435456.0f; /* 2^-28: see above */
   const float int_scale = 256.0f;
@@ -37,7 +37,7 @@ inline float3 offset_ray_origin(float3 p, float3 ng) {
 /* The origin of a ray leaving surface point p in direction w: p offset along the geometric
  * normal ng turned to w's side (a reflected ray leaves on the side it arrived from, a
  * transmitted one on the other). */
-inline float3 offset_ray_origin_towards(float3 p, float3 ng, float3 w) {
+static inline float3 offset_ray_origin_towards(float3 p, float3 ng, float3 w) {
   return offset_ray_origin(p, dot(w, ng) >= 0.0f ? ng : -ng);
 }
 

@@ -28,7 +28,7 @@ typedef struct SceneView {
 
 #define SCENE_VIEW_PARAM(type, name, what) __global const type* name,
 #define SCENE_VIEW_SET(type, name, what) s.name = name;
-inline SceneView scene_view(SCENE_ARRAYS(SCENE_VIEW_PARAM) int end_of_list) {
+static inline SceneView scene_view(SCENE_ARRAYS(SCENE_VIEW_PARAM) int end_of_list) {
   SceneView s;
   SCENE_ARRAYS(SCENE_VIEW_SET)
   s.num_lights = info ? info->num_lights : 0u; /* test kernels may pass no info */
@@ -38,7 +38,7 @@ inline SceneView scene_view(SCENE_ARRAYS(SCENE_VIEW_PARAM) int end_of_list) {
 #undef SCENE_VIEW_PARAM
 #undef SCENE_VIEW_SET
 
-inline float3 vertex_position(const SceneView* s, u32 i) {
+static inline float3 vertex_position(const SceneView* s, u32 i) {
   return vload3(0, s->vertices[i].p);
 }
 

@@ -14,7 +14,7 @@
 #include "shared/compat.h"
 
 /* The azimuth of (x, y) as u.y in [0, 1). */
-inline float warp_azimuth_invert(float y, float x) {
+static inline float warp_azimuth_invert(float y, float x) {
   float t = atan2(y, x) * (0.5f * INV_PI_F);
   if (t < 0.0f) t += 1.0f;
   return fmin(t, 0x1.fffffep-1f); /* -tiny + 1 rounds to 1 */
@@ -23,7 +23,7 @@ inline float warp_azimuth_invert(float y, float x) {
 /* ---- Disks: points of the unit disk, pdf_a = 1 / pi ------------------------------------ */
 
 /* Concentric disk mapping (Shirley & Chiu 1997): squares to rings, low distortion. */
-inline float2 warp_concentric_disk(float2 u) {
+static inline float2 warp_concentric_disk(float2 u) {
   const float2 o = 2.0f * u - (float2)(1.0f, 1.0f);
   if (o.x == 0.0f && o.y == 0.0f) return (float2)(0.0f, 0.0f);
   float r, theta;
@@ -37,14 +37,14 @@ inline float2 warp_concentric_disk(float2 u) {
   return r * (float2)(cos(theta), sin(theta));
 }
 
-inline float warp_concentric_disk_pdf(float2 p) {
+static inline float warp_concentric_disk_pdf(float2 p) {
   return dot(p, p) <= 1.0f ? INV_PI_F : 0.0f;
 }
 
 /* The forward map sends the square's four wedges (right, top, left, bottom of
  * o = 2u - 1, split by its diagonals) to the quarter-disks centred on phi = 0, pi/2, pi and
  * 3 pi/2; undo that from phi in [-pi/4, 7 pi/4). */
-inline float2 warp_concentric_disk_invert(float2 p) {
+static inline float2 warp_concentric_disk_invert(float2 p) {
   const float r = length(p);
   float phi = atan2(p.y, p.x);
   if (phi < -PI_F / 4.0f) phi += 2.0f * PI_F;
@@ -63,71 +63,71 @@ inline float2 warp_concentric_disk_invert(float2 p) {
 }
 
 /* Polar map r = sqrt(u.x), phi = 2 pi u.y: simple, but stretches the square near the centre. */
-inline float2 warp_uniform_disk(float2 u) {
+static inline float2 warp_uniform_disk(float2 u) {
   const float r = sqrt(u.x);
   const float phi = 2.0f * PI_F * u.y;
   return r * (float2)(cos(phi), sin(phi));
 }
 
-inline float warp_uniform_disk_pdf(float2 p) { return dot(p, p) <= 1.0f ? INV_PI_F : 0.0f; }
+static inline float warp_uniform_disk_pdf(float2 p) { return dot(p, p) <= 1.0f ? INV_PI_F : 0.0f; }
 
-inline float2 warp_uniform_disk_invert(float2 p) {
+static inline float2 warp_uniform_disk_invert(float2 p) {
   return (float2)(fmin(dot(p, p), 1.0f), warp_azimuth_invert(p.y, p.x));
 }
 
 /* ---- Directions ---------------------------------------------------------------------- */
 
 /* Uniform hemisphere around +z: cos(theta) = u.x; pdf_w = 1 / (2 pi). */
-inline float3 warp_uniform_hemisphere(float2 u) {
+static inline float3 warp_uniform_hemisphere(float2 u) {
   const float z = u.x;
   const float r = sqrt(fmax(0.0f, (1.0f - z) * (1.0f + z)));
   const float phi = 2.0f * PI_F * u.y;
   return (float3)(r * cos(phi), r * sin(phi), z);
 }
 
-inline float warp_uniform_hemisphere_pdf(float cos_theta) {
+static inline float warp_uniform_hemisphere_pdf(float cos_theta) {
   return cos_theta >= 0.0f ? 0.5f * INV_PI_F : 0.0f;
 }
 
-inline float2 warp_uniform_hemisphere_invert(float3 w) {
+static inline float2 warp_uniform_hemisphere_invert(float3 w) {
   return (float2)(clamp(w.z, 0.0f, 1.0f), warp_azimuth_invert(w.y, w.x));
 }
 
 /* Cosine-weighted hemisphere around +z (Malley's method: the concentric disk lifted onto
  * the hemisphere); pdf_w = cos(theta) / pi. */
-inline float3 warp_cosine_hemisphere(float2 u) {
+static inline float3 warp_cosine_hemisphere(float2 u) {
   const float2 d = warp_concentric_disk(u);
   const float z = sqrt(fmax(0.0f, 1.0f - d.x * d.x - d.y * d.y));
   return (float3)(d.x, d.y, z);
 }
 
-inline float warp_cosine_hemisphere_pdf(float cos_theta) {
+static inline float warp_cosine_hemisphere_pdf(float cos_theta) {
   return cos_theta > 0.0f ? cos_theta * INV_PI_F : 0.0f;
 }
 
-inline float2 warp_cosine_hemisphere_invert(float3 w) {
+static inline float2 warp_cosine_hemisphere_invert(float3 w) {
   return warp_concentric_disk_invert(w.xy);
 }
 
 /* Uniform sphere: cos(theta) = 1 - 2 u.x; pdf_w = 1 / (4 pi). sin(theta) is taken as
  * 2 sqrt(u.x (1 - u.x)), exact near the poles where 1 - z^2 cancels. */
-inline float3 warp_uniform_sphere(float2 u) {
+static inline float3 warp_uniform_sphere(float2 u) {
   const float z = 1.0f - 2.0f * u.x;
   const float r = 2.0f * sqrt(fmax(0.0f, u.x * (1.0f - u.x)));
   const float phi = 2.0f * PI_F * u.y;
   return (float3)(r * cos(phi), r * sin(phi), z);
 }
 
-inline float warp_uniform_sphere_pdf(void) { return 0.25f * INV_PI_F; }
+static inline float warp_uniform_sphere_pdf(void) { return 0.25f * INV_PI_F; }
 
-inline float2 warp_uniform_sphere_invert(float3 w) {
+static inline float2 warp_uniform_sphere_invert(float3 w) {
   return (float2)(clamp(0.5f * (1.0f - w.z), 0.0f, 1.0f), warp_azimuth_invert(w.y, w.x));
 }
 
 /* Uniform cone of directions around +z with cos(theta) >= cos_theta_max (< 1): cos(theta)
  * falls linearly from 1 to cos_theta_max as u.x goes from 0 to 1; pdf_w = 1 / (2 pi (1 -
  * cos_theta_max)). 1 - cos(theta) is carried without cancellation for narrow cones. */
-inline float3 warp_uniform_cone(float2 u, float cos_theta_max) {
+static inline float3 warp_uniform_cone(float2 u, float cos_theta_max) {
   const float one_minus_cos = u.x * (1.0f - cos_theta_max);
   const float cos_theta = fmax(1.0f - one_minus_cos, cos_theta_max);
   const float sin_theta = sqrt(fmax(0.0f, one_minus_cos * (2.0f - one_minus_cos)));
@@ -135,11 +135,11 @@ inline float3 warp_uniform_cone(float2 u, float cos_theta_max) {
   return (float3)(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
 }
 
-inline float warp_uniform_cone_pdf(float cos_theta, float cos_theta_max) {
+static inline float warp_uniform_cone_pdf(float cos_theta, float cos_theta_max) {
   return cos_theta >= cos_theta_max ? 0.5f * INV_PI_F / (1.0f - cos_theta_max) : 0.0f;
 }
 
-inline float2 warp_uniform_cone_invert(float3 w, float cos_theta_max) {
+static inline float2 warp_uniform_cone_invert(float3 w, float cos_theta_max) {
   /* 1 - cos = sin^2 / (1 + cos) near the pole, where 1 - w.z loses the digits. */
   const float one_minus_cos =
       w.z > 0.0f ? (w.x * w.x + w.y * w.y) / (1.0f + w.z) : 1.0f - w.z;
@@ -152,16 +152,16 @@ inline float2 warp_uniform_cone_invert(float3 w, float cos_theta_max) {
 /* Uniform point on a triangle as barycentrics (b1, b2) of vertices 1 and 2:
  * s = b1 + b2 = sqrt(u.x), b2 / s = u.y. pdf = 2 over the (b1, b2) plane, which is
  * pdf_a = 1 / area on a triangle of that area. */
-inline float2 warp_uniform_triangle(float2 u) {
+static inline float2 warp_uniform_triangle(float2 u) {
   const float su = sqrt(u.x);
   return (float2)(su * (1.0f - u.y), su * u.y);
 }
 
-inline float warp_uniform_triangle_pdf(float2 b) {
+static inline float warp_uniform_triangle_pdf(float2 b) {
   return (b.x >= 0.0f && b.y >= 0.0f && b.x + b.y <= 1.0f) ? 2.0f : 0.0f;
 }
 
-inline float2 warp_uniform_triangle_invert(float2 b) {
+static inline float2 warp_uniform_triangle_invert(float2 b) {
   const float s = b.x + b.y;
   return (float2)(fmin(s * s, 1.0f), s > 0.0f ? clamp(b.y / s, 0.0f, 1.0f) : 0.0f);
 }
@@ -170,7 +170,7 @@ inline float2 warp_uniform_triangle_invert(float2 b) {
 
 /* The interval i of a CDF of n intervals (n + 1 values, cdf[0] = 0, cdf[n] = 1) with
  * cdf[i] <= u < cdf[i + 1]: never an interval of zero probability. */
-inline u32 cdf_find_interval(__global const float* cdf, u32 n, float u) {
+static inline u32 cdf_find_interval(__global const float* cdf, u32 n, float u) {
   u32 lo = 0u, hi = n;
   while (lo + 1u < hi) {
     const u32 mid = (lo + hi) >> 1;

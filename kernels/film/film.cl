@@ -13,14 +13,15 @@ typedef struct FilmPixel {
   float4 sum_sq; /* xyz: sum of squared radiance */
 } FilmPixel;
 
-inline FilmPixel film_load(__global const float4* sum, __global const float4* sum_sq, u32 pixel) {
+static inline FilmPixel film_load(__global const float4* sum, __global const float4* sum_sq,
+                                  u32 pixel) {
   FilmPixel f;
   f.sum = sum[pixel];
   f.sum_sq = sum_sq[pixel];
   return f;
 }
 
-inline void film_add(FilmPixel* f, float3 L) {
+static inline void film_add(FilmPixel* f, float3 L) {
   if (is_finite3(L)) {
     f->sum.xyz += L;
     f->sum_sq.xyz += L * L;
@@ -29,7 +30,8 @@ inline void film_add(FilmPixel* f, float3 L) {
   }
 }
 
-inline void film_store(__global float4* sum, __global float4* sum_sq, u32 pixel, const FilmPixel* f) {
+static inline void film_store(__global float4* sum, __global float4* sum_sq, u32 pixel,
+                              const FilmPixel* f) {
   sum[pixel] = f->sum;
   sum_sq[pixel] = f->sum_sq;
 }

@@ -10,7 +10,7 @@
 #include "core/math.cl"
 #include "shared/compat.h"
 
-inline void atomic_add_float(volatile __global float* addr, float v) {
+static inline void atomic_add_float(volatile __global float* addr, float v) {
   volatile __global uint* bits = (volatile __global uint*)addr;
   uint expected = *bits;
   for (;;) {
@@ -21,7 +21,7 @@ inline void atomic_add_float(volatile __global float* addr, float v) {
 }
 
 /* Adds L to pixel `pixel` of the splat film; a non-finite L is counted as dropped instead. */
-inline void film_splat(__global float4* splat, u32 pixel, float3 L) {
+static inline void film_splat(__global float4* splat, u32 pixel, float3 L) {
   volatile __global float* px = (volatile __global float*)(splat + pixel);
   if (is_finite3(L)) {
     if (L.x != 0.0f) atomic_add_float(px + 0, L.x);

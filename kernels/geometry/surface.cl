@@ -25,26 +25,27 @@ typedef struct SurfaceHit {
   float3 emission;    /* emitted radiance of the material at this point (front side) */
 } SurfaceHit;
 
-inline void triangle_vertices(const SceneView* s, u32 tri, float3* p0, float3* p1, float3* p2) {
+static inline void triangle_vertices(const SceneView* s, u32 tri, float3* p0, float3* p1,
+                                     float3* p2) {
   const Triangle t = s->triangles[tri];
   *p0 = vertex_position(s, t.v[0]);
   *p1 = vertex_position(s, t.v[1]);
   *p2 = vertex_position(s, t.v[2]);
 }
 
-inline float triangle_area(const SceneView* s, u32 tri) {
+static inline float triangle_area(const SceneView* s, u32 tri) {
   float3 p0, p1, p2;
   triangle_vertices(s, tri, &p0, &p1, &p2);
   return 0.5f * length(cross(p1 - p0, p2 - p0));
 }
 
 /* Geometric normal of a triangle from its winding; an arbitrary unit vector if degenerate. */
-inline float3 safe_normal(float3 n) {
+static inline float3 safe_normal(float3 n) {
   const float len = length(n);
   return len > 0.0f && isfinite(len) ? n / len : (float3)(0.0f, 0.0f, 1.0f);
 }
 
-inline SurfaceHit surface_at(const SceneView* s, const Hit* hit, float3 org, float3 dir) {
+static inline SurfaceHit surface_at(const SceneView* s, const Hit* hit, float3 org, float3 dir) {
   SurfaceHit sh;
   const Triangle t = s->triangles[hit->triangle];
   const Vertex v0 = s->vertices[t.v[0]], v1 = s->vertices[t.v[1]], v2 = s->vertices[t.v[2]];

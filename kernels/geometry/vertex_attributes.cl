@@ -6,11 +6,11 @@
 
 #include "core/scene_view.cl"
 
-inline bool scene_has_vertex_extra(const SceneView* s) {
+static inline bool scene_has_vertex_extra(const SceneView* s) {
   return s->info != 0 && (s->info->flags & SCENE_VERTEX_EXTRA) != 0u;
 }
 
-inline float2 hit_uv0(const SceneView* s, const Triangle* t, float b1, float b2) {
+static inline float2 hit_uv0(const SceneView* s, const Triangle* t, float b1, float b2) {
   __global const Vertex* v0 = &s->vertices[t->v[0]];
   __global const Vertex* v1 = &s->vertices[t->v[1]];
   __global const Vertex* v2 = &s->vertices[t->v[2]];
@@ -19,8 +19,8 @@ inline float2 hit_uv0(const SceneView* s, const Triangle* t, float b1, float b2)
 }
 
 /* TEXCOORD_1 and COLOR_0; (0, 0) and (1, 1, 1, 1) without a VertexExtra buffer. */
-inline void hit_extra(const SceneView* s, const Triangle* t, float b1, float b2, float2* uv1,
-                      float4* color) {
+static inline void hit_extra(const SceneView* s, const Triangle* t, float b1, float b2, float2* uv1,
+                             float4* color) {
   if (!scene_has_vertex_extra(s)) {
     *uv1 = (float2)(0.0f);
     *color = (float4)(1.0f);
@@ -36,7 +36,7 @@ inline void hit_extra(const SceneView* s, const Triangle* t, float b1, float b2,
 
 /* Interpolated tangent (xyz, not normalised) and bitangent sign (w, +-1); zero when the
  * scene or the vertices have none. */
-inline float4 hit_tangent(const SceneView* s, const Triangle* t, float b1, float b2) {
+static inline float4 hit_tangent(const SceneView* s, const Triangle* t, float b1, float b2) {
   if (!scene_has_vertex_extra(s)) return (float4)(0.0f);
   const float4 t0 = vload4(0, s->vertex_extra[t->v[0]].tangent);
   const float4 t1 = vload4(0, s->vertex_extra[t->v[1]].tangent);

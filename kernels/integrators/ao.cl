@@ -9,8 +9,9 @@
 #include "integrators/stages/pixel_samples.cl"
 #include "sampler/sampler.cl"
 
-inline float ao_sample(const SceneView* s, __constant const RenderParams* p, const Sampler* sampler,
-                       float3 org, float3 dir, u32* rays) {
+static inline float ao_sample(const SceneView* s, __constant const RenderParams* p,
+                              const Sampler* sampler,
+                              float3 org, float3 dir, u32* rays) {
   Hit hit;
   ++*rays;
   if (!intersect_closest(s, org, dir, INFINITY, &hit)) return 0.0f;

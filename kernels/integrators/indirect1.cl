@@ -14,9 +14,10 @@ __kernel void indirect1_areas(SCENE_KERNEL_ARGS u32 count, __global float* areas
   areas[i] = triangle_area(&scene, i);
 }
 
-inline float3 indirect1_radiance(const SceneView* s, __constant const RenderParams* p,
-                                 __constant const IndirectParams* ip, __global const float* cdf,
-                                 const Sampler* sampler, float3 org, float3 dir, u32* rays) {
+static inline float3 indirect1_radiance(const SceneView* s, __constant const RenderParams* p,
+                                        __constant const IndirectParams* ip,
+                                        __global const float* cdf,
+                                        const Sampler* sampler, float3 org, float3 dir, u32* rays) {
   if (p->max_depth < 2u) return (float3)(0.0f); /* no path of one bounce after x */
   Hit hit;
   ++*rays;

@@ -26,9 +26,9 @@
 
 /* Connects surface vertex sh (oriented to wo, towards the light) to the camera and splats
  * beta * f * weight. */
-inline void lt_connect_surface(__constant const RenderParams* p, const SceneView* s,
-                               const SurfaceHit* sh, float3 wo, float3 beta, float2 u_lens,
-                               __global float4* splat, u32* rays) {
+static inline void lt_connect_surface(__constant const RenderParams* p, const SceneView* s,
+                                      const SurfaceHit* sh, float3 wo, float3 beta, float2 u_lens,
+                                      __global float4* splat, u32* rays) {
   const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
   if (!c.valid) return;
   const float3 wi = c.wi; /* from the vertex towards the camera */
@@ -41,8 +41,9 @@ inline void lt_connect_surface(__constant const RenderParams* p, const SceneView
 }
 
 /* One light path. */
-inline void lt_trace(__constant const RenderParams* p, const SceneView* s, const Sampler* sampler,
-                     __global float4* splat, u32* rays) {
+static inline void lt_trace(__constant const RenderParams* p, const SceneView* s,
+                            const Sampler* sampler,
+                            __global float4* splat, u32* rays) {
   if (s->num_lights == 0u) return;
   const LightEmission e =
       light_emit(s, sample_1d(sampler, bounce_dim(0u, DIM_LIGHT_SELECT)),

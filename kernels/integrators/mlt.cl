@@ -12,7 +12,8 @@
 #include "integrators/mlt/chain.cl"
 
 /* The key of bootstrap path i: a fresh vector. */
-inline u32 mlt_bootstrap_key(u32 seed, u32 i) { return hash_combine(hash_u32(seed ^ 0x510e527fu), i); }
+static inline u32 mlt_bootstrap_key(u32 seed,
+                                    u32 i) { return hash_combine(hash_u32(seed ^ 0x510e527fu), i); }
 
 __kernel void mlt_bootstrap(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                             __constant const MltParams* mlt, __global const float* importance,

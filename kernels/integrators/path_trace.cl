@@ -17,9 +17,9 @@
 /* Continues a path from vertex `sh` (normals oriented to wo, at bounce `depth`, with the
  * throughput up to it folded out: the result is to be multiplied by the caller's beta).
  * Returns the radiance it gathers from bounce depth+1 on. */
-inline float3 pt_continue(__constant const RenderParams* p, const SceneView* s,
-                          const Sampler* sampler, const SurfaceHit* sh, float3 wo, u32 depth,
-                          u32 stream, u32* rays) {
+static inline float3 pt_continue(__constant const RenderParams* p, const SceneView* s,
+                                 const Sampler* sampler, const SurfaceHit* sh, float3 wo, u32 depth,
+                                 u32 stream, u32* rays) {
   float3 L = (float3)(0.0f);
   PathWalk w = walk_at_vertex(sh, wo, depth, stream);
   for (;;) {
@@ -39,8 +39,8 @@ inline float3 pt_continue(__constant const RenderParams* p, const SceneView* s,
   return L;
 }
 
-inline float3 pt_radiance(const SceneView* s, __constant const RenderParams* p,
-                          const Sampler* sampler, float3 org, float3 dir, u32* rays) {
+static inline float3 pt_radiance(const SceneView* s, __constant const RenderParams* p,
+                                 const Sampler* sampler, float3 org, float3 dir, u32* rays) {
   PathWalk w = walk_from_camera(org, dir, 0u, 0u);
   /* Emission seen by the camera ray, surface or environment, has only one technique: no
    * weight. */

@@ -24,9 +24,9 @@ __kernel void sppm_grid_insert(__global const Photon* photons, u32 count, float 
 
 /* The flux of the pass's photons around vp within radius r (before vp's throughput), and
  * their number. */
-inline float3 sppm_gather(__global const Photon* photons, __global const u32* heads,
-                          __global const u32* next, float inv_cell, u32 mask, u32 max_depth,
-                          const VisiblePoint* vp, float r, u32* m) {
+static inline float3 sppm_gather(__global const Photon* photons, __global const u32* heads,
+                                 __global const u32* next, float inv_cell, u32 mask, u32 max_depth,
+                                 const VisiblePoint* vp, float r, u32* m) {
   float3 phi = (float3)(0.0f);
   const float r2 = r * r;
   const float3 x = vp->sh.p;

@@ -12,12 +12,12 @@
 /* Emitted radiance of triangle `tri` at barycentrics (b1, b2), front side: the emission
  * factor times the emissive texture at that point (kernels/material/material.cl), so NEE
  * sees the same radiance as a ray that hits the point. */
-inline float3 area_light_emission(const SceneView* s, u32 tri, float b1, float b2) {
+static inline float3 area_light_emission(const SceneView* s, u32 tri, float b1, float b2) {
   return material_emission_at(s, tri, b1, b2);
 }
 
 /* Whether emission leaves towards w from a surface with geometric normal ng. */
-inline bool area_light_faces(const SceneView* s, u32 material, float3 ng, float3 w) {
+static inline bool area_light_faces(const SceneView* s, u32 material, float3 ng, float3 w) {
   return (s->materials[material].flags & MATERIAL_DOUBLE_SIDED) || dot(ng, w) > 0.0f;
 }
 
@@ -25,7 +25,7 @@ inline bool area_light_faces(const SceneView* s, u32 material, float3 ng, float3
  * (sh->emission is resolved at the hit point, textures included). The side is the one the
  * ray arrived on (sh->front, from surface_at), so the answer does not depend on whether
  * bsdf_orient has turned the normals to wo yet: dot(ng, wo) > 0 is sh->front exactly. */
-inline float3 area_light_radiance(const SceneView* s, const SurfaceHit* sh, float3 wo) {
+static inline float3 area_light_radiance(const SceneView* s, const SurfaceHit* sh, float3 wo) {
   if (is_black(sh->emission)) return (float3)(0.0f);
   if (!sh->front && !(s->materials[sh->material].flags & MATERIAL_DOUBLE_SIDED)) return (float3)(0.0f);
   return sh->emission;
@@ -33,7 +33,7 @@ inline float3 area_light_radiance(const SceneView* s, const SurfaceHit* sh, floa
 
 /* Solid-angle density at a point dist away of choosing a point of triangle `tri` seen under
  * cosine cos_light (selection not included). */
-inline float area_light_pdf_w(const SceneView* s, u32 tri, float dist, float cos_light) {
+static inline float area_light_pdf_w(const SceneView* s, u32 tri, float dist, float cos_light) {
   if (!(cos_light > 0.0f)) return 0.0f;
   const float area = triangle_area(s, tri);
   if (!(area > 0.0f)) return 0.0f;
@@ -41,7 +41,7 @@ inline float area_light_pdf_w(const SceneView* s, u32 tri, float dist, float cos
 }
 
 /* A point of triangle `tri` as seen from p. ls->pdf_w excludes the selection probability. */
-inline LightSample area_light_illuminate(const SceneView* s, u32 tri, float3 p, float2 u) {
+static inline LightSample area_light_illuminate(const SceneView* s, u32 tri, float3 p, float2 u) {
   LightSample ls = light_sample_none(p);
   float3 p0, p1, p2;
   triangle_vertices(s, tri, &p0, &p1, &p2);
@@ -67,7 +67,8 @@ inline LightSample area_light_illuminate(const SceneView* s, u32 tri, float3 p, 
 
 /* A ray leaving triangle `tri`: a uniform point, a cosine-distributed direction about the
  * front normal (either side with probability 1/2 when double-sided). */
-inline LightEmission area_light_emit(const SceneView* s, u32 tri, float2 u_pos, float2 u_dir) {
+static inline LightEmission area_light_emit(const SceneView* s, u32 tri, float2 u_pos,
+                                            float2 u_dir) {
   LightEmission e;
   e.pdf_a = 0.0f;
   e.pdf_w = 0.0f;

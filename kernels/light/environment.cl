@@ -25,35 +25,35 @@
 #include "core/warp.cl"
 
 /* Rotation of w by `angle` radians about +y (right-handed: +z turns towards +x). */
-inline float3 env_rotate_y(float3 w, float angle) {
+static inline float3 env_rotate_y(float3 w, float angle) {
   const float c = cos(angle), s = sin(angle);
   return (float3)(c * w.x + s * w.z, w.y, -s * w.x + c * w.z);
 }
 
-inline float2 env_dir_to_uv(float3 m) {
+static inline float2 env_dir_to_uv(float3 m) {
   float u = 0.5f + atan2(m.x, -m.z) * (0.5f * INV_PI_F);
   u = u - floor(u);
   const float v = acos(clamp(m.y, -1.0f, 1.0f)) * INV_PI_F;
   return (float2)(fmin(u, 0x1.fffffep-1f), fmin(v, 0x1.fffffep-1f));
 }
 
-inline float3 env_uv_to_dir(float2 uv) {
+static inline float3 env_uv_to_dir(float2 uv) {
   const float theta = PI_F * uv.y, alpha = 2.0f * PI_F * (uv.x - 0.5f);
   const float st = sin(theta);
   return (float3)(st * sin(alpha), cos(theta), -st * cos(alpha));
 }
 
-inline u32 env_texel(const SceneView* s, float2 uv) {
+static inline u32 env_texel(const SceneView* s, float2 uv) {
   const u32 w = s->info->env_width, h = s->info->env_height;
   const u32 x = min((u32)(uv.x * (float)w), w - 1u), y = min((u32)(uv.y * (float)h), h - 1u);
   return y * w + x;
 }
 
 /* Whether the scene has a non-black environment (then it is light s->info->env_light). */
-inline bool env_present(const SceneView* s) { return s->info && s->info->env_light != ~0u; }
+static inline bool env_present(const SceneView* s) { return s->info && s->info->env_light != ~0u; }
 
 /* Radiance arriving along -w, i.e. seen looking in direction w (black without environment). */
-inline float3 env_radiance(const SceneView* s, float3 w) {
+static inline float3 env_radiance(const SceneView* s, float3 w) {
   if (!s->info) return (float3)(0.0f);
   if (s->info->env_width == 0u) return vload3(0, s->info->background);
   const float3 m = env_rotate_y(w, -s->info->env_rotation);
@@ -61,7 +61,7 @@ inline float3 env_radiance(const SceneView* s, float3 w) {
 }
 
 /* Solid-angle density of env_sample_w for direction w (selection not included). */
-inline float env_pdf_w(const SceneView* s, float3 w) {
+static inline float env_pdf_w(const SceneView* s, float3 w) {
   if (s->info->env_width == 0u) return warp_uniform_sphere_pdf();
   const float3 m = env_rotate_y(w, -s->info->env_rotation);
   /* From the horizontal component: sqrt(1 - y^2) rounds to 0 near the poles. */
@@ -72,7 +72,7 @@ inline float env_pdf_w(const SceneView* s, float3 w) {
 }
 
 /* A direction towards the environment with density *pdf_w (selection not included). */
-inline float3 env_sample_w(const SceneView* s, float2 u, float* pdf_w) {
+static inline float3 env_sample_w(const SceneView* s, float2 u, float* pdf_w) {
   if (s->info->env_width == 0u) {
     *pdf_w = warp_uniform_sphere_pdf();
     return warp_uniform_sphere(u);

@@ -19,19 +19,20 @@
 #include "light/environment.cl"
 #include "light/punctual.cl"
 
-inline bool light_is_delta(const __global Light* l) {
+static inline bool light_is_delta(const __global Light* l) {
   return l->type == LIGHT_POINT || l->type == LIGHT_SPOT || l->type == LIGHT_DIRECTIONAL;
 }
 
 /* Light chosen by u in [0, 1): slot floor(u n), kept with its threshold, else its alias. */
-inline u32 light_select(const SceneView* s, float u) {
+static inline u32 light_select(const SceneView* s, float u) {
   const float scaled = u * (float)s->num_lights;
   const u32 slot = min((u32)scaled, s->num_lights - 1u);
   const __global Light* e = &s->lights[slot];
   return (scaled - (float)slot) < e->alias_threshold ? slot : e->alias;
 }
 
-inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select, float2 u_point) {
+static inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select,
+                                           float2 u_point) {
   LightSample ls = light_sample_none(p);
   if (s->num_lights == 0u) return ls;
   const u32 i = light_select(s, u_select);
@@ -61,7 +62,7 @@ inline LightSample light_illuminate(const SceneView* s, float3 p, float u_select
 /* Whether light sample ls is hidden from org, a point already off the receiving surface
  * towards ls->wi: a shadow ray to an infinitely far light, or a segment to the light point,
  * moved off an area light's own surface (bvh/intersect.cl, segment_occluded). */
-inline bool light_sample_occluded(const SceneView* s, float3 org, const LightSample* ls) {
+static inline bool light_sample_occluded(const SceneView* s, float3 org, const LightSample* ls) {
   if (!isfinite(ls->dist)) return intersect_any(s, org, ls->wi, INFINITY);
   const float3 target = dot(ls->n, ls->n) > 0.0f ? offset_ray_origin_towards(ls->p, ls->n, -ls->wi) : ls->p;
   return segment_occluded(s, org, target);
@@ -69,27 +70,28 @@ inline bool light_sample_occluded(const SceneView* s, float3 org, const LightSam
 
 /* light_illuminate's density for a ray that hit emitter triangle `tri` (leaf order) at
  * distance dist under cosine cos_light at the light. */
-inline float light_pdf_w(const SceneView* s, u32 tri, float dist, float cos_light) {
+static inline float light_pdf_w(const SceneView* s, u32 tri, float dist, float cos_light) {
   const int e = s->triangle_light[tri];
   if (e < 0) return 0.0f;
   return s->lights[e].pdf_select * area_light_pdf_w(s, tri, dist, cos_light);
 }
 
 /* light_illuminate's density for a ray that escaped in direction w. */
-inline float light_env_pdf_w(const SceneView* s, float3 w) {
+static inline float light_env_pdf_w(const SceneView* s, float3 w) {
   if (!env_present(s)) return 0.0f;
   return s->lights[s->info->env_light].pdf_select * env_pdf_w(s, w);
 }
 
 /* Radiance seen by a ray that hit surface sh (before bsdf_orient), leaving towards wo. */
-inline float3 light_radiance(const SceneView* s, const SurfaceHit* sh, float3 wo) {
+static inline float3 light_radiance(const SceneView* s, const SurfaceHit* sh, float3 wo) {
   return area_light_radiance(s, sh, wo);
 }
 
 /* A ray leaving a light chosen in proportion to power. Environment: the direction from the
  * environment's distribution, the origin a uniform point of the disk of the scene's bounding
  * radius perpendicular to it, one radius out from the bounding sphere's centre. */
-inline LightEmission light_emit(const SceneView* s, float u_select, float2 u_pos, float2 u_dir) {
+static inline LightEmission light_emit(const SceneView* s, float u_select, float2 u_pos,
+                                       float2 u_dir) {
   LightEmission e;
   e.pdf_a = 0.0f;
   e.pdf_w = 0.0f;
@@ -129,7 +131,7 @@ inline LightEmission light_emit(const SceneView* s, float u_select, float2 u_pos
 
 /* Where the ray of emission e starts: on an area light, e.p offset off its triangle on the
  * side the ray leaves by (so it cannot hit its own triangle); elsewhere e.p. */
-inline float3 light_emission_origin(const SceneView* s, const LightEmission* e) {
+static inline float3 light_emission_origin(const SceneView* s, const LightEmission* e) {
   const __global Light* l = &s->lights[e->light];
   if (l->type != LIGHT_TRIANGLE) return e->p;
   float3 p0, p1, p2;
@@ -157,13 +159,14 @@ typedef struct LightPdfs {
   int finite;
 } LightPdfs;
 
-inline float light_disk_pdf_a(const SceneView* s) {
+static inline float light_disk_pdf_a(const SceneView* s) {
   const float r = s->info->bounds_radius;
   return r > 0.0f ? INV_PI_F / (r * r) : 0.0f;
 }
 
 /* For emitter triangle `tri` of area `area` seen under cosine cos_light. */
-inline LightPdfs light_pdfs_triangle(const SceneView* s, u32 tri, float area, float cos_light) {
+static inline LightPdfs light_pdfs_triangle(const SceneView* s, u32 tri, float area,
+                                            float cos_light) {
   LightPdfs q;
   q.direct = 0.0f;
   q.emit_w = 0.0f;
@@ -178,12 +181,12 @@ inline LightPdfs light_pdfs_triangle(const SceneView* s, u32 tri, float area, fl
 }
 
 /* For an emitter triangle `tri` seen under cosine cos_light (a ray that hit it). */
-inline LightPdfs light_pdfs_area(const SceneView* s, u32 tri, float cos_light) {
+static inline LightPdfs light_pdfs_area(const SceneView* s, u32 tri, float cos_light) {
   return light_pdfs_triangle(s, tri, triangle_area(s, tri), cos_light);
 }
 
 /* For the environment seen in direction w (towards the environment). */
-inline LightPdfs light_pdfs_env(const SceneView* s, float3 w) {
+static inline LightPdfs light_pdfs_env(const SceneView* s, float3 w) {
   LightPdfs q;
   q.direct = light_env_pdf_w(s, w);
   q.emit_w = q.direct * light_disk_pdf_a(s);
@@ -193,7 +196,7 @@ inline LightPdfs light_pdfs_env(const SceneView* s, float3 w) {
 }
 
 /* For a light_illuminate sample ls (valid: pdf_w > 0). */
-inline LightPdfs light_pdfs_sample(const SceneView* s, const LightSample* ls) {
+static inline LightPdfs light_pdfs_sample(const SceneView* s, const LightSample* ls) {
   const __global Light* l = &s->lights[ls->light];
   if (l->type == LIGHT_TRIANGLE) {
     /* One look at the vertices for both the area and the normal. */
@@ -219,7 +222,7 @@ inline LightPdfs light_pdfs_sample(const SceneView* s, const LightSample* ls) {
 }
 
 /* For the ray light_emit returned (e valid). */
-inline LightPdfs light_pdfs_emission(const SceneView* s, const LightEmission* e) {
+static inline LightPdfs light_pdfs_emission(const SceneView* s, const LightEmission* e) {
   const __global Light* l = &s->lights[e->light];
   LightPdfs q;
   q.emit_w = e->pdf_select * e->pdf_a * e->pdf_w;

@@ -19,7 +19,7 @@ typedef struct LightSample {
 } LightSample;
 
 /* The invalid sample at shading point p (pdf_w 0): where every illuminate starts. */
-inline LightSample light_sample_none(float3 p) {
+static inline LightSample light_sample_none(float3 p) {
   LightSample ls;
   ls.p = p;
   ls.wi = (float3)(0.0f, 0.0f, 1.0f);

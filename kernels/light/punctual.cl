@@ -21,21 +21,21 @@
 #include "core/warp.cl"
 #include "light/light_types.cl"
 
-inline float spot_falloff(const __global Light* l, float cd) {
+static inline float spot_falloff(const __global Light* l, float cd) {
   const float scale = 1.0f / fmax(0.001f, l->cos_inner - l->cos_outer);
   const float t = clamp(cd * scale - l->cos_outer * scale, 0.0f, 1.0f);
   return t * t;
 }
 
 /* Radiant intensity of a point or spot light towards unit direction w (leaving the light). */
-inline float3 punctual_intensity(const __global Light* l, float3 w) {
+static inline float3 punctual_intensity(const __global Light* l, float3 w) {
   const float3 I = vload3(0, l->intensity);
   if (l->type == LIGHT_SPOT) return I * spot_falloff(l, dot(vload3(0, l->direction), w));
   return I;
 }
 
 /* The light as seen from p; ls->pdf_w is 1 (selection not included). */
-inline LightSample punctual_illuminate(const __global Light* l, float3 p) {
+static inline LightSample punctual_illuminate(const __global Light* l, float3 p) {
   LightSample ls = light_sample_none(p);
   ls.is_delta = 1;
   if (l->type == LIGHT_DIRECTIONAL) {
@@ -60,8 +60,8 @@ inline LightSample punctual_illuminate(const __global Light* l, float3 p) {
 /* A ray leaving a punctual light. Point: uniform sphere; spot: uniform in the outer cone;
  * directional: a uniform point of the disk of the scene's bounding radius, perpendicular to
  * the light's direction, one radius behind the bounding sphere's centre. */
-inline LightEmission punctual_emit(const SceneView* s, const __global Light* l, float2 u_pos,
-                                   float2 u_dir) {
+static inline LightEmission punctual_emit(const SceneView* s, const __global Light* l, float2 u_pos,
+                                          float2 u_dir) {
   LightEmission e;
   e.cos_light = 1.0f;
   if (l->type == LIGHT_DIRECTIONAL) {

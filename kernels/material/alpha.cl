@@ -12,8 +12,9 @@
 #include "texture/texture.cl"
 
 /* The material alpha at a point of a triangle. */
-inline float material_alpha(const SceneView* s, __global const Material* m, const Triangle* t,
-                            float b1, float b2) {
+static inline float material_alpha(const SceneView* s, __global const Material* m,
+                                   const Triangle* t,
+                                   float b1, float b2) {
   float2 uv1;
   float4 color;
   hit_extra(s, t, b1, b2, &uv1, &color);
@@ -26,7 +27,7 @@ inline float material_alpha(const SceneView* s, __global const Material* m, cons
   return alpha;
 }
 
-inline u32 alpha_mix(u32 h, u32 k) {
+static inline u32 alpha_mix(u32 h, u32 k) {
   k *= 0xcc9e2d51u;
   k = rotate(k, 15u);
   k *= 0x1b873593u;
@@ -36,7 +37,7 @@ inline u32 alpha_mix(u32 h, u32 k) {
 }
 
 /* A number in [0, 1) from the ray and the triangle (MurmurHash3 steps and finaliser). */
-inline float alpha_hash(float3 org, float3 dir, u32 tri) {
+static inline float alpha_hash(float3 org, float3 dir, u32 tri) {
   u32 h = 0x9747b28cu;
   h = alpha_mix(h, as_uint(org.x));
   h = alpha_mix(h, as_uint(org.y));
@@ -57,7 +58,8 @@ inline float alpha_hash(float3 org, float3 dir, u32 tri) {
 /* The material of leaf-order triangle `tri` (and the triangle in *t) when it has one of the
  * alpha modes in `modes`; 0 otherwise. Opaque scenes skip the material look-up, and kernels
  * without a material buffer (tests) see every surface as opaque. */
-inline __global const Material* alpha_material(const SceneView* s, u32 tri, u32 modes, Triangle* t) {
+static inline __global const Material* alpha_material(const SceneView* s, u32 tri, u32 modes,
+                                                      Triangle* t) {
   if (!(s->flags & SCENE_ALPHA) || s->materials == 0) return 0;
   *t = s->triangles[tri];
   __global const Material* m = &s->materials[t->material];
@@ -66,7 +68,8 @@ inline __global const Material* alpha_material(const SceneView* s, u32 tri, u32 
 
 /* Whether the hit of ray (org, dir) on leaf-order triangle `tri` at (b1, b2) falls in a hole
  * of its material. */
-inline bool alpha_hole(const SceneView* s, u32 tri, float b1, float b2, float3 org, float3 dir) {
+static inline bool alpha_hole(const SceneView* s, u32 tri, float b1, float b2, float3 org,
+                              float3 dir) {
   Triangle t;
   __global const Material* m = alpha_material(s, tri, MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, &t);
   if (!m) return false;
@@ -80,7 +83,7 @@ inline bool alpha_hole(const SceneView* s, u32 tri, float b1, float b2, float3 o
  * part). A density estimate from photons stored at hits divides by it: the photons stored
  * there are that fraction of those that arrived, while the light the surface reflects is
  * the whole incident light's (the camera meets the surface with that probability too). */
-inline float alpha_coverage(const SceneView* s, u32 tri, float b1, float b2) {
+static inline float alpha_coverage(const SceneView* s, u32 tri, float b1, float b2) {
   Triangle t;
   __global const Material* m = alpha_material(s, tri, MATERIAL_ALPHA_BLEND, &t);
   return m ? clamp(material_alpha(s, m, &t, b1, b2), 0.0f, 1.0f) : 1.0f;

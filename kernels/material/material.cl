@@ -10,8 +10,9 @@
 
 /* Emitted radiance of material m at the given UVs (front side): emissiveFactor x
  * emissive_strength x the emissive texture (sRGB). */
-inline float3 material_emission_uv(const SceneView* s, __global const Material* m, float2 uv0,
-                                   float2 uv1) {
+static inline float3 material_emission_uv(const SceneView* s, __global const Material* m,
+                                          float2 uv0,
+                                          float2 uv1) {
   if (!(m->flags & MATERIAL_EMISSIVE)) return (float3)(0.0f);
   const float3 e = vload3(0, m->emission);
   return e * texture_slot_sample(s, &m->tex[TEX_EMISSIVE], uv0, uv1, true, (float4)(1.0f)).xyz;
@@ -19,7 +20,7 @@ inline float3 material_emission_uv(const SceneView* s, __global const Material* 
 
 /* Emitted radiance at a point of leaf-order triangle `triangle` (front side), for lights
  * that sample a point on an emissive triangle. */
-inline float3 material_emission_at(const SceneView* s, u32 triangle, float b1, float b2) {
+static inline float3 material_emission_at(const SceneView* s, u32 triangle, float b1, float b2) {
   const Triangle t = s->triangles[triangle];
   __global const Material* m = &s->materials[t.material];
   if (!(m->flags & MATERIAL_EMISSIVE)) return (float3)(0.0f);
@@ -34,8 +35,8 @@ inline float3 material_emission_at(const SceneView* s, u32 triangle, float b1, f
  * interpolated tangent, bitangent = sign * cross(n, t) and the shading normal. Without a
  * usable tangent the shading normal is left as it is. The result stays on the geometric
  * normal's side. */
-inline float3 material_normal_map(const SceneView* s, __global const Material* m,
-                                  const SurfaceHit* sh) {
+static inline float3 material_normal_map(const SceneView* s, __global const Material* m,
+                                         const SurfaceHit* sh) {
   const float3 n = sh->ns;
   float3 t = sh->tangent.xyz - n * dot(n, sh->tangent.xyz);
   const float tl = length(t);
@@ -56,7 +57,7 @@ inline float3 material_normal_map(const SceneView* s, __global const Material* m
   return p;
 }
 
-inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
+static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
   __global const Material* m = &s->materials[sh->material];
   const float2 uv0 = sh->uv, uv1 = sh->uv1;
   const float4 white = (float4)(1.0f);
@@ -109,7 +110,7 @@ inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
 }
 
 /* The hit's surface with its material resolved: what integrators shade with. */
-inline SurfaceHit surface_shade(const SceneView* s, const Hit* hit, float3 org, float3 dir) {
+static inline SurfaceHit surface_shade(const SceneView* s, const Hit* hit, float3 org, float3 dir) {
   SurfaceHit sh = surface_at(s, hit, org, dir);
   material_resolve(s, &sh);
   return sh;

@@ -16,7 +16,7 @@
 /* The medium a ray leaving surface sh in direction wi travels in: sh's material when it has a
  * volume and wi points inside (against the outward normal: the front face's, ng unless
  * bsdf_orient flipped it), else MEDIUM_NONE. */
-inline u32 volume_medium(const SceneView* s, const SurfaceHit* sh, float3 wi) {
+static inline u32 volume_medium(const SceneView* s, const SurfaceHit* sh, float3 wi) {
   const __global Material* m = &s->materials[sh->material];
   if (!(m->flags & MATERIAL_VOLUME)) return MEDIUM_NONE;
   const float3 outward = sh->flipped ? -sh->ng : sh->ng;
@@ -25,14 +25,15 @@ inline u32 volume_medium(const SceneView* s, const SurfaceHit* sh, float3 wi) {
 }
 
 /* The fraction of throughput left after distance t inside `medium` (not MEDIUM_NONE). */
-inline float3 medium_transmittance(const SceneView* s, u32 medium, float t) {
+static inline float3 medium_transmittance(const SceneView* s, u32 medium, float t) {
   const __global Material* m = &s->materials[medium];
   const float3 c = clamp(vload3(0, m->attenuation_color), 0.0f, 1.0f);
   return pow(c, (float3)(t / m->attenuation_distance));
 }
 
 /* Both in one: the transmittance over distance t of a ray leaving sh in direction wi. */
-inline float3 volume_transmittance(const SceneView* s, const SurfaceHit* sh, float3 wi, float t) {
+static inline float3 volume_transmittance(const SceneView* s, const SurfaceHit* sh, float3 wi,
+                                          float t) {
   const u32 medium = volume_medium(s, sh, wi);
   return medium == MEDIUM_NONE ? (float3)(1.0f) : medium_transmittance(s, medium, t);
 }

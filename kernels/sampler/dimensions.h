@@ -36,10 +36,11 @@
  * dimension no light subpath reads (bounce 0's light vertex caching pick, light stream). */
 #define DIM_MMLT_STRATEGY (DIM_BOUNCE_BASE + DIM_LVC_PICK + DIM_BDPT_LIGHT_STREAM * DIM_STREAM_STRIDE)
 
-inline u32 bounce_dim(u32 bounce, u32 offset) {
+static inline u32 bounce_dim(u32 bounce, u32 offset) {
   return DIM_BOUNCE_BASE + bounce * DIM_PER_BOUNCE + offset;
 }
 
-inline u32 stream_dim(u32 dimension, u32 stream) { return dimension + stream * DIM_STREAM_STRIDE; }
+static inline u32 stream_dim(u32 dimension,
+                             u32 stream) { return dimension + stream * DIM_STREAM_STRIDE; }
 
 #endif

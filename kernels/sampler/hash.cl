@@ -5,7 +5,7 @@
 #include "shared/compat.h"
 
 /* Chris Wellons' "lowbias32" integer hash (hash-prospector), a bijection on 32 bits. */
-inline u32 hash_u32(u32 x) {
+static inline u32 hash_u32(u32 x) {
   x ^= x >> 16;
   x *= 0x7feb352du;
   x ^= x >> 15;
@@ -15,15 +15,15 @@ inline u32 hash_u32(u32 x) {
 }
 
 /* The top 24 bits as a float in [0, 1). */
-inline float u32_to_unit_float(u32 x) { return (float)(x >> 8) * 0x1.0p-24f; }
+static inline float u32_to_unit_float(u32 x) { return (float)(x >> 8) * 0x1.0p-24f; }
 
 /* A new key from a key (a hash value) and a value, with one hash: for a fixed key, distinct
  * values give distinct results (multiplication by an odd number, xor with the key and
  * hash_u32 are bijections). */
-inline u32 hash_combine(u32 key, u32 value) { return hash_u32(key ^ (value * 0x9e3779b9u)); }
+static inline u32 hash_combine(u32 key, u32 value) { return hash_u32(key ^ (value * 0x9e3779b9u)); }
 
 /* Bit reversal of a 32-bit word (OpenCL C 1.2 has no builtin for it). */
-inline u32 reverse_bits_u32(u32 x) {
+static inline u32 reverse_bits_u32(u32 x) {
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
   x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
@@ -54,7 +54,7 @@ inline u32 reverse_bits_u32(u32 x) {
  * started from the key, which must itself be a hash value (its high bits choose K_r).
  * Cost: about 15 integer operations per round. */
 #define PERMUTE_ROUNDS 12
-inline u32 permute_index(u32 i, u32 n, u32 key) {
+static inline u32 permute_index(u32 i, u32 n, u32 key) {
   u32 state = key; /* already a hash value */
   for (int r = 0; r < PERMUTE_ROUNDS; ++r) {
     state = state * 0x2c1b3c6du + 0x297a2d39u;

@@ -18,7 +18,7 @@
 #include "sampler/stratified.cl"
 
 /* key: one per (pixel, dimension). Needs sample_index < n. */
-inline float lhs_1d(u32 key, u32 sample_index, u32 n) {
+static inline float lhs_1d(u32 key, u32 sample_index, u32 n) {
   return stratified_1d(key, sample_index, n);
 }
 

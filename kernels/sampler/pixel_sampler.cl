@@ -40,7 +40,8 @@ typedef struct Sampler {
   u32 grid_x;       /* stratified: columns of the 2D grid (a divisor of spp_total) */
 } Sampler;
 
-inline Sampler sampler_init(__constant const RenderParams* params, u32 pixel, u32 sample_index) {
+static inline Sampler sampler_init(__constant const RenderParams* params, u32 pixel,
+                                   u32 sample_index) {
   Sampler s;
   s.type = params->sampler;
   s.key = hash_u32(hash_u32(params->seed) ^ pixel);
@@ -60,13 +61,13 @@ inline Sampler sampler_init(__constant const RenderParams* params, u32 pixel, u3
 }
 
 /* Independent sampling: a hash of (pixel key, sample index, dimension). */
-inline float independent_1d(const Sampler* s, u32 dimension) {
+static inline float independent_1d(const Sampler* s, u32 dimension) {
   const u32 h =
       hash_u32(hash_u32(s->key + s->sample_index * 0x9e3779b9u) ^ (dimension * 0x85ebca6bu));
   return u32_to_unit_float(hash_u32(h + dimension));
 }
 
-inline float sample_1d(const Sampler* s, u32 dimension) {
+static inline float sample_1d(const Sampler* s, u32 dimension) {
   float v;
   switch (s->type) {
     case SAMPLER_STRATIFIED:
@@ -84,7 +85,7 @@ inline float sample_1d(const Sampler* s, u32 dimension) {
   return fmin(v, 0x1.fffffep-1f);
 }
 
-inline float2 sample_2d(const Sampler* s, u32 dimension) {
+static inline float2 sample_2d(const Sampler* s, u32 dimension) {
   float2 v;
   switch (s->type) {
     case SAMPLER_STRATIFIED:

@@ -54,7 +54,7 @@
 
 /* The coordinate of a sampler dimension (see above); ~0u: none, the dimension is outside the
  * vector. */
-inline u32 pss_coordinate(u32 dimension) {
+static inline u32 pss_coordinate(u32 dimension) {
 #if PSS_STREAMS == 2u
   const u32 stream = dimension / DIM_STREAM_STRIDE, d = dimension % DIM_STREAM_STRIDE;
   if (stream == 0u) return 2u * d;
@@ -77,7 +77,7 @@ typedef struct Sampler {
   float sigma;
 } Sampler;
 
-inline float pss_uniform(u32 key, u32 d) {
+static inline float pss_uniform(u32 key, u32 d) {
   return fmin(u32_to_unit_float(hash_combine(key ^ PSS_SALT_UNIFORM, d)), 0x1.fffffep-1f);
 }
 
@@ -87,7 +87,7 @@ inline float pss_uniform(u32 key, u32 d) {
  * which is all Metropolis' acceptance rule needs of it, so the fast native_ functions may
  * round as they like. With them mlt ran about 1.17x faster on PoCL than with log, sqrt
  * and cos (Cornell box, 128x128, three A/B pairs). */
-inline float pss_gaussian(u32 key, u32 d) {
+static inline float pss_gaussian(u32 key, u32 d) {
   const u32 h = hash_combine(key ^ PSS_SALT_GAUSS, d);
   const u32 h2 = hash_u32(h);
   const float u1 = ((float)(h >> 8) + 1.0f) * 0x1.0p-24f; /* (0, 1]: log is finite */
@@ -97,7 +97,7 @@ inline float pss_gaussian(u32 key, u32 d) {
 }
 
 /* The sampler for a fresh uniform vector: the values a large step with this key gives. */
-inline Sampler pss_fresh(u32 key, u32 dims) {
+static inline Sampler pss_fresh(u32 key, u32 dims) {
   Sampler s;
   s.coords = 0;
   s.stride = 0u;
@@ -112,7 +112,7 @@ inline Sampler pss_fresh(u32 key, u32 dims) {
 }
 
 /* Coordinate d as this proposal sees it, brought up to date first (see the file comment). */
-inline float pss_value(const Sampler* s, u32 dimension) {
+static inline float pss_value(const Sampler* s, u32 dimension) {
   /* Out of the vector (a dimension the layout does not give the chain): an independent value
    * per proposal. mlt sizes the vector so that its paths never read one. */
   const u32 d = pss_coordinate(dimension);
@@ -141,20 +141,23 @@ inline float pss_value(const Sampler* s, u32 dimension) {
   return value;
 }
 
-inline float sample_1d(const Sampler* s, u32 dimension) { return pss_value(s, dimension); }
+static inline float sample_1d(const Sampler* s, u32 dimension) { return pss_value(s, dimension); }
 
-inline float2 sample_2d(const Sampler* s, u32 dimension) {
+static inline float2 sample_2d(const Sampler* s, u32 dimension) {
   return (float2)(pss_value(s, dimension), pss_value(s, dimension + 1u));
 }
 
 /* ---- A chain's proposals (MltChain holds the counters between them). ---- */
 
 /* Chain c's key: the root of its proposals' keys. */
-inline u32 pss_chain_key(u32 seed, u32 chain) { return hash_combine(hash_u32(seed ^ 0x7f4a7c15u), chain); }
+static inline u32 pss_chain_key(u32 seed,
+                                u32 chain) { return hash_combine(hash_u32(seed ^ 0x7f4a7c15u),
+                                chain); }
 
 /* Sets a chain to the start state whose vector is the fresh one of `key`, with its
  * coordinates not yet read (their iteration 0 is before the start's large step at 1). */
-inline void pss_chain_start(MltChain* ch, __global PssCoord* coords, u32 stride, u32 dims, u32 key) {
+static inline void pss_chain_start(MltChain* ch, __global PssCoord* coords, u32 stride, u32 dims,
+                                   u32 key) {
   for (u32 d = 0; d < dims; ++d) coords[(size_t)d * stride].modified = 0u;
   ch->iteration = 1u;
   ch->last_large = 1u;
@@ -163,7 +166,8 @@ inline void pss_chain_start(MltChain* ch, __global PssCoord* coords, u32 stride,
 }
 
 /* The sampler of the chain's current state (no change to any coordinate). */
-inline Sampler pss_current(const MltChain* ch, __global PssCoord* coords, u32 stride, u32 dims) {
+static inline Sampler pss_current(const MltChain* ch, __global PssCoord* coords, u32 stride,
+                                  u32 dims) {
   Sampler s = pss_fresh(ch->large_key, dims);
   s.coords = coords;
   s.stride = stride;
@@ -174,8 +178,8 @@ inline Sampler pss_current(const MltChain* ch, __global PssCoord* coords, u32 st
 
 /* Starts the chain's next proposal: a large step with probability large_step, else a small
  * step of standard deviation sigma. */
-inline Sampler pss_propose(MltChain* ch, __global PssCoord* coords, u32 stride, u32 dims,
-                           u32 chain_key, float large_step, float sigma) {
+static inline Sampler pss_propose(MltChain* ch, __global PssCoord* coords, u32 stride, u32 dims,
+                                  u32 chain_key, float large_step, float sigma) {
   ch->iteration += 1u;
   ch->proposals += 1u;
   Sampler s = pss_current(ch, coords, stride, dims);
@@ -189,17 +193,17 @@ inline Sampler pss_propose(MltChain* ch, __global PssCoord* coords, u32 stride, 
  * value `current`, for the symmetric proposals above (a large step's uniform density and
  * the wrapped Gaussian are both symmetric): min(1, proposed / current); a state of value 0
  * (a chain that started on nothing) accepts anything. */
-inline float pss_acceptance(float proposed, float current) {
+static inline float pss_acceptance(float proposed, float current) {
   return current > 0.0f ? fmin(1.0f, proposed / current) : 1.0f;
 }
 
 /* The uniform number that decides whether proposal `s` is accepted. */
-inline float pss_accept_u(const Sampler* s) {
+static inline float pss_accept_u(const Sampler* s) {
   return u32_to_unit_float(hash_u32(s->step_key ^ PSS_SALT_ACCEPT));
 }
 
 /* The proposal becomes the chain's state. */
-inline void pss_accept(MltChain* ch, const Sampler* s) {
+static inline void pss_accept(MltChain* ch, const Sampler* s) {
   if (s->large_step) {
     ch->last_large = s->iteration;
     ch->large_key = s->step_key;
@@ -207,7 +211,7 @@ inline void pss_accept(MltChain* ch, const Sampler* s) {
 }
 
 /* The proposal is dropped: its coordinates go back to their values before it. */
-inline void pss_reject(MltChain* ch, const Sampler* s) {
+static inline void pss_reject(MltChain* ch, const Sampler* s) {
   for (u32 d = 0; d < s->dims; ++d) {
     __global PssCoord* c = s->coords + (size_t)d * s->stride;
     if (c->modified == s->iteration) {

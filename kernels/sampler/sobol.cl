@@ -44,7 +44,7 @@
  * multiplication improves on Laine and Karras' original, where the seed is only added);
  * the even constants are those of the Laine-Karras hash as given by Burley 2020. The seed
  * must itself be a hash value. */
-inline u32 owen_hash(u32 x, u32 seed) {
+static inline u32 owen_hash(u32 x, u32 seed) {
   x += seed;
   x ^= x * 0x6c50b47cu;
   x *= (seed >> 16) | 1u;
@@ -58,7 +58,7 @@ inline u32 owen_hash(u32 x, u32 seed) {
 
 /* Owen scrambling of a 32-bit binary fraction held in bit-reversed order (bit 0 = the
  * fraction's most significant bit); returns the scrambled fraction in normal order. */
-inline u32 owen_scramble_reversed(u32 reversed_value, u32 seed) {
+static inline u32 owen_scramble_reversed(u32 reversed_value, u32 seed) {
   return reverse_bits_u32(owen_hash(reversed_value, seed));
 }
 
@@ -69,7 +69,7 @@ inline u32 owen_scramble_reversed(u32 reversed_value, u32 seed) {
  * is therefore the parity of the set bits of i at positions m that are supersets of j: a
  * "superset sum" over GF(2), computed bit-parallel in five steps instead of a loop over
  * the 24 bits of the index (equal for all 32-bit inputs, checked against the loop). */
-inline u32 sobol1_reversed(u32 i) {
+static inline u32 sobol1_reversed(u32 i) {
   i ^= (i >> 1) & 0x55555555u;
   i ^= (i >> 2) & 0x33333333u;
   i ^= (i >> 4) & 0x0f0f0f0fu;
@@ -81,15 +81,15 @@ inline u32 sobol1_reversed(u32 i) {
 /* The sample index shuffled per seed: an Owen scramble of its bits read from the top, so
  * bit j is flipped by a function of the bits above it and indices [0, 2^k) map onto one
  * aligned block of 2^k indices. */
-inline u32 sobol_shuffle(u32 sample_index, u32 seed) {
+static inline u32 sobol_shuffle(u32 sample_index, u32 seed) {
   return owen_scramble_reversed(reverse_bits_u32(sample_index), seed);
 }
 
 /* The float in [0,1) with the top 24 bits of a 32-bit fraction. */
-inline float sobol_to_unit(u32 x) { return (float)(x >> 8) * 0x1.0p-24f; }
+static inline float sobol_to_unit(u32 x) { return (float)(x >> 8) * 0x1.0p-24f; }
 
 /* key: one per (pixel, dimension pair). */
-inline float2 sobol_2d(u32 key, u32 sample_index) {
+static inline float2 sobol_2d(u32 key, u32 sample_index) {
   const u32 i = sobol_shuffle(sample_index, key);
   /* Dimension 0 is reverse_bits(i), which is i in reversed order. */
   return (float2)(sobol_to_unit(owen_scramble_reversed(i, hash_u32(key ^ 0x1b873593u))),
@@ -98,7 +98,7 @@ inline float2 sobol_2d(u32 key, u32 sample_index) {
 }
 
 /* key: one per (pixel, dimension). Scrambled, shuffled van der Corput. */
-inline float sobol_1d(u32 key, u32 sample_index) {
+static inline float sobol_1d(u32 key, u32 sample_index) {
   const u32 i = sobol_shuffle(sample_index, key);
   return sobol_to_unit(owen_scramble_reversed(i, hash_u32(key ^ 0x1b873593u)));
 }

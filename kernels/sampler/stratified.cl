@@ -21,7 +21,7 @@
 #include "sampler/hash.cl"
 
 /* nx of the nx x ny grid for n samples: the largest divisor of n that is <= sqrt(n). */
-inline u32 stratified_grid_width(u32 n) {
+static inline u32 stratified_grid_width(u32 n) {
   if (n <= 1u) return 1u;
   u32 r = (u32)sqrt((float)n);
   r = min(r, 0xffffu);
@@ -39,7 +39,7 @@ inline u32 stratified_grid_width(u32 n) {
  * One 64-bit division (on PoCL faster than a float estimate with exact correction loops).
  * Beyond 2^24 strata (not representable in a float's 24 bits) it degrades to a plain
  * jittered float. Results are strictly below 1. */
-inline float stratum_to_unit(u32 stratum, u32 n, u32 bits) {
+static inline float stratum_to_unit(u32 stratum, u32 n, u32 bits) {
   if (n > 0x1000000u)
     return fmin(((float)stratum + u32_to_unit_float(bits)) / (float)n, 0x1.fffffep-1f);
   const u32 t = mul_hi(bits, 0x1000001u - n) + (n - 1u); /* in [n - 1, 2^24 - 1] */
@@ -49,14 +49,14 @@ inline float stratum_to_unit(u32 stratum, u32 n, u32 bits) {
 
 /* One jittered stratum of n per sample, permuted per key (one key per pixel and dimension).
  * Also the Latin hypercube's value for one dimension (lhs.cl). Needs sample_index < n. */
-inline float stratified_1d(u32 key, u32 sample_index, u32 n) {
+static inline float stratified_1d(u32 key, u32 sample_index, u32 n) {
   const u32 stratum = permute_index(sample_index, n, key);
   return stratum_to_unit(stratum, n, hash_combine(key ^ 0x68e31da4u, sample_index));
 }
 
 /* One jittered cell of the nx x (n / nx) grid per sample, permuted per key (one key per
  * pixel and dimension pair). Needs sample_index < n and nx dividing n. */
-inline float2 stratified_2d(u32 key, u32 sample_index, u32 n, u32 nx) {
+static inline float2 stratified_2d(u32 key, u32 sample_index, u32 n, u32 nx) {
   const u32 cell = permute_index(sample_index, n, key);
   const u32 jitter = hash_combine(key ^ 0x68e31da4u, sample_index);
   return (float2)(stratum_to_unit(cell % nx, nx, jitter),

@@ -6,7 +6,13 @@
 #ifndef CLPT_SHARED_COMPAT_H
 #define CLPT_SHARED_COMPAT_H
 
-#ifdef __OPENCL_VERSION__
+/* OpenCL C compilers do not agree on one macro: PoCL and the vendors' drivers define
+ * __OPENCL_VERSION__, clang alone (its NVPTX and AMDGPU targets) only __OPENCL_C_VERSION__. */
+#if defined(__OPENCL_C_VERSION__) || defined(__OPENCL_VERSION__)
+#define CLPT_OPENCL_DEVICE 1
+#endif
+
+#ifdef CLPT_OPENCL_DEVICE
 typedef uint u32;
 typedef int i32;
 #define CLPT_BEGIN_SHARED

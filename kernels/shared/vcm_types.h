@@ -18,8 +18,8 @@ enum VcmMode {
 };
 
 /* The two techniques each mode runs: one rule for the host's launches and the kernels. */
-inline int vcm_mode_merges(u32 mode) { return mode == VCM_MODE_VCM || mode == VCM_MODE_PPM; }
-inline int vcm_mode_connects(u32 mode) { return mode == VCM_MODE_VCM || mode == VCM_MODE_BPT; }
+static inline int vcm_mode_merges(u32 mode) { return mode == VCM_MODE_VCM || mode == VCM_MODE_PPM; }
+static inline int vcm_mode_connects(u32 mode) { return mode == VCM_MODE_VCM || mode == VCM_MODE_BPT; }
 
 typedef struct VcmParams {
   u32 mode;               /* VcmMode */

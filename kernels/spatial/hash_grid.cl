@@ -12,20 +12,21 @@
 #include "shared/photon_types.h"
 
 /* floor(p * inv_cell), saturated to the int range. */
-inline int3 grid_cell(float3 p, float inv_cell) { return convert_int3_sat_rtn(p * inv_cell); }
+static inline int3 grid_cell(float3 p,
+                             float inv_cell) { return convert_int3_sat_rtn(p * inv_cell); }
 
-inline u32 grid_bucket(int3 c, u32 mask) {
+static inline u32 grid_bucket(int3 c, u32 mask) {
   return (((u32)c.x * 73856093u) ^ ((u32)c.y * 19349663u) ^ ((u32)c.z * 83492791u)) & mask;
 }
 
 /* Point i at position p joins its cell's bucket list. */
-inline void grid_insert_point(float3 p, u32 i, float inv_cell, u32 mask,
-                              volatile __global u32* heads, __global u32* next) {
+static inline void grid_insert_point(float3 p, u32 i, float inv_cell, u32 mask,
+                                     volatile __global u32* heads, __global u32* next) {
   next[i] = atomic_xchg(&heads[grid_bucket(grid_cell(p, inv_cell), mask)], i + 1u);
 }
 
-inline void grid_insert(__global const Photon* photons, u32 i, float inv_cell, u32 mask,
-                        volatile __global u32* heads, __global u32* next) {
+static inline void grid_insert(__global const Photon* photons, u32 i, float inv_cell, u32 mask,
+                               volatile __global u32* heads, __global u32* next) {
   grid_insert_point(vload3(0, photons[i].p), i, inv_cell, mask, heads, next);
 }
 

@@ -19,7 +19,7 @@ typedef struct KdNeighbor {
   u32 index; /* photon index */
 } KdNeighbor;
 
-inline void kd_sift_up(KdNeighbor* heap, u32 i) {
+static inline void kd_sift_up(KdNeighbor* heap, u32 i) {
   while (i > 0u) {
     const u32 parent = (i - 1u) / 2u;
     if (heap[parent].d2 >= heap[i].d2) break;
@@ -30,7 +30,7 @@ inline void kd_sift_up(KdNeighbor* heap, u32 i) {
   }
 }
 
-inline void kd_sift_down(KdNeighbor* heap, u32 i, u32 size) {
+static inline void kd_sift_down(KdNeighbor* heap, u32 i, u32 size) {
   for (;;) {
     const u32 l = 2u * i + 1u;
     if (l >= size) break;
@@ -47,22 +47,22 @@ inline void kd_sift_down(KdNeighbor* heap, u32 i, u32 size) {
 /* Whether a cell at squared distance `bound` may still hold a better photon: within the
  * radius while the heap fills, closer than the k-th distance once it is full (a photon tied
  * with the k-th would not replace it). */
-inline bool kd_reaches(float bound, float r2, u32 count, u32 capacity) {
+static inline bool kd_reaches(float bound, float r2, u32 count, u32 capacity) {
   return count < capacity ? bound <= r2 : bound < r2;
 }
 
 /* Distances and cell bounds are summed without fused multiply-adds, as the host does: a
  * fused bound could exceed a photon's unfused distance and prune it, and the host tests'
  * exact agreement would not hold (tests/photon_map_test.cpp). */
-inline float kd_cell_distance2(float4 c) {
+static inline float kd_cell_distance2(float4 c) {
 #pragma OPENCL FP_CONTRACT OFF
   return c.x * c.x + c.y * c.y + c.z * c.z;
 }
 
 /* The min(k, photons within max_r2) photons nearest to p, into heap[0, count) (heap order,
  * not sorted: heap[0] is the farthest). heap must hold k entries. Returns count. */
-inline u32 kd_knn(__global const KdNode* nodes, u32 n, float3 p, u32 k, float max_r2,
-                  KdNeighbor* heap) {
+static inline u32 kd_knn(__global const KdNode* nodes, u32 n, float3 p, u32 k, float max_r2,
+                         KdNeighbor* heap) {
 #pragma OPENCL FP_CONTRACT OFF
   if (n == 0u || k == 0u || !(max_r2 >= 0.0f)) return 0u;
   const u32 capacity = min(k, n);

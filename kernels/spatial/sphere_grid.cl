@@ -13,13 +13,13 @@
 #include "shared/ic_types.h"
 
 /* The hash of cell (level, c); the host's sphere_grid_bucket is the same function. */
-inline u32 sphere_grid_bucket(u32 level, int3 c, u32 mask) {
+static inline u32 sphere_grid_bucket(u32 level, int3 c, u32 mask) {
   return (((u32)c.x * 73856093u) ^ ((u32)c.y * 19349663u) ^ ((u32)c.z * 83492791u) ^
           ((level + 1u) * 2654435761u)) & mask;
 }
 
 /* The cell of point x at `level`. */
-inline int3 sphere_grid_cell(float3 x, float inv_cell, u32 level) {
+static inline int3 sphere_grid_cell(float3 x, float inv_cell, u32 level) {
   return convert_int3_sat_rtn(x * ldexp(inv_cell, -(int)level));
 }
 

@@ -79,12 +79,12 @@ __constant float SRGB_TO_LINEAR[256] = {
     9.734452904e-01f, 9.822505503e-01f, 9.911020971e-01f, 1.000000000e+00f,
 };
 
-inline float srgb_to_linear(float c) {
+static inline float srgb_to_linear(float c) {
   return c <= 0.04045f ? c / 12.92f : pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
 /* Wraps integer texel coordinate i into [0, n) by a TextureWrap mode. */
-inline int texture_wrap(int i, int n, u32 mode) {
+static inline int texture_wrap(int i, int n, u32 mode) {
   if (mode == WRAP_CLAMP) return clamp(i, 0, n - 1);
   if (mode == WRAP_MIRROR) {
     const int period = 2 * n;
@@ -99,7 +99,7 @@ inline int texture_wrap(int i, int n, u32 mode) {
 /* Brings a texture coordinate into a small range with the same texels (so the integer
  * arithmetic below cannot overflow): repeat has period 1, mirror period 2, clamp stops at the
  * edges anyway. NaN becomes 0. */
-inline float texture_reduce(float x, u32 mode) {
+static inline float texture_reduce(float x, u32 mode) {
   if (!isfinite(x)) return 0.0f;
   if (mode == WRAP_CLAMP) return clamp(x, -1.0f, 2.0f);
   const float period = mode == WRAP_MIRROR ? 2.0f : 1.0f;
@@ -107,7 +107,8 @@ inline float texture_reduce(float x, u32 mode) {
 }
 
 /* One texel as RGBA in [0, 1]; `srgb` decodes RGB from sRGB to linear (alpha is linear). */
-inline float4 texel_load(const SceneView* s, __global const Texture* t, int x, int y, bool srgb) {
+static inline float4 texel_load(const SceneView* s, __global const Texture* t, int x, int y,
+                                bool srgb) {
   const u32 c = s->texels[t->offset + (u32)y * t->width + (u32)x];
   const u32 r = c & 255u, g = (c >> 8) & 255u, b = (c >> 16) & 255u, a = c >> 24;
   if (srgb) return (float4)(SRGB_TO_LINEAR[r], SRGB_TO_LINEAR[g], SRGB_TO_LINEAR[b], (float)a / 255.0f);
@@ -116,7 +117,7 @@ inline float4 texel_load(const SceneView* s, __global const Texture* t, int x, i
 
 /* Texture `index` at uv: bilinear between the four nearest texel centres (decoded first, so
  * sRGB textures are filtered in linear space), or the nearest texel with TEXTURE_NEAREST. */
-inline float4 texture_sample(const SceneView* s, int index, float2 uv, bool srgb) {
+static inline float4 texture_sample(const SceneView* s, int index, float2 uv, bool srgb) {
   __global const Texture* t = &s->textures[index];
   const int w = (int)t->width, h = (int)t->height;
   const u32 ws = t->flags & TEXTURE_WRAP_S_MASK, wt = (t->flags >> TEXTURE_WRAP_T_SHIFT) & 3u;
@@ -136,15 +137,16 @@ inline float4 texture_sample(const SceneView* s, int index, float2 uv, bool srgb
 }
 
 /* The UV a texture slot reads: its UV set, then its KHR_texture_transform matrix. */
-inline float2 texture_slot_uv(__global const TextureSlot* slot, float2 uv0, float2 uv1) {
+static inline float2 texture_slot_uv(__global const TextureSlot* slot, float2 uv0, float2 uv1) {
   const float2 uv = slot->texcoord == 1u ? uv1 : uv0;
   return (float2)(slot->m[0] * uv.x + slot->m[1] * uv.y + slot->m[2],
                   slot->m[3] * uv.x + slot->m[4] * uv.y + slot->m[5]);
 }
 
 /* A material's texture in one slot, or `fallback` when the slot has no texture. */
-inline float4 texture_slot_sample(const SceneView* s, __global const TextureSlot* slot, float2 uv0,
-                                  float2 uv1, bool srgb, float4 fallback) {
+static inline float4 texture_slot_sample(const SceneView* s, __global const TextureSlot* slot,
+                                         float2 uv0,
+                                         float2 uv1, bool srgb, float4 fallback) {
   if (slot->texture < 0) return fallback;
   return texture_sample(s, slot->texture, texture_slot_uv(slot, uv0, uv1), srgb);
 }

@@ -20,9 +20,10 @@
 #include "light/light.cl"
 
 /* s = 1 at camera vertex sh (oriented to wo), k = its index. */
-inline float3 bdpt_nee(__constant const RenderParams* p, const MisMerge* m, const SceneView* s,
-                       const Sampler* sampler, const SurfaceHit* sh, float3 wo,
-                       const SubpathState* st, u32 k, u32* rays, u32* connections) {
+static inline float3 bdpt_nee(__constant const RenderParams* p, const MisMerge* m,
+                              const SceneView* s,
+                              const Sampler* sampler, const SurfaceHit* sh, float3 wo,
+                              const SubpathState* st, u32 k, u32* rays, u32* connections) {
   if (s->num_lights == 0u) return (float3)(0.0f);
   if (bdpt_strategy_weight(p, 1u, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
   const LightSample ls = light_illuminate(s, sh->p, sample_1d(sampler, bounce_dim(k - 1u, DIM_LIGHT_SELECT)),
@@ -44,11 +45,12 @@ inline float3 bdpt_nee(__constant const RenderParams* p, const MisMerge* m, cons
 
 /* s >= 2: camera vertex sh (oriented to wo, index k) joined to light vertex y (oriented to
  * y_wo, subpath state ls) of a light subpath with s_count vertices up to it. */
-inline float3 bdpt_connect_vertex(__constant const RenderParams* p, const MisMerge* m,
-                                  const SceneView* s, const SurfaceHit* sh, float3 wo,
-                                  const SubpathState* st, u32 k, const SurfaceHit* y, float3 y_wo,
-                                  const SubpathState* ls, u32 s_count, u32* rays,
-                                  u32* connections) {
+static inline float3 bdpt_connect_vertex(__constant const RenderParams* p, const MisMerge* m,
+                                         const SceneView* s, const SurfaceHit* sh, float3 wo,
+                                         const SubpathState* st, u32 k, const SurfaceHit* y,
+                                         float3 y_wo,
+                                         const SubpathState* ls, u32 s_count, u32* rays,
+                                         u32* connections) {
   if (s_count + k - 1u > p->max_depth) return (float3)(0.0f);
   if (bdpt_strategy_weight(p, s_count, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
   const float3 d = y->p - sh->p;
@@ -75,9 +77,10 @@ inline float3 bdpt_connect_vertex(__constant const RenderParams* p, const MisMer
 }
 
 /* s >= 2 with a stored light vertex v. */
-inline float3 bdpt_connect(__constant const RenderParams* p, const MisMerge* m, const SceneView* s,
-                           const SurfaceHit* sh, float3 wo, const SubpathState* st, u32 k,
-                           __global const PathVertex* v, u32* rays, u32* connections) {
+static inline float3 bdpt_connect(__constant const RenderParams* p, const MisMerge* m,
+                                  const SceneView* s,
+                                  const SurfaceHit* sh, float3 wo, const SubpathState* st, u32 k,
+                                  __global const PathVertex* v, u32* rays, u32* connections) {
   const u32 s_count = v->depth + 1u;
   if (s_count + k - 1u > p->max_depth) return (float3)(0.0f);
   if (bdpt_strategy_weight(p, s_count, k + 1u, 1.0f) == 0.0f) return (float3)(0.0f);
@@ -88,7 +91,7 @@ inline float3 bdpt_connect(__constant const RenderParams* p, const MisMerge* m, 
 }
 
 /* The camera subpath's state at the camera, for a ray in direction dir. */
-inline SubpathState bdpt_camera_start(__constant const RenderParams* p, float3 dir) {
+static inline SubpathState bdpt_camera_start(__constant const RenderParams* p, float3 dir) {
   SubpathState st;
   st.beta = (float3)(1.0f);
   st.dvcm = bdpt_mis(p, 1.0f / camera_ray_pdf_w(&p->camera, dir));
@@ -101,9 +104,9 @@ inline SubpathState bdpt_camera_start(__constant const RenderParams* p, float3 d
  * direction dir from its vertex k - 1; seen directly (k = 1) it has no other strategy. Adds
  * the weighted radiance to *L (one expression with the sum, so that the compiler's
  * contraction into a fused multiply-add stays what it was when this was inline code). */
-inline void bdpt_gather_escape(__constant const RenderParams* p, const SceneView* s,
-                               const SubpathState* st, float3 beta, float3 dir, u32 k,
-                               float3* L) {
+static inline void bdpt_gather_escape(__constant const RenderParams* p, const SceneView* s,
+                                      const SubpathState* st, float3 beta, float3 dir, u32 k,
+                                      float3* L) {
   if (!env_present(s)) return;
   const LightPdfs q = light_pdfs_env(s, dir);
   const float w_env = k == 1u ? 1.0f : bdpt_weight_hit_light(p, st, q.direct, q.emit_w);
@@ -112,9 +115,10 @@ inline void bdpt_gather_escape(__constant const RenderParams* p, const SceneView
 
 /* s = 0 at an emitter: camera vertex k (sh, oriented to wo, state st after arriving). Seen
  * directly (k = 1) it has weight 1 (s = 1, t = 1 is left out). Adds to *L as above. */
-inline void bdpt_gather_emitter(__constant const RenderParams* p, const SceneView* s,
-                                const SubpathState* st, const SurfaceHit* sh, float3 wo, u32 k,
-                                float3* L) {
+static inline void bdpt_gather_emitter(__constant const RenderParams* p, const SceneView* s,
+                                       const SubpathState* st, const SurfaceHit* sh, float3 wo,
+                                       u32 k,
+                                       float3* L) {
   const float3 Le = light_radiance(s, sh, wo);
   if (is_black(Le)) return;
   float w_hit = 1.0f;
@@ -134,10 +138,11 @@ inline void bdpt_gather_emitter(__constant const RenderParams* p, const SceneVie
  * count / (M paths). Its expectation is that of connecting to all vertices of one light
  * subpath (the mean over subpaths of their sum), so the estimate stays unbiased with the
  * same MIS weights; they are optimal for M near the mean number of vertices per subpath. */
-inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView* s,
-                               const Sampler* sampler, u32 x, u32 y,
-                               __global const PathVertex* lv, u32 count, u32 paths, u32* rays,
-                               u32* connections) {
+static inline float3 bdpt_camera_path(__constant const RenderParams* p, const SceneView* s,
+                                      const Sampler* sampler, u32 x, u32 y,
+                                      __global const PathVertex* lv, u32 count, u32 paths,
+                                      u32* rays,
+                                      u32* connections) {
   float3 org, dir;
   pixel_ray(p, sampler, x, y, &org, &dir);
   SubpathState st = bdpt_camera_start(p, dir);

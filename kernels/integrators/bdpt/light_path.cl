@@ -22,10 +22,10 @@
 #include "integrators/stages/walk.cl"
 #include "light/light.cl"
 
-inline float bdpt_light_sample_1d(const Sampler* sampler, u32 dim) {
+static inline float bdpt_light_sample_1d(const Sampler* sampler, u32 dim) {
   return sample_1d(sampler, stream_dim(dim, DIM_BDPT_LIGHT_STREAM));
 }
-inline float2 bdpt_light_sample_2d(const Sampler* sampler, u32 dim) {
+static inline float2 bdpt_light_sample_2d(const Sampler* sampler, u32 dim) {
   return sample_2d(sampler, stream_dim(dim, DIM_BDPT_LIGHT_STREAM));
 }
 
@@ -33,10 +33,11 @@ inline float2 bdpt_light_sample_2d(const Sampler* sampler, u32 dim) {
  * to the camera through lens point u_lens. Returns its weighted contribution to the film and
  * sets *pixel to where it lands; 0 when the strategy is off, the camera cannot see the vertex
  * or the shadow ray is blocked. */
-inline float3 bdpt_camera_connection(__constant const RenderParams* p, const MisMerge* m,
-                                     const SceneView* s, const SurfaceHit* sh, float3 wo,
-                                     const SubpathState* st, u32 depth, float2 u_lens, u32* pixel,
-                                     u32* rays, u32* connections) {
+static inline float3 bdpt_camera_connection(__constant const RenderParams* p, const MisMerge* m,
+                                            const SceneView* s, const SurfaceHit* sh, float3 wo,
+                                            const SubpathState* st, u32 depth, float2 u_lens,
+                                            u32* pixel,
+                                            u32* rays, u32* connections) {
   const float strategy = bdpt_strategy_weight(p, depth + 1u, 1u, 1.0f);
   if (strategy == 0.0f) return (float3)(0.0f);
   const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
@@ -55,10 +56,10 @@ inline float3 bdpt_camera_connection(__constant const RenderParams* p, const Mis
 }
 
 /* bdpt's t = 1 strategy: the connection above, splatted. */
-inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneView* s,
-                                const SurfaceHit* sh, float3 wo, const SubpathState* st,
-                                u32 depth, float2 u_lens, __global float4* splat, u32* rays,
-                                u32* connections) {
+static inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneView* s,
+                                       const SurfaceHit* sh, float3 wo, const SubpathState* st,
+                                       u32 depth, float2 u_lens, __global float4* splat, u32* rays,
+                                       u32* connections) {
   u32 pixel = 0u;
   const MisMerge none = mis_no_merging();
   const float3 L =
@@ -69,9 +70,9 @@ inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneVie
 /* The start of a light subpath: a light, a point on it and a direction from the light stream's
  * dimensions, the subpath state at the light (vertex_mis.cl) in *st, the emission's densities
  * in *q. Returns 0 when nothing is emitted. */
-inline int bdpt_light_start(__constant const RenderParams* p, const MisMerge* m,
-                            const SceneView* s, const Sampler* sampler, SubpathState* st,
-                            LightPdfs* q, PathWalk* w) {
+static inline int bdpt_light_start(__constant const RenderParams* p, const MisMerge* m,
+                                   const SceneView* s, const Sampler* sampler, SubpathState* st,
+                                   LightPdfs* q, PathWalk* w) {
   if (s->num_lights == 0u) return 0;
   const LightEmission e = light_emit(s, bdpt_light_sample_1d(sampler, bounce_dim(0u, DIM_LIGHT_SELECT)),
                                      bdpt_light_sample_2d(sampler, DIM_LT_EMIT_POS),
@@ -91,8 +92,8 @@ inline int bdpt_light_start(__constant const RenderParams* p, const MisMerge* m,
  * ray's t from its offset origin: the connection weights measure edges between vertices too
  * (tests/bdpt_mis_test.cpp). `finite`: the light of the subpath is not at infinity (whose
  * first segment has no distance). */
-inline void bdpt_light_arrive(__constant const RenderParams* p, SubpathState* st,
-                              const PathWalk* w, int finite) {
+static inline void bdpt_light_arrive(__constant const RenderParams* p, SubpathState* st,
+                                     const PathWalk* w, int finite) {
   st->beta = w->beta;
   bdpt_mis_arrive(p, st, distance(w->sh.p, w->from), fabs(dot(w->sh.ng, w->wo)),
                   w->depth > 1u || finite);
@@ -102,10 +103,10 @@ inline void bdpt_light_arrive(__constant const RenderParams* p, SubpathState* st
  * p->light_vertex_capacity), or with light vertex caching (p->bdpt_lvc > 0) appended to the
  * tile's shared cache `pool` through the counter *pool_count. Returns how many it stored.
  * *rays counts every ray traced, *connections the shadow rays of strategies (here: t = 1). */
-inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
-                           const Sampler* sampler, __global PathVertex* out,
-                           __global PathVertex* pool, volatile __global u32* pool_count,
-                           __global float4* splat, u32* rays, u32* connections) {
+static inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
+                                  const Sampler* sampler, __global PathVertex* out,
+                                  __global PathVertex* pool, volatile __global u32* pool_count,
+                                  __global float4* splat, u32* rays, u32* connections) {
   SubpathState st;
   LightPdfs q;
   PathWalk w;

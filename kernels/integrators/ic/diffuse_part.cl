@@ -25,7 +25,7 @@ typedef struct IcCounts {
 
 /* Adds a work-item's counters to its pixel's (only when it looked up: a kernel bound to no
  * cache has no per-pixel counters). */
-inline void ic_store_counts(__global u32* lookup_counts, u32 pixel, const IcCounts* c) {
+static inline void ic_store_counts(__global u32* lookup_counts, u32 pixel, const IcCounts* c) {
   if (c->lookups == 0u) return;
   lookup_counts[3u * pixel] += c->lookups;
   lookup_counts[3u * pixel + 1u] += c->used;
@@ -36,9 +36,10 @@ inline void ic_store_counts(__global u32* lookup_counts, u32 pixel, const IcCoun
  * diffuse factor the cache stands for there: the light it adds is kd E. Both 0 where the
  * cache does not stand for x (no bounce left for indirect light, no diffuse part, no record
  * covering x, or an empty cache). */
-inline float3 ic_diffuse_irradiance(__constant const RenderParams* p, const IcCache* cache,
-                                    const SurfaceHit* sh, float3 wo, u32 depth, IcCounts* counts,
-                                    float3* kd) {
+static inline float3 ic_diffuse_irradiance(__constant const RenderParams* p, const IcCache* cache,
+                                           const SurfaceHit* sh, float3 wo, u32 depth,
+                                           IcCounts* counts,
+                                           float3* kd) {
   *kd = (float3)(0.0f);
   if (depth + 1u >= p->max_depth || cache->ic->record_count == 0u) return (float3)(0.0f);
   const float3 f = bsdf_diffuse_factor(sh, wo);
@@ -56,7 +57,7 @@ inline float3 ic_diffuse_irradiance(__constant const RenderParams* p, const IcCa
 
 /* (f - kd) |cos| / pdf for BSDF sample bs at sh: the part of bs's weight the cache does not
  * stand for. kd is constant over wo's side, so it only counts for directions there. */
-inline float3 ic_rest_weight(const SurfaceHit* sh, const BsdfSample* bs, float3 kd) {
+static inline float3 ic_rest_weight(const SurfaceHit* sh, const BsdfSample* bs, float3 kd) {
   if (bs->is_delta || is_black(kd)) return bs->weight;
   if (gltf_is_lambert(&sh->bsdf)) return (float3)(0.0f); /* f = kd exactly */
   const float c = dot(sh->ns, bs->wi);

@@ -28,9 +28,9 @@
 /* Follows a camera walk (its ray not yet traced) through delta-only vertices to the first
  * vertex with a smooth lobe, at depth < max_depth. *L gains the emission seen on the way
  * (times the throughput), *travelled the distance. 0: the path ended first. */
-inline int ic_first_vertex(__constant const RenderParams* p, const SceneView* s,
-                           const Sampler* sampler, PathWalk* w, float3* L, float* travelled,
-                           u32* rays) {
+static inline int ic_first_vertex(__constant const RenderParams* p, const SceneView* s,
+                                  const Sampler* sampler, PathWalk* w, float3* L, float* travelled,
+                                  u32* rays) {
   for (;;) {
     if (!walk_next(s, w, rays)) {
       *L += w->beta * nee_emission_escaped(p, s, w->dir, w->pdf_w, w->delta);
@@ -48,8 +48,8 @@ inline int ic_first_vertex(__constant const RenderParams* p, const SceneView* s,
 /* L_ind at the vertex a walk has just reached (bounce w->depth): NEE there plus pt's
  * continuation, without the vertex's own emission; 0 when no bounce is left. Not weighted
  * by w->beta. */
-inline float3 ic_indirect_at(__constant const RenderParams* p, const SceneView* s,
-                             const Sampler* sampler, const PathWalk* w, u32* rays) {
+static inline float3 ic_indirect_at(__constant const RenderParams* p, const SceneView* s,
+                                    const Sampler* sampler, const PathWalk* w, u32* rays) {
   if (w->depth >= p->max_depth) return (float3)(0.0f);
   return nee_direct(p, s, sampler, &w->sh, w->wo, offset_ray_origin(w->sh.p, w->sh.ng), w->depth,
                     w->stream, rays) +
@@ -57,14 +57,15 @@ inline float3 ic_indirect_at(__constant const RenderParams* p, const SceneView* 
 }
 
 /* The pixel footprint at the end of a camera path `travelled` long. */
-inline float ic_footprint(__constant const IcParams* ic, float travelled) {
+static inline float ic_footprint(__constant const IcParams* ic, float travelled) {
   return ic->footprint_per_distance * travelled + ic->footprint_constant;
 }
 
 /* Radiance of one camera sample. */
-inline float3 ic_radiance(__constant const RenderParams* p, const SceneView* s,
-                          const IcCache* cache, const Sampler* sampler, float3 org, float3 dir,
-                          u32* rays, IcCounts* counts) {
+static inline float3 ic_radiance(__constant const RenderParams* p, const SceneView* s,
+                                 const IcCache* cache, const Sampler* sampler, float3 org,
+                                 float3 dir,
+                                 u32* rays, IcCounts* counts) {
   PathWalk w = walk_from_camera(org, dir, 0u, 0u);
   float3 L = (float3)(0.0f);
   float travelled = 0.0f;

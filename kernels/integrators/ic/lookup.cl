@@ -35,8 +35,8 @@ typedef struct IcCache {
   __global const u32* entries;
 } IcCache;
 
-inline IcCache ic_cache(__constant const IcParams* ic, __global const IcRecord* records,
-                        __global const u32* starts, __global const u32* entries) {
+static inline IcCache ic_cache(__constant const IcParams* ic, __global const IcRecord* records,
+                               __global const u32* starts, __global const u32* entries) {
   IcCache c;
   c.ic = ic;
   c.records = records;
@@ -47,7 +47,7 @@ inline IcCache ic_cache(__constant const IcParams* ic, __global const IcRecord* 
 
 /* The luminance of a per-channel gradient (three world vectors, r g b): luminance()'s
  * weights applied to the vectors. */
-inline float3 ic_luminance_gradient(__global const float* g) {
+static inline float3 ic_luminance_gradient(__global const float* g) {
   return 0.2126f * vload3(0, g) + 0.7152f * vload3(1, g) + 0.0722f * vload3(2, g);
 }
 
@@ -58,7 +58,8 @@ typedef struct IcEstimate {
 } IcEstimate;
 
 /* Record i's weight at (x, n, depth) for the error bound a, 0 when it does not contribute. */
-inline float ic_record_weight(float a, __global const IcRecord* r, float3 x, float3 n, u32 depth) {
+static inline float ic_record_weight(float a, __global const IcRecord* r, float3 x, float3 n,
+                                     u32 depth) {
   if (r->depth != depth) return 0.0f;
   const float3 xi = vload3(0, r->p), ni = vload3(0, r->n);
   const float cos_n = dot(n, ni);
@@ -71,8 +72,8 @@ inline float ic_record_weight(float a, __global const IcRecord* r, float3 x, flo
 }
 
 /* E_i extrapolated to (x, n): with the gradients when the cache uses them. */
-inline float3 ic_record_irradiance(__constant const IcParams* ic, __global const IcRecord* r,
-                                   float3 x, float3 n) {
+static inline float3 ic_record_irradiance(__constant const IcParams* ic, __global const IcRecord* r,
+                                          float3 x, float3 n) {
   float3 e = vload3(0, r->e);
   if (!ic->gradients) return e;
   const float3 axis = cross(vload3(0, r->n), n), d = x - vload3(0, r->p);
@@ -93,7 +94,8 @@ inline float3 ic_record_irradiance(__constant const IcParams* ic, __global const
 /* The cache's estimate at x (normal n, oriented as the record normals are: to the viewer's
  * side) for a vertex with `depth` bounces before it, from the records with eps < a (the
  * image: --ic-error; the placement asks for a margin, kernels/integrators/ic.cl). */
-inline IcEstimate ic_lookup_within(const IcCache* c, float a, float3 x, float3 n, u32 depth) {
+static inline IcEstimate ic_lookup_within(const IcCache* c, float a, float3 x, float3 n,
+                                          u32 depth) {
   IcEstimate est;
   est.e = (float3)(0.0f);
   est.weight = 0.0f;
@@ -121,7 +123,7 @@ inline IcEstimate ic_lookup_within(const IcCache* c, float a, float3 x, float3 n
   return est;
 }
 
-inline IcEstimate ic_lookup(const IcCache* c, float3 x, float3 n, u32 depth) {
+static inline IcEstimate ic_lookup(const IcCache* c, float3 x, float3 n, u32 depth) {
   return ic_lookup_within(c, c->ic->error, x, n, depth);
 }
 

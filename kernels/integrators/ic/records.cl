@@ -30,7 +30,7 @@
 #include "integrators/photon/estimate.cl"
 
 /* The record frame's local direction of stratum (j, k) at offset u in it. */
-inline float3 ic_stratum_dir(u32 j, u32 k, u32 m, u32 n, float2 u) {
+static inline float3 ic_stratum_dir(u32 j, u32 k, u32 m, u32 n, float2 u) {
   const float s2 = ((float)j + u.x) / (float)m;
   const float phi = 2.0f * PI_F * ((float)k + u.y) / (float)n;
   const float sin_t = sqrt(s2), cos_t = sqrt(fmax(0.0f, 1.0f - s2));
@@ -42,7 +42,7 @@ inline float3 ic_stratum_dir(u32 j, u32 k, u32 m, u32 n, float2 u) {
  * asin(sqrt(s)) - sqrt(s (1 - s)). Ward and Heckbert take tan at the stratum's middle, which
  * falls short at the horizon where tan grows without bound (by 10 % on a linear field with
  * 18 x 57 rays; tests/ic_test.cpp, RecordSumsOnALinearField). */
-inline float ic_stratum_tan(float lo, float hi) {
+static inline float ic_stratum_tan(float lo, float hi) {
   const float a = asin(sqrt(lo)) - sqrt(lo * (1.0f - lo));
   const float b = asin(sqrt(hi)) - sqrt(hi * (1.0f - hi));
   return (b - a) / (hi - lo);
@@ -54,10 +54,10 @@ inline float ic_stratum_tan(float lo, float hi) {
  * delta nor glossy the ray reaches, all the light y' reflects (photons of every bounce, as
  * pm's final gather reads it), plus, without a caustic map, the emission seen on the way
  * beyond y (L S+ D(x) light, which x's own NEE cannot find). */
-inline float4 ic_record_ray(__constant const RenderParams* p, const SceneView* s,
-                            __constant const IcParams* ic, const PhotonMap* map,
-                            __global const IcRecord* rec, u32 q, const Sampler* sampler,
-                            u32* rays) {
+static inline float4 ic_record_ray(__constant const RenderParams* p, const SceneView* s,
+                                   __constant const IcParams* ic, const PhotonMap* map,
+                                   __global const IcRecord* rec, u32 q, const Sampler* sampler,
+                                   u32* rays) {
   const u32 j = q / ic->rays_phi, k = q % ic->rays_phi;
   const float3 n = vload3(0, rec->n), x = vload3(0, rec->p);
   const float3 dir =
@@ -83,8 +83,8 @@ inline float4 ic_record_ray(__constant const RenderParams* p, const SceneView* s
 /* The record from its rays' results (M N of them, row j = 0 first): E, R and gradients,
  * averaged with the record's earlier batches (rec->rays of them so far). A new record holds
  * p, n, depth, pixel, rays = 0 and, in r, the pixel footprint at p. */
-inline void ic_finish_record(__constant const IcParams* ic, __global IcRecord* rec,
-                             __global const float4* ray) {
+static inline void ic_finish_record(__constant const IcParams* ic, __global IcRecord* rec,
+                                    __global const float4* ray) {
   const u32 m = ic->rays_theta, nphi = ic->rays_phi;
   const float share = PI_F / (float)(m * nphi);
   float3 e = (float3)(0.0f), rot[3], trans[3];

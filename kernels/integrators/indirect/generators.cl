@@ -45,8 +45,9 @@
 #include "shared/indirect_types.h"
 
 /* Direct light at y towards wo (next-event estimation alone, one light sample, weight 1). */
-inline float3 indirect_light_at(const SceneView* s, const Sampler* sampler, const SurfaceHit* y,
-                                float3 wo, u32* rays) {
+static inline float3 indirect_light_at(const SceneView* s, const Sampler* sampler,
+                                       const SurfaceHit* y,
+                                       float3 wo, u32* rays) {
   if (s->num_lights == 0u) return (float3)(0.0f);
   const LightSample ls = light_illuminate(s, y->p, sample_1d(sampler, bounce_dim(1u, DIM_LIGHT_SELECT)),
                                           sample_2d(sampler, bounce_dim(1u, DIM_LIGHT_POINT)));
@@ -60,8 +61,8 @@ inline float3 indirect_light_at(const SceneView* s, const Sampler* sampler, cons
 }
 
 /* Whether the segment between surface points a and b (normals ng_a, ng_b) is blocked. */
-inline bool indirect_segment_occluded(const SceneView* s, float3 a, float3 ng_a, float3 b,
-                                      float3 ng_b, u32* rays) {
+static inline bool indirect_segment_occluded(const SceneView* s, float3 a, float3 ng_a, float3 b,
+                                             float3 ng_b, u32* rays) {
   ++*rays;
   const float3 d = b - a;
   return segment_occluded(s, offset_ray_origin_towards(a, ng_a, d),
@@ -69,8 +70,9 @@ inline bool indirect_segment_occluded(const SceneView* s, float3 a, float3 ng_a,
 }
 
 /* Receiver gathering at x (oriented to wo). */
-inline float3 indirect_receiver(const SceneView* s, const Sampler* sampler, const SurfaceHit* x,
-                                float3 wo, u32* rays) {
+static inline float3 indirect_receiver(const SceneView* s, const Sampler* sampler,
+                                       const SurfaceHit* x,
+                                       float3 wo, u32* rays) {
   const BsdfSample bs = bsdf_sample(x, wo, sample_2d(sampler, bounce_dim(0u, DIM_BSDF_DIR)),
                                     sample_1d(sampler, bounce_dim(0u, DIM_BSDF_LOBE)),
                                     TRANSPORT_RADIANCE);
@@ -89,8 +91,9 @@ inline float3 indirect_receiver(const SceneView* s, const Sampler* sampler, cons
 /* Source shooting: a ray from a light (as the light tracer's, light/light.cl) lands on y,
  * which connects to x. Its weight Le |cos_light| / (pdf_select pdf_a pdf_w) is the flux the
  * ray carries, as in lt_trace. */
-inline float3 indirect_source(const SceneView* s, const Sampler* sampler, const SurfaceHit* x,
-                              float3 wo, u32* rays) {
+static inline float3 indirect_source(const SceneView* s, const Sampler* sampler,
+                                     const SurfaceHit* x,
+                                     float3 wo, u32* rays) {
   if (s->num_lights == 0u) return (float3)(0.0f);
   const LightEmission e = light_emit(s, sample_1d(sampler, bounce_dim(1u, DIM_LIGHT_SELECT)),
                                      sample_2d(sampler, bounce_dim(1u, DIM_LIGHT_POINT)),
@@ -121,9 +124,9 @@ inline float3 indirect_source(const SceneView* s, const Sampler* sampler, const 
 /* Surface sampling: y uniform over the scene's area, from `cdf` (n + 1 values over the
  * leaf-order triangles in proportion to their areas); the density is the interval the
  * triangle was drawn with over its area, which is exactly how it was drawn. */
-inline float3 indirect_surface(const SceneView* s, __constant const IndirectParams* ip,
-                               __global const float* cdf, const Sampler* sampler,
-                               const SurfaceHit* x, float3 wo, u32* rays) {
+static inline float3 indirect_surface(const SceneView* s, __constant const IndirectParams* ip,
+                                      __global const float* cdf, const Sampler* sampler,
+                                      const SurfaceHit* x, float3 wo, u32* rays) {
   if (ip->triangles == 0u) return (float3)(0.0f);
   const u32 tri = cdf_find_interval(cdf, ip->triangles, sample_1d(sampler, bounce_dim(1u, DIM_BSDF_LOBE)));
   const float p_tri = cdf[tri + 1u] - cdf[tri];

@@ -24,9 +24,9 @@
 /* The path of a chain's vector: over bdpt's strategies for mmlt, pt's path for pssmlt; its
  * target is the path's luminance times its pixel's importance (all 1 for --mlt-target
  * luminance, the bootstrap's tile weights for tile: host/integrators/metropolis.h). */
-inline PssPath mlt_path(const SceneView* s, __constant const RenderParams* p,
-                        const Sampler* sampler, u32 depth, __global const float* importance,
-                        u32* rays) {
+static inline PssPath mlt_path(const SceneView* s, __constant const RenderParams* p,
+                               const Sampler* sampler, u32 depth, __global const float* importance,
+                               u32* rays) {
 #ifdef CLPT_MLT_MULTIPLEXED
   PssPath path = mmlt_path(s, p, sampler, depth, rays);
 #else
@@ -39,7 +39,7 @@ inline PssPath mlt_path(const SceneView* s, __constant const RenderParams* p,
 /* The coordinates a chain's paths read: all of the vector for pssmlt (a path of any length),
  * for mmlt those of both subpaths' streams up to the chain's path length (the rest of the
  * vector stays unread, and a rejected proposal need not look at it). */
-inline u32 mlt_chain_dims(__constant const MltParams* m, u32 depth) {
+static inline u32 mlt_chain_dims(__constant const MltParams* m, u32 depth) {
 #ifdef CLPT_MLT_MULTIPLEXED
   return min(m->dims, MMLT_DIMS(depth));
 #else
@@ -49,25 +49,26 @@ inline u32 mlt_chain_dims(__constant const MltParams* m, u32 depth) {
 
 /* The splat of a state of contribution L and target I with expected-value weight w, for a
  * chain of normalisation n. */
-inline float3 mlt_splat_value(__constant const MltParams* m, MltDepth n, float3 L, float I,
-                              float w) {
+static inline float3 mlt_splat_value(__constant const MltParams* m, MltDepth n, float3 L, float I,
+                                     float w) {
   const float density = I / n.b + m->large_step;
   return density > 0.0f ? L * (w * m->splat_scale * n.chain_scale / density) : (float3)(0.0f);
 }
 
 /* Splats the current state's gathered weight. */
-inline void mlt_flush(__constant const MltParams* m, MltDepth n, MltChain* ch,
-                      __global float4* splat) {
+static inline void mlt_flush(__constant const MltParams* m, MltDepth n, MltChain* ch,
+                             __global float4* splat) {
   if (ch->weight > 0.0f && ch->target > 0.0f)
     film_splat(splat, ch->pixel,
                mlt_splat_value(m, n, vload3(0, ch->color), ch->target, ch->weight));
   ch->weight = 0.0f;
 }
 
-inline void mlt_step(const SceneView* s, __constant const RenderParams* p,
-                     __constant const MltParams* m, MltDepth n, MltChain* ch,
-                     __global PssCoord* coords, u32 chain_key, __global const float* importance,
-                     __global float4* splat, u32* rays) {
+static inline void mlt_step(const SceneView* s, __constant const RenderParams* p,
+                            __constant const MltParams* m, MltDepth n, MltChain* ch,
+                            __global PssCoord* coords, u32 chain_key,
+                            __global const float* importance,
+                            __global float4* splat, u32* rays) {
   const Sampler proposal =
       pss_propose(ch, coords, m->dim_stride, mlt_chain_dims(m, ch->depth), chain_key,
                   m->large_step, m->sigma);

@@ -34,8 +34,9 @@ typedef struct MmltLightVertex {
 /* Traces the light subpath to its vertex of bounce `depth` (>= 1). Returns 0 when it ends
  * before (nothing emitted, an escape, no BSDF sample) or ends on a vertex no connection can
  * use (only delta lobes). */
-inline int mmlt_light_vertex(__constant const RenderParams* p, const SceneView* s,
-                             const Sampler* sampler, u32 depth, MmltLightVertex* y, u32* rays) {
+static inline int mmlt_light_vertex(__constant const RenderParams* p, const SceneView* s,
+                                    const Sampler* sampler, u32 depth, MmltLightVertex* y,
+                                    u32* rays) {
   LightPdfs q;
   PathWalk w;
   const MisMerge none = mis_no_merging();
@@ -57,7 +58,7 @@ inline int mmlt_light_vertex(__constant const RenderParams* p, const SceneView* 
 }
 
 /* The strategy's light vertices for a path of `depth` bounces (see the file comment). */
-inline u32 mmlt_light_vertices(const Sampler* sampler, u32 depth) {
+static inline u32 mmlt_light_vertices(const Sampler* sampler, u32 depth) {
   if (depth == 0u) return 0u;
   const u32 n = depth + 2u;
   return min((u32)(sample_1d(sampler, DIM_MMLT_STRATEGY) * (float)n), n - 1u);
@@ -66,9 +67,9 @@ inline u32 mmlt_light_vertices(const Sampler* sampler, u32 depth) {
 /* The camera subpath, traced to its vertex t - 1 and closed there by strategy (s, t) with the
  * light vertex y (s >= 2). Returns the weighted contribution f_st w_st; *pixel is the
  * film position's pixel. */
-inline float3 mmlt_camera_strategy(__constant const RenderParams* p, const SceneView* s,
-                                   const Sampler* sampler, u32 s_count, u32 t_count,
-                                   const MmltLightVertex* y, u32* pixel, u32* rays) {
+static inline float3 mmlt_camera_strategy(__constant const RenderParams* p, const SceneView* s,
+                                          const Sampler* sampler, u32 s_count, u32 t_count,
+                                          const MmltLightVertex* y, u32* pixel, u32* rays) {
   u32 connections = 0u;
   const MisMerge none = mis_no_merging();
   float3 org, dir;
@@ -103,8 +104,8 @@ inline float3 mmlt_camera_strategy(__constant const RenderParams* p, const Scene
 }
 
 /* The path of `depth` bounces the vector stands for, and its target value. */
-inline PssPath mmlt_path(const SceneView* s, __constant const RenderParams* p,
-                         const Sampler* sampler, u32 depth, u32* rays) {
+static inline PssPath mmlt_path(const SceneView* s, __constant const RenderParams* p,
+                                const Sampler* sampler, u32 depth, u32* rays) {
   PssPath path;
   path.L = (float3)(0.0f);
   path.target = 0.0f;
@@ -118,7 +119,8 @@ inline PssPath mmlt_path(const SceneView* s, __constant const RenderParams* p,
     u32 connections = 0u;
     const MisMerge none = mis_no_merging();
     path.L = bdpt_camera_connection(p, &none, s, &y.sh, y.wo, &y.st, s_count - 1u,
-                                    bdpt_light_sample_2d(sampler, bounce_dim(s_count - 1u, DIM_LT_LENS)),
+                                    bdpt_light_sample_2d(sampler, bounce_dim(s_count - 1u,
+                                    DIM_LT_LENS)),
                                     &path.pixel, rays, &connections);
   } else {
     path.L = mmlt_camera_strategy(p, s, sampler, s_count, t_count, &y, &path.pixel, rays);

@@ -14,8 +14,8 @@ typedef struct PssPath {
   u32 pixel;       /* where its film position falls */
 } PssPath;
 
-inline PssPath pss_path(const SceneView* s, __constant const RenderParams* p,
-                        const Sampler* sampler, u32* rays) {
+static inline PssPath pss_path(const SceneView* s, __constant const RenderParams* p,
+                               const Sampler* sampler, u32* rays) {
   PssPath path;
   float3 org, dir;
   path.pixel = film_sample_ray(p, sampler, &org, &dir);

@@ -20,7 +20,7 @@
 
 #define PHOTON_NORMAL_COS 0.8f
 
-inline float photon_kernel(u32 filter, float d2, float r2) {
+static inline float photon_kernel(u32 filter, float d2, float r2) {
   if (!(r2 > 0.0f) || d2 > r2) return 0.0f;
   const float inv_area = 1.0f / (M_PI_F * r2);
   if (filter == PHOTON_FILTER_CONE) return 3.0f * inv_area * (1.0f - sqrt(d2 / r2));
@@ -28,10 +28,10 @@ inline float photon_kernel(u32 filter, float d2, float r2) {
   return inv_area;
 }
 
-inline u32 photon_bounce(u32 flags) { return (flags >> PHOTON_BOUNCE_SHIFT) & 0xffu; }
+static inline u32 photon_bounce(u32 flags) { return (flags >> PHOTON_BOUNCE_SHIFT) & 0xffu; }
 
 /* Whether a photon lies on the surface of hit sh (its normal check). */
-inline bool photon_on_surface(const SurfaceHit* sh, __global const Photon* ph) {
+static inline bool photon_on_surface(const SurfaceHit* sh, __global const Photon* ph) {
   return fabs(dot(vload3(0, ph->n), sh->ng)) >= PHOTON_NORMAL_COS;
 }
 
@@ -41,7 +41,7 @@ typedef struct PhotonShading {
   float3 wo_local;
 } PhotonShading;
 
-inline PhotonShading photon_shading(const SurfaceHit* sh, float3 wo) {
+static inline PhotonShading photon_shading(const SurfaceHit* sh, float3 wo) {
   PhotonShading s;
   s.frame = bsdf_frame(sh, wo);
   s.wo_local = bsdf_to_local(&s.frame, wo);
@@ -50,7 +50,7 @@ inline PhotonShading photon_shading(const SurfaceHit* sh, float3 wo) {
 
 /* wi rotated by the smallest rotation that takes unit vector a to unit vector b (dot(a, b)
  * > -1): Rodrigues' formula with k = a x b, c = a . b. */
-inline float3 rotate_between(float3 a, float3 b, float3 wi) {
+static inline float3 rotate_between(float3 a, float3 b, float3 wi) {
   const float3 k = cross(a, b);
   const float c = dot(a, b);
   return wi * c + cross(k, wi) + k * (dot(k, wi) / (1.0f + c));
@@ -64,8 +64,8 @@ inline float3 rotate_between(float3 a, float3 b, float3 wi) {
  * below x's tangent plane (x's BSDF gives 0: light lost, 0.35 % of a furnace's inner
  * sphere) or, for a photon inside a thin shell, above it (light leaking out through a lamp
  * shade: PhotonMapping.NoLightThroughAClosedShell). */
-inline float3 photon_reflected(const SurfaceHit* sh, const PhotonShading* s,
-                               __global const Photon* ph) {
+static inline float3 photon_reflected(const SurfaceHit* sh, const PhotonShading* s,
+                                      __global const Photon* ph) {
   const float3 n_p = vload3(0, ph->n);
   const float3 n_x = dot(n_p, sh->ng) >= 0.0f ? sh->ng : -sh->ng;
   const float3 wi = rotate_between(n_p, n_x, vload3(0, ph->wi));

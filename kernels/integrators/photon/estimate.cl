@@ -16,7 +16,8 @@ typedef struct PhotonMap {
   u32 count;
 } PhotonMap;
 
-inline PhotonMap photon_map(__global const KdNode* nodes, __global const Photon* photons, u32 count) {
+static inline PhotonMap photon_map(__global const KdNode* nodes, __global const Photon* photons,
+                                   u32 count) {
   PhotonMap m;
   m.nodes = nodes;
   m.photons = photons;
@@ -28,8 +29,8 @@ inline PhotonMap photon_map(__global const KdNode* nodes, __global const Photon*
  * the maximum radius), counting those of bounce >= min_bounce that make paths within
  * max_depth, without caustic photons when exclude_caustic. Jensen's radius: the k-th
  * photon's distance, or the maximum radius when fewer photons lie within it. */
-inline float3 pm_estimate(__constant const RenderParams* p, const PhotonMap* map,
-                          const VisiblePoint* vp, u32 min_bounce, int exclude_caustic) {
+static inline float3 pm_estimate(__constant const RenderParams* p, const PhotonMap* map,
+                                 const VisiblePoint* vp, u32 min_bounce, int exclude_caustic) {
   KdNeighbor heap[PM_KNN_MAX];
   const u32 k = clamp(p->knn, 1u, PM_KNN_MAX);
   const float max_r2 = p->pm_max_radius * p->pm_max_radius;

@@ -11,7 +11,7 @@
 /* Glossy: no diffuse lobe (metal or glass alone) and a GGX roughness below the threshold, but
  * not a delta. */
 #define PHOTON_GLOSSY_ROUGHNESS 0.5f
-inline bool photon_glossy(const SurfaceHit* sh) {
+static inline bool photon_glossy(const SurfaceHit* sh) {
   const float m = clamp(sh->bsdf.metallic, 0.0f, 1.0f), t = clamp(sh->bsdf.transmission, 0.0f, 1.0f);
   return (1.0f - m) * (1.0f - t) < 1e-4f && sh->bsdf.roughness < PHOTON_GLOSSY_ROUGHNESS &&
          bsdf_has_smooth_lobe(sh);

@@ -17,8 +17,8 @@
 #include "light/light.cl"
 #include "shared/photon_types.h"
 
-inline void photon_store(__global Photon* out, volatile __global u32* count, u32 capacity,
-                         const SurfaceHit* sh, float3 wi, float3 power, u32 flags) {
+static inline void photon_store(__global Photon* out, volatile __global u32* count, u32 capacity,
+                                const SurfaceHit* sh, float3 wi, float3 power, u32 flags) {
   const u32 slot = atomic_inc(count);
   if (slot >= capacity) return; /* full: the host sees count > capacity and says so */
   __global Photon* ph = out + slot;
@@ -34,10 +34,10 @@ inline void photon_store(__global Photon* out, volatile __global u32* count, u32
 
 /* One photon path. store: PHOTON_STORE_* mask (caustic photons only, for the caustic map's
  * pass; no first-hit photons, for SPPM whose direct light is NEE's). */
-inline void photon_trace(__constant const RenderParams* p, const SceneView* s,
-                         const Sampler* sampler, float inv_paths, u32 store,
-                         __global Photon* out, volatile __global u32* count, u32 capacity,
-                         u32* rays) {
+static inline void photon_trace(__constant const RenderParams* p, const SceneView* s,
+                                const Sampler* sampler, float inv_paths, u32 store,
+                                __global Photon* out, volatile __global u32* count, u32 capacity,
+                                u32* rays) {
   if (s->num_lights == 0u) return;
   const int caustic_only = (store & PHOTON_STORE_CAUSTIC_ONLY) != 0u;
   const u32 first_stored = (store & PHOTON_STORE_SKIP_DIRECT) ? 2u : 1u;

@@ -26,9 +26,9 @@
 /* Indirect light at vp by final gathering: the mean over N BSDF-sampled rays of the global
  * map's estimate where each ray (after delta bounces) meets a non-delta surface; without the
  * diffuse part kd when an irradiance cache holds it (ic_rest_weight). */
-inline float3 pm_final_gather(__constant const RenderParams* p, const SceneView* s,
-                              const Sampler* sampler, const PhotonMap* global_map,
-                              const VisiblePoint* vp, float3 kd, u32* rays) {
+static inline float3 pm_final_gather(__constant const RenderParams* p, const SceneView* s,
+                                     const Sampler* sampler, const PhotonMap* global_map,
+                                     const VisiblePoint* vp, float3 kd, u32* rays) {
   const u32 n = p->final_gather;
   float3 L = (float3)(0.0f);
   for (u32 j = 0; j < n; ++j) {
@@ -50,10 +50,10 @@ inline float3 pm_final_gather(__constant const RenderParams* p, const SceneView*
   return L / (float)max(n, 1u);
 }
 
-inline float3 pm_radiance(__constant const RenderParams* p, const SceneView* s,
-                          const Sampler* sampler, const PhotonMap* global_map,
-                          const PhotonMap* caustic_map, const IcCache* cache, float3 org,
-                          float3 dir, u32* rays, IcCounts* counts) {
+static inline float3 pm_radiance(__constant const RenderParams* p, const SceneView* s,
+                                 const Sampler* sampler, const PhotonMap* global_map,
+                                 const PhotonMap* caustic_map, const IcCache* cache, float3 org,
+                                 float3 dir, u32* rays, IcCounts* counts) {
   VisiblePoint vp;
   if (!photon_visible_point(p, s, sampler, 0, org, dir, 0u, 0u, VP_EMISSION_ALL, rays, &vp))
     return vp.L;

@@ -44,10 +44,10 @@ typedef struct VisiblePoint {
  * at depth `depth` - 1) to the first vertex neither delta nor glossy. Returns 0 when there is
  * none within max_depth (escaped, absorbed, or only delta and glossy surfaces); vp->L is valid
  * either way. Dimensions from bounce `depth` of `stream`. */
-inline int photon_visible_point(__constant const RenderParams* p, const SceneView* s,
-                                const Sampler* sampler, const SurfaceHit* from, float3 org,
-                                float3 dir, u32 depth, u32 stream, int emission, u32* rays,
-                                VisiblePoint* vp) {
+static inline int photon_visible_point(__constant const RenderParams* p, const SceneView* s,
+                                       const Sampler* sampler, const SurfaceHit* from, float3 org,
+                                       float3 dir, u32 depth, u32 stream, int emission, u32* rays,
+                                       VisiblePoint* vp) {
   vp->beta = (float3)(1.0f);
   vp->L = (float3)(0.0f);
   vp->t_first = INFINITY;
@@ -85,8 +85,8 @@ inline int photon_visible_point(__constant const RenderParams* p, const SceneVie
  * BSDF-sampled ray that finds emitters and the environment, MIS-weighted as in pt (--direct,
  * --mis, --light-samples). When that sample picks a delta lobe of a mixed material (a
  * roughness-0 coat over a diffuse base), the light it finds has weight 1: NEE cannot. */
-inline float3 photon_direct(__constant const RenderParams* p, const SceneView* s,
-                            const Sampler* sampler, const VisiblePoint* vp, u32* rays) {
+static inline float3 photon_direct(__constant const RenderParams* p, const SceneView* s,
+                                   const Sampler* sampler, const VisiblePoint* vp, u32* rays) {
   const SurfaceHit* sh = &vp->sh;
   float3 L = nee_direct(p, s, sampler, sh, vp->wo, offset_ray_origin(sh->p, sh->ng), vp->depth,
                        0u, rays);

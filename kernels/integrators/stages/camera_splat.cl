@@ -8,7 +8,7 @@
 #include "film/splat.cl"
 #include "shared/render_types.h"
 
-inline u32 splat_pixel(__constant const RenderParams* p, const CameraConnection* c) {
+static inline u32 splat_pixel(__constant const RenderParams* p, const CameraConnection* c) {
   const u32 x = min((u32)c->raster.x, p->width - 1u), y = min((u32)c->raster.y, p->height - 1u);
   return y * p->width + x;
 }

@@ -16,7 +16,7 @@
 
 /* The MIS weight of a technique with `n_this` samples of density pdf_this against one with
  * n_other samples of density pdf_other. */
-inline float nee_mis_weight(__constant const RenderParams* p, float n_this, float pdf_this,
+static inline float nee_mis_weight(__constant const RenderParams* p, float n_this, float pdf_this,
                            float n_other, float pdf_other) {
   const float a = n_this * pdf_this, b = n_other * pdf_other;
   if (!(a > 0.0f)) return 0.0f;
@@ -28,7 +28,7 @@ inline float nee_mis_weight(__constant const RenderParams* p, float n_this, floa
  * part). --hemisphere cosine|uniform sample only the upper hemisphere of the shading normal
  * on wo's side: they never find transmission or delta (mirror, smooth glass) lobes, so such
  * materials lose that light under them; they are for studying diffuse sampling. */
-inline float camera_scatter_pdf(__constant const RenderParams* p, const SceneView* s,
+static inline float camera_scatter_pdf(__constant const RenderParams* p, const SceneView* s,
                             const SurfaceHit* sh, float3 wo, float3 wi) {
   if (p->hemisphere == HEMISPHERE_UNIFORM) return warp_uniform_hemisphere_pdf(dot(sh->ns, wi));
   if (p->hemisphere == HEMISPHERE_COSINE) return warp_cosine_hemisphere_pdf(dot(sh->ns, wi));
@@ -36,7 +36,7 @@ inline float camera_scatter_pdf(__constant const RenderParams* p, const SceneVie
 }
 
 /* Picks the next direction; weight = f * |cos| / pdf. u_lobe picks the BSDF's lobe. */
-inline BsdfSample camera_scatter_sample(__constant const RenderParams* p, const SceneView* s,
+static inline BsdfSample camera_scatter_sample(__constant const RenderParams* p, const SceneView* s,
                                     const SurfaceHit* sh, float3 wo, float2 u, float u_lobe) {
   if (p->hemisphere == HEMISPHERE_BSDF) return bsdf_sample(sh, wo, u, u_lobe, TRANSPORT_RADIANCE);
   BsdfSample bs;
@@ -56,7 +56,8 @@ inline BsdfSample camera_scatter_sample(__constant const RenderParams* p, const 
 }
 
 /* Next-event estimation at a vertex: light_samples shadow rays, each weighted 1/N. */
-inline float3 nee_direct(__constant const RenderParams* p, const SceneView* s, const Sampler* sampler,
+static inline float3 nee_direct(__constant const RenderParams* p, const SceneView* s,
+                                const Sampler* sampler,
                         const SurfaceHit* sh, float3 wo, float3 org, u32 depth, u32 stream,
                         u32* rays) {
   float3 L = (float3)(0.0f);
@@ -79,7 +80,8 @@ inline float3 nee_direct(__constant const RenderParams* p, const SceneView* s, c
     if (light_sample_occluded(s, dot(ls.wi, sh->ng) >= 0.0f ? org : offset_ray_origin(sh->p, -sh->ng), &ls)) continue;
     const float w = p->direct != DIRECT_MIS || ls.is_delta
                         ? 1.0f
-                        : nee_mis_weight(p, (float)n, ls.pdf_w, 1.0f, camera_scatter_pdf(p, s, sh, wo, ls.wi));
+                        : nee_mis_weight(p, (float)n, ls.pdf_w, 1.0f, camera_scatter_pdf(p, s, sh,
+                        wo, ls.wi));
     L += f * ls.Le * (w / (ls.pdf_w * (float)n));
   }
   return L;
@@ -87,7 +89,7 @@ inline float3 nee_direct(__constant const RenderParams* p, const SceneView* s, c
 
 /* Emission found by a scattered ray that hit emitter triangle sh->triangle at distance t,
  * weighted against NEE; after a delta bounce NEE could not have found it: weight 1. */
-inline float3 nee_emission_hit(__constant const RenderParams* p, const SceneView* s,
+static inline float3 nee_emission_hit(__constant const RenderParams* p, const SceneView* s,
                                         const SurfaceHit* sh, float3 wo, float t, float pdf_scatter,
                                         int after_delta) {
   const float3 Le = light_radiance(s, sh, wo);
@@ -100,7 +102,8 @@ inline float3 nee_emission_hit(__constant const RenderParams* p, const SceneView
 
 /* Radiance of the environment seen by a scattered ray that escaped in direction dir, weighted
  * against NEE of the environment light. */
-inline float3 nee_emission_escaped(__constant const RenderParams* p, const SceneView* s, float3 dir,
+static inline float3 nee_emission_escaped(__constant const RenderParams* p, const SceneView* s,
+                                          float3 dir,
                                   float pdf_scatter, int after_delta) {
   if (!env_present(s)) return (float3)(0.0f);
   const float3 Le = env_radiance(s, dir);

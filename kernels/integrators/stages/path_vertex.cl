@@ -14,8 +14,8 @@ typedef struct SubpathState {
   float dvm;      /* dVM: the partial sum for vertex merging (vcm) */
 } SubpathState;
 
-inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* sh, float3 wo,
-                              const SubpathState* st, u32 depth) {
+static inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* sh, float3 wo,
+                                     const SubpathState* st, u32 depth) {
   vstore3(sh->p, 0, v->p);
   vstore3(sh->ng, 0, v->ng);
   vstore3(sh->ns, 0, v->ns);
@@ -43,7 +43,7 @@ inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* sh, floa
 }
 
 /* The subpath state stored with a vertex. */
-inline SubpathState path_vertex_state(__global const PathVertex* v) {
+static inline SubpathState path_vertex_state(__global const PathVertex* v) {
   SubpathState st;
   st.beta = vload3(0, v->beta);
   st.dvcm = v->dvcm;
@@ -54,7 +54,7 @@ inline SubpathState path_vertex_state(__global const PathVertex* v) {
 
 /* The SurfaceHit a stored vertex stands for: enough for bsdf_eval_cos, bsdf_pdf_w and
  * volume_transmittance (no uv, colour or tangent: the BSDF was resolved when stored). */
-inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
+static inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   SurfaceHit sh;
   sh.p = vload3(0, v->p);
   sh.ng = vload3(0, v->ng);

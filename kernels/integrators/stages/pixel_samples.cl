@@ -24,9 +24,9 @@ typedef struct PixelSamples {
   u32 rays;       /* rays the pass's samples traced */
 } PixelSamples;
 
-inline PixelSamples pixel_samples_begin(__constant const RenderParams* p, u32 pixel,
-                                        __global const float4* film_sum,
-                                        __global const float4* film_sum_sq) {
+static inline PixelSamples pixel_samples_begin(__constant const RenderParams* p, u32 pixel,
+                                               __global const float4* film_sum,
+                                               __global const float4* film_sum_sq) {
   PixelSamples ps;
   ps.pixel = pixel;
   ps.x = pixel % p->width;
@@ -37,15 +37,15 @@ inline PixelSamples pixel_samples_begin(__constant const RenderParams* p, u32 pi
 }
 
 /* Sample i of the pass: its sampler and its camera ray (org, dir). */
-inline Sampler pixel_sample(__constant const RenderParams* p, const PixelSamples* ps, u32 i,
-                            float3* org, float3* dir) {
+static inline Sampler pixel_sample(__constant const RenderParams* p, const PixelSamples* ps, u32 i,
+                                   float3* org, float3* dir) {
   const Sampler sampler = sampler_init(p, ps->pixel, p->sample_offset + i);
   pixel_ray(p, &sampler, ps->x, ps->y, org, dir);
   return sampler;
 }
 
-inline void pixel_samples_end(const PixelSamples* ps, __global float4* film_sum,
-                              __global float4* film_sum_sq, __global u32* ray_counts) {
+static inline void pixel_samples_end(const PixelSamples* ps, __global float4* film_sum,
+                                     __global float4* film_sum_sq, __global u32* ray_counts) {
   film_store(film_sum, film_sum_sq, ps->pixel, &ps->film);
   ray_counts[ps->pixel] += ps->rays;
 }

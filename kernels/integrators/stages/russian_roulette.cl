@@ -7,7 +7,7 @@
 #include "core/math.cl"
 #include "shared/render_types.h"
 
-inline float rr_survival(__constant const RenderParams* p, float3 walk) {
+static inline float rr_survival(__constant const RenderParams* p, float3 walk) {
   return p->rr == RR_FIXED ? 1.0f - p->rr_absorb : fmin(1.0f, max_component(walk));
 }
 

@@ -9,7 +9,7 @@
 
 #include "bsdf/bsdf.cl"
 
-inline float shading_correction(const SurfaceHit* sh, float3 wo, float3 wi) {
+static inline float shading_correction(const SurfaceHit* sh, float3 wo, float3 wi) {
   const BsdfFrame f = bsdf_frame(sh, wo);
   const float den = fabs(dot(wo, sh->ng)) * fabs(dot(wi, f.n));
   if (!(den > 0.0f)) return 0.0f;

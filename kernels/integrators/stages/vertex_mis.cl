@@ -36,7 +36,7 @@
 #include "integrators/stages/path_vertex.cl"
 #include "shared/render_types.h"
 
-inline float bdpt_mis(__constant const RenderParams* p, float x) {
+static inline float bdpt_mis(__constant const RenderParams* p, float x) {
   return p->mis == MIS_BALANCE ? x : x * x;
 }
 
@@ -46,7 +46,7 @@ typedef struct MisMerge {
   float vc;
 } MisMerge;
 
-inline MisMerge mis_no_merging(void) {
+static inline MisMerge mis_no_merging(void) {
   MisMerge m;
   m.vm = 0.0f;
   m.vc = 0.0f;
@@ -55,8 +55,8 @@ inline MisMerge mis_no_merging(void) {
 
 /* Arrival at a hit at distance dist under cosine cos_in (geometric); `scale_by_distance` is 0
  * only for the first segment of a light path from an infinite light. */
-inline void bdpt_mis_arrive(__constant const RenderParams* p, SubpathState* st, float dist,
-                            float cos_in, int scale_by_distance) {
+static inline void bdpt_mis_arrive(__constant const RenderParams* p, SubpathState* st, float dist,
+                                   float cos_in, int scale_by_distance) {
   if (scale_by_distance) st->dvcm *= bdpt_mis(p, dist * dist);
   const float c = bdpt_mis(p, cos_in);
   st->dvcm /= c;
@@ -66,8 +66,9 @@ inline void bdpt_mis_arrive(__constant const RenderParams* p, SubpathState* st, 
 
 /* Scattering into a direction of density fwd (rev: the reverse direction's density), leaving
  * under cosine cos_out (geometric); delta: the direction came from a Dirac lobe. */
-inline void bdpt_mis_scatter(__constant const RenderParams* p, const MisMerge* m,
-                             SubpathState* st, float fwd, float rev, float cos_out, int delta) {
+static inline void bdpt_mis_scatter(__constant const RenderParams* p, const MisMerge* m,
+                                    SubpathState* st, float fwd, float rev, float cos_out,
+                                    int delta) {
   if (delta) {
     st->dvcm = 0.0f;
     st->dvc *= bdpt_mis(p, cos_out);
@@ -82,17 +83,17 @@ inline void bdpt_mis_scatter(__constant const RenderParams* p, const MisMerge* m
 
 /* The MIS update of a subpath scattering at vertex sh (oriented to wo) into bs; the walk
  * (stages/walk.cl) does the rest of the scattering. */
-inline void bdpt_mis_scatter_sample(__constant const RenderParams* p, const MisMerge* m,
-                                    SubpathState* st, const SurfaceHit* sh, float3 wo,
-                                    const BsdfSample* bs) {
+static inline void bdpt_mis_scatter_sample(__constant const RenderParams* p, const MisMerge* m,
+                                           SubpathState* st, const SurfaceHit* sh, float3 wo,
+                                           const BsdfSample* bs) {
   bdpt_mis_scatter(p, m, st, bs->pdf_w, bs->is_delta ? bs->pdf_w : bsdf_pdf_w(sh, bs->wi, wo),
                    fabs(dot(sh->ng, bs->wi)), bs->is_delta);
 }
 
 /* s = 0: the camera subpath (state cam, after arriving) hit a light. q: the light's densities
  * for that point (direct per area or, for the environment, per steradian). */
-inline float bdpt_weight_hit_light(__constant const RenderParams* p, const SubpathState* cam,
-                                   float direct, float emit_w) {
+static inline float bdpt_weight_hit_light(__constant const RenderParams* p, const SubpathState* cam,
+                                          float direct, float emit_w) {
   const float w_camera = bdpt_mis(p, direct) * cam->dvcm + bdpt_mis(p, emit_w) * cam->dvc;
   return 1.0f / (1.0f + w_camera);
 }
@@ -102,9 +103,10 @@ inline float bdpt_weight_hit_light(__constant const RenderParams* p, const Subpa
  * SmallVCM's convention (a point light's delta position: selection * d^2); fwd, rev: the
  * camera vertex's BSDF densities towards the light and back; cos_here: geometric cosine at
  * the camera vertex. */
-inline float bdpt_weight_nee(__constant const RenderParams* p, const MisMerge* m,
-                             const SubpathState* cam, float pdf_w, int delta, float direct_w,
-                             float emit_w, float cos_light, float fwd, float rev, float cos_here) {
+static inline float bdpt_weight_nee(__constant const RenderParams* p, const MisMerge* m,
+                                    const SubpathState* cam, float pdf_w, int delta, float direct_w,
+                                    float emit_w, float cos_light, float fwd, float rev,
+                                    float cos_here) {
   const float w_light = delta ? 0.0f : bdpt_mis(p, fwd / pdf_w);
   const float w_camera = bdpt_mis(p, emit_w * cos_here / (direct_w * cos_light)) *
                          (cam->dvcm + cam->dvc * bdpt_mis(p, rev) + m->vm);
@@ -114,8 +116,8 @@ inline float bdpt_weight_nee(__constant const RenderParams* p, const MisMerge* m
 /* t = 1: a light vertex connected to the camera. camera_pdf_a: the density with which a camera
  * ray would find the vertex, per unit area and per light path (pdf_camera_film cos / d^2);
  * rev: the vertex's density of scattering back along the light subpath given the camera side. */
-inline float bdpt_weight_camera(__constant const RenderParams* p, const MisMerge* m,
-                                const SubpathState* light, float camera_pdf_a, float rev) {
+static inline float bdpt_weight_camera(__constant const RenderParams* p, const MisMerge* m,
+                                       const SubpathState* light, float camera_pdf_a, float rev) {
   const float w_light =
       bdpt_mis(p, camera_pdf_a) * (light->dvcm + light->dvc * bdpt_mis(p, rev) + m->vm);
   return 1.0f / (w_light + 1.0f);
@@ -124,10 +126,10 @@ inline float bdpt_weight_camera(__constant const RenderParams* p, const MisMerge
 /* s >= 2, t >= 2: camera vertex and light vertex joined by an edge. *_fwd_a: each end's BSDF
  * density of sampling the other end, per unit area; *_rev: each end's density of scattering
  * back along its own subpath given the edge. */
-inline float bdpt_weight_connect(__constant const RenderParams* p, const MisMerge* m,
-                                 const SubpathState* cam, const SubpathState* light,
-                                 float cam_fwd_a, float cam_rev, float light_fwd_a,
-                                 float light_rev) {
+static inline float bdpt_weight_connect(__constant const RenderParams* p, const MisMerge* m,
+                                        const SubpathState* cam, const SubpathState* light,
+                                        float cam_fwd_a, float cam_rev, float light_fwd_a,
+                                        float light_rev) {
   const float w_light =
       bdpt_mis(p, cam_fwd_a) * (light->dvcm + light->dvc * bdpt_mis(p, light_rev) + m->vm);
   const float w_camera =
@@ -137,16 +139,16 @@ inline float bdpt_weight_connect(__constant const RenderParams* p, const MisMerg
 
 /* Merging a light vertex (state light) at camera vertex cam: fwd, rev the camera vertex's
  * BSDF densities towards the light vertex's incoming direction and back (solid angle). */
-inline float vcm_weight_merge(__constant const RenderParams* p, const MisMerge* m,
-                              const SubpathState* cam, const SubpathState* light, float fwd,
-                              float rev) {
+static inline float vcm_weight_merge(__constant const RenderParams* p, const MisMerge* m,
+                                     const SubpathState* cam, const SubpathState* light, float fwd,
+                                     float rev) {
   const float w_light = light->dvcm * m->vc + light->dvm * bdpt_mis(p, fwd);
   const float w_camera = cam->dvcm * m->vc + cam->dvm * bdpt_mis(p, rev);
   return 1.0f / (w_light + 1.0f + w_camera);
 }
 
 /* Whether strategy (s, t) contributes (--bdpt-strategy), and with which weight. */
-inline float bdpt_strategy_weight(__constant const RenderParams* p, u32 s, u32 t, float w) {
+static inline float bdpt_strategy_weight(__constant const RenderParams* p, u32 s, u32 t, float w) {
   if (p->bdpt_s == BDPT_ALL_STRATEGIES) return w;
   if (s != p->bdpt_s || t != p->bdpt_t) return 0.0f;
   return p->bdpt_unweighted ? 1.0f : w;

@@ -72,8 +72,8 @@ typedef struct PathWalk {
 } PathWalk;
 
 /* A walk whose next ray is org, dir, towards its vertex of bounce `depth`, in `medium`. */
-inline PathWalk walk_from_ray(float3 from, float3 org, float3 dir, float3 beta, u32 medium,
-                              u32 depth, u32 stream, u32 mode, u32 roulette) {
+static inline PathWalk walk_from_ray(float3 from, float3 org, float3 dir, float3 beta, u32 medium,
+                                     u32 depth, u32 stream, u32 mode, u32 roulette) {
   PathWalk w;
   w.org = org;
   w.dir = dir;
@@ -91,21 +91,21 @@ inline PathWalk walk_from_ray(float3 from, float3 org, float3 dir, float3 beta, 
 }
 
 /* A camera-side walk from a camera ray (its first hit is bounce `depth`, 0 for a pixel). */
-inline PathWalk walk_from_camera(float3 org, float3 dir, u32 depth, u32 stream) {
+static inline PathWalk walk_from_camera(float3 org, float3 dir, u32 depth, u32 stream) {
   return walk_from_ray(org, org, dir, (float3)(1.0f), MEDIUM_NONE, depth, stream,
                        TRANSPORT_RADIANCE, WALK_RR_PATH);
 }
 
 /* A light-side walk from a ray emitted at `from` (its first hit is bounce 1) carrying beta. */
-inline PathWalk walk_from_light(float3 from, float3 org, float3 dir, float3 beta, u32 stream,
-                                u32 roulette) {
+static inline PathWalk walk_from_light(float3 from, float3 org, float3 dir, float3 beta, u32 stream,
+                                       u32 roulette) {
   return walk_from_ray(from, org, dir, beta, MEDIUM_NONE, 1u, stream, TRANSPORT_IMPORTANCE,
                        roulette);
 }
 
 /* A camera-side walk standing at vertex sh (normals oriented to wo, bounce depth), to be
  * scattered first: pt's continuation from its first hit, one per branch. */
-inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth, u32 stream) {
+static inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth, u32 stream) {
   PathWalk w = walk_from_ray(sh->p, sh->p, -wo, (float3)(1.0f), MEDIUM_NONE, depth, stream,
                              TRANSPORT_RADIANCE, WALK_RR_PATH);
   w.sh = *sh;
@@ -114,7 +114,7 @@ inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth, u32 s
 }
 
 /* The dimension of `offset` (sampler/dimensions.h) at the walk's current vertex. */
-inline u32 walk_dim(const PathWalk* w, u32 offset) {
+static inline u32 walk_dim(const PathWalk* w, u32 offset) {
   return stream_dim(bounce_dim(w->depth, offset), w->stream);
 }
 

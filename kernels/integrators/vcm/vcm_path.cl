@@ -33,7 +33,7 @@
 #include "shared/vcm_types.h"
 #include "spatial/hash_grid.cl"
 
-inline MisMerge vcm_mis(__constant const VcmParams* v) {
+static inline MisMerge vcm_mis(__constant const VcmParams* v) {
   MisMerge m;
   m.vm = v->mis_vm;
   m.vc = v->mis_vc;
@@ -42,9 +42,10 @@ inline MisMerge vcm_mis(__constant const VcmParams* v) {
 
 /* Traces the light subpath of one pixel index, stores its vertices in out (at most
  * p->light_vertex_capacity) and splats its camera connections. Returns how many it stored. */
-inline u32 vcm_light_path(__constant const RenderParams* p, __constant const VcmParams* v,
-                          const SceneView* s, const Sampler* sampler, __global PathVertex* out,
-                          __global float4* splat, u32* rays, u32* connections) {
+static inline u32 vcm_light_path(__constant const RenderParams* p, __constant const VcmParams* v,
+                                 const SceneView* s, const Sampler* sampler,
+                                 __global PathVertex* out,
+                                 __global float4* splat, u32* rays, u32* connections) {
   const MisMerge m = vcm_mis(v);
   SubpathState st;
   LightPdfs q;
@@ -79,10 +80,12 @@ inline u32 vcm_light_path(__constant const RenderParams* p, __constant const Vcm
 /* Merging at camera vertex sh (oriented to wo, index k, state st): the sum over the tile's
  * light vertices within r of f(wo, y's direction) y.beta, each times its weight (1 in ppm
  * mode), before the camera's throughput and 1 / eta. */
-inline float3 vcm_merge(__constant const RenderParams* p, __constant const VcmParams* v,
-                        const MisMerge* m, const SurfaceHit* sh, float3 wo, const SubpathState* st,
-                        u32 k, __global const PathVertex* vertices, __global const u32* heads,
-                        __global const u32* next, u32* merges) {
+static inline float3 vcm_merge(__constant const RenderParams* p, __constant const VcmParams* v,
+                               const MisMerge* m, const SurfaceHit* sh, float3 wo,
+                               const SubpathState* st,
+                               u32 k, __global const PathVertex* vertices,
+                               __global const u32* heads,
+                               __global const u32* next, u32* merges) {
   float3 sum = (float3)(0.0f);
   const float r2 = v->radius * v->radius;
   const float3 x = sh->p;
@@ -125,12 +128,14 @@ inline float3 vcm_merge(__constant const RenderParams* p, __constant const VcmPa
  * vertex connects instead to M vertices drawn from the tile's `cached` stored vertices (their
  * slots in `cache`), scaled by cached / (M light_paths). Returns the pixel's estimate;
  * *merged is the part merging added. */
-inline float3 vcm_camera_path(__constant const RenderParams* p, __constant const VcmParams* v,
-                              const SceneView* s, const Sampler* sampler, u32 x, u32 y,
-                              __global const PathVertex* lv, u32 count,
-                              __global const PathVertex* vertices, __global const u32* cache,
-                              u32 cached, __global const u32* heads, __global const u32* next,
-                              float3* merged, u32* rays, u32* connections, u32* merges) {
+static inline float3 vcm_camera_path(__constant const RenderParams* p,
+                                     __constant const VcmParams* v,
+                                     const SceneView* s, const Sampler* sampler, u32 x, u32 y,
+                                     __global const PathVertex* lv, u32 count,
+                                     __global const PathVertex* vertices, __global const u32* cache,
+                                     u32 cached, __global const u32* heads,
+                                     __global const u32* next,
+                                     float3* merged, u32* rays, u32* connections, u32* merges) {
   const MisMerge m = vcm_mis(v);
   const bool connect = vcm_mode_connects(v->mode);
   const bool vc = connect || v->mode == VCM_MODE_PT; /* next-event estimation */

@@ -1,0 +1,70 @@
+#include "cl/programs.h"
+
+#include <fstream>
+#include <system_error>
+#include <unistd.h>
+
+#include "util/error.h"
+
+namespace clpt::programs {
+namespace fs = std::filesystem;
+
+const std::vector<cl::ProgramSpec>& all() {
+  static const std::vector<cl::ProgramSpec> list = {kPt,   kAo,        kLt,     kBdpt,
+                                                   kPhoton, kPm,      kSppm,   kIc,
+                                                   kIndirect1, kPssmlt, kMmlt, kVcm};
+  return list;
+}
+
+namespace {
+
+// Writes `text` to `file` through a temporary file in the same folder and a rename, so a
+// failed write leaves no half file.
+void write_text(const fs::path& file, const std::string& text) {
+  const fs::path tmp = file.string() + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    if (!out.flush()) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw Error(ExitCode::Output, "--dump-kernels: cannot write " + file.string());
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, file, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error(ExitCode::Output, "--dump-kernels: cannot write " + file.string());
+  }
+}
+
+}  // namespace
+
+size_t dump(const fs::path& dir) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(dir, ec);
+  if (fs::exists(st)) {
+    if (!fs::is_directory(st))
+      throw Error(ExitCode::Usage, "--dump-kernels " + dir.string() + ": not a folder");
+    if (!fs::is_empty(dir, ec) && !fs::is_regular_file(dir / "programs.tsv"))
+      throw Error(ExitCode::Usage, "--dump-kernels " + dir.string() +
+                                       ": the folder is not empty and holds no earlier dump "
+                                       "(programs.tsv); name a new or empty folder");
+  } else if (!fs::create_directories(dir, ec) || ec) {
+    throw Error(ExitCode::Output, "--dump-kernels: cannot create the folder " + dir.string() +
+                                      (ec ? ": " + ec.message() : ""));
+  }
+  const cl::KernelSources sources = cl::KernelSources::core();
+  std::string table = "# name\tentry file\tbuild options\n";
+  for (const cl::ProgramSpec& spec : all()) {
+    write_text(dir / (std::string(spec.name) + ".cl"),
+               cl::resolve_kernel_source(spec.entry_file, sources));
+    table += std::string(spec.name) + '\t' + spec.entry_file + '\t' +
+             cl::build_options(spec.options) + '\n';
+  }
+  write_text(dir / "programs.tsv", table);
+  return all().size();
+}
+
+}  // namespace clpt::programs

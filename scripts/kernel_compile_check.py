@@ -1,0 +1,403 @@
+#!/usr/bin/env python3
+"""Compiles every clpt kernel program with the GPU vendors' compilers, on a machine without a GPU.
+
+    scripts/kernel_compile_check.py [--clpt BIN] [--kernel-dir DIR] [--targets LIST]
+                                    [--programs LIST] [--report FILE] [--keep DIR] [--no-ptxas]
+
+The programs are what `clpt --dump-kernels` writes: each resolved source with the exact build
+options clpt gives the device (programs.tsv). Targets (--targets, comma-separated; default all):
+
+  nvptx   NVIDIA: clang-15's OpenCL front end to PTX (nvptx64--nvidiacl), with libclc's
+          NVPTX builtins linked in (and kernel_check/nvptx_native.cl before them: six native_
+          functions LLVM 15 cannot lower for NVPTX). Where NVIDIA's ptxas is on the PATH or in
+          /usr/local/cuda (not a Debian package) and --no-ptxas is not given, the PTX is also
+          assembled for sm_90, which gives registers, stack and spills per kernel; without it,
+          the PTX's local memory per kernel. NVIDIA's driver compiles the source with its own
+          front end, so its figures differ from these.
+  amdgcn  AMD: clang-15 to a gfx1030 code object (amdgcn-amd-amdhsa), libclc's amdgcn builtins
+          linked in; VGPRs, SGPRs, scratch and occupancy per kernel from LLVM's resource remarks.
+  tgllp   Intel Xe-LP (Tiger Lake), and
+  dg2     Intel Xe-HPG (Arc): Intel's offline compiler ocloc (Debian's intel-opencl-icd); SIMD
+          width, registers (GRF) and scratch per kernel from the binary's .ze_info, and IGC's
+          spill warning.
+
+A program fails a target when the compiler exits non-zero or reports an error, or (clang
+targets) when the linked module still calls a function nothing defines (a driver would refuse
+to link it) or computes in double. Every program's source is also held to the portability
+rules its text shows (docs/ARCHITECTURE.md): no printf, no test of __OPENCL_VERSION__ alone. Every failure prints the compiler's log. Exit status 0 when every program compiles
+for every target, 1 when one fails, 2 when a compiler is missing or the dump fails.
+--report writes the per-kernel figures as a Markdown table (docs/BENCHMARKS.md quotes them).
+"""
+import argparse
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+LIBCLC = "/usr/lib/clc"
+TARGETS = ["nvptx", "amdgcn", "tgllp", "dg2"]
+PACKAGES = {"clang": "clang-15", "libclc": "libclc-15", "ocloc": "intel-opencl-icd"}
+
+
+def find_clang():
+    for name in ("clang-15", "clang"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+def find_ptxas():
+    return shutil.which("ptxas") or next(
+        (p for p in ("/usr/local/cuda/bin/ptxas",) if os.access(p, os.X_OK)), None)
+
+
+def run(cmd, cwd=None):
+    t0 = time.monotonic()
+    p = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                       text=True, errors="replace")
+    return p.returncode, p.stdout, time.monotonic() - t0
+
+
+def read_programs(dump_dir):
+    programs = []
+    with open(os.path.join(dump_dir, "programs.tsv")) as f:
+        for line in f:
+            if line.startswith("#") or not line.strip():
+                continue
+            name, entry, options = line.rstrip("\n").split("\t")
+            programs.append((name, entry, options.split()))
+    return programs
+
+
+def source_rule_violations(source):
+    """docs/ARCHITECTURE.md's portability rules that the source text shows: no printf, and no
+    test of __OPENCL_VERSION__ alone (clang's NVPTX and AMDGPU targets define only
+    __OPENCL_C_VERSION__)."""
+    found = []
+    for n, line in enumerate(source.splitlines(), 1):
+        code = line.split("//")[0]
+        if re.search(r"\bprintf\s*\(", code) and not code.lstrip().startswith("*"):
+            found.append("line %d: printf (not every device has it; none may rely on it)" % n)
+        if re.match(r"\s*#\s*(if|ifdef|ifndef|elif)\b.*__OPENCL_VERSION__", code) and \
+                "__OPENCL_C_VERSION__" not in code:
+            found.append("line %d: tests __OPENCL_VERSION__ alone (use CLPT_OPENCL_DEVICE)" % n)
+    return found
+
+
+def unresolved_calls(ll_text):
+    """Functions the module declares but does not define, less LLVM's intrinsics."""
+    names = re.findall(r"^declare [^@]*@([\w.$]+)\(", ll_text, re.M)
+    return [n for n in names if not n.startswith("llvm.")]
+
+
+def clang_compile(clang, libclc, triple, cpu, src, options, out_base, shim=None):
+    """Returns (ok, log, seconds, artefact path). shim: bitcode linked before libclc."""
+    link = ["-Xclang", "-mlink-builtin-bitcode", "-Xclang", shim] if shim else []
+    common = [clang, "-x", "cl", *options, "-Xclang", "-finclude-default-header", "-O3",
+              "-target", triple, *link, "-Xclang", "-mlink-builtin-bitcode", "-Xclang", libclc,
+              "-Wno-linker-warnings"]
+    if cpu:
+        common += ["-mcpu=" + cpu]
+    if triple.startswith("amdgcn"):
+        common += ["-nogpulib"]
+    rc, log, secs = run(common + ["-emit-llvm", "-S", src, "-o", out_base + ".ll"])
+    if rc != 0 or " error:" in log or log.startswith("error:"):
+        return False, log, secs, None
+    with open(out_base + ".ll") as f:
+        ll = f.read()
+    missing = unresolved_calls(ll)
+    if missing:
+        return False, log + "\nunresolved functions (no definition after linking libclc): " + \
+            ", ".join(sorted(set(missing))) + "\n", secs, None
+    if re.search(r"\bdouble\b", ll):
+        return False, log + "\nthe program computes in double (an unsuffixed literal such as " \
+            "0.5 is a double where the device has cl_khr_fp64; write 0.5f): GPUs without " \
+            "doubles refuse it and the others run it slowly\n", secs, None
+    if triple.startswith("nvptx"):
+        out, extra = out_base + ".ptx", ["-S"]
+    else:
+        out, extra = out_base + ".o", ["-c", "-Rpass-analysis=kernel-resource-usage"]
+    rc, log2, secs2 = run(common + extra + [src, "-o", out])
+    ok = rc == 0 and " error:" not in log2
+    return ok, log + log2, secs + secs2, out if ok else None
+
+
+def ptx_local_bytes(ptx_text):
+    """Per .entry: bytes of its __local_depot (the PTX's own stack/local memory)."""
+    figures, current = {}, None
+    for line in ptx_text.splitlines():
+        m = re.match(r"\.entry (\w+)\(", line)
+        if m:
+            current = m.group(1)
+            figures[current] = {"local bytes": 0}
+            continue
+        m = re.search(r"\.local \.align \d+ \.b8\s+__local_depot\d+\[(\d+)\]", line)
+        if m and current:
+            figures[current]["local bytes"] = int(m.group(1))
+    return figures
+
+
+def ptxas_figures(ptxas, ptx, kernels):
+    rc, log, secs = run([ptxas, "-arch=sm_90", "-v", ptx, "-o", os.devnull])
+    if rc != 0:
+        return False, log, secs, {}
+    figures, current = {}, None
+    for line in log.splitlines():
+        m = re.search(r"Function properties for (\w+)", line)
+        if m:
+            current = m.group(1)
+            continue
+        m = re.search(r"(\d+) bytes stack frame, (\d+) bytes spill stores, (\d+) bytes spill loads",
+                      line)
+        if m and current in kernels:
+            figures.setdefault(current, {}).update(
+                {"stack bytes": int(m.group(1)), "spill stores": int(m.group(2)),
+                 "spill loads": int(m.group(3))})
+        m = re.search(r"Compiling entry function '(\w+)'", line)
+        if m:
+            current = m.group(1)
+        m = re.search(r"Used (\d+) registers", line)
+        if m and current in kernels:
+            figures.setdefault(current, {})["registers"] = int(m.group(1))
+    return True, log, secs, figures
+
+
+def amdgpu_figures(log):
+    figures, current = {}, None
+    for line in log.splitlines():
+        m = re.search(r"remark: Function Name: (\w+)", line)
+        if m:
+            current = m.group(1)
+            figures[current] = {}
+            continue
+        m = re.search(r"remark:\s+(SGPRs|VGPRs|ScratchSize \[bytes/lane\]|Occupancy \[waves/SIMD\]): "
+                      r"(\d+)", line)
+        if m and current:
+            key = {"SGPRs": "SGPRs", "VGPRs": "VGPRs", "ScratchSize [bytes/lane]": "scratch bytes",
+                   "Occupancy [waves/SIMD]": "waves/SIMD"}[m.group(1)]
+            figures[current][key] = int(m.group(2))
+    return figures
+
+
+def elf_sections(data):
+    """{name: bytes} of a 64-bit little-endian ELF file."""
+    if data[:4] != b"\x7fELF":
+        return {}
+    shoff = struct.unpack_from("<Q", data, 0x28)[0]
+    shentsize, shnum, shstrndx = struct.unpack_from("<HHH", data, 0x3A)
+    headers = [struct.unpack_from("<IIQQQQ", data, shoff + i * shentsize) for i in range(shnum)]
+    strtab = headers[shstrndx]
+    sections = {}
+    for name, _type, _flags, _addr, offset, size in headers:
+        end = data.index(b"\0", strtab[4] + name)
+        sections[data[strtab[4] + name:end].decode()] = data[offset:offset + size]
+    return sections
+
+
+def ze_info_figures(binary_path):
+    """Per kernel: simd_size, grf_count and scratch bytes per thread from zebin's .ze_info."""
+    with open(binary_path, "rb") as f:
+        info = elf_sections(f.read()).get(".ze_info", b"").decode(errors="replace")
+    figures, current, in_buffers = {}, None, False
+    for line in info.splitlines():
+        m = re.match(r"  - name:\s+(\w+)", line)
+        if m:
+            current, in_buffers = m.group(1), False
+            figures[current] = {"scratch bytes": 0}
+            continue
+        if line.startswith("kernels_misc_info"):
+            current = None
+        if current is None:
+            continue
+        m = re.match(r"\s+(grf_count|simd_size):\s+(\d+)", line)
+        if m:
+            figures[current]["GRF" if m.group(1) == "grf_count" else "SIMD"] = int(m.group(2))
+        if re.match(r"\s+per_thread_memory_buffers:", line):
+            in_buffers = True
+        m = re.match(r"\s+size:\s+(\d+)", line)
+        if in_buffers and m:
+            figures[current]["scratch bytes"] += int(m.group(1))
+    return figures
+
+
+def ocloc_compile(ocloc, device, name, src, options, work):
+    out_dir = os.path.join(work, "ocloc-" + device)
+    os.makedirs(out_dir, exist_ok=True)
+    cmd = [ocloc, "compile", "-file", src, "-device", device, "--format", "zebin",
+           "-options", " ".join(options), "-output", name, "-out_dir", out_dir]
+    rc, log, secs = run(cmd)
+    ok = rc == 0 and "Build succeeded" in log and "error:" not in log
+    figures = {}
+    if ok:
+        bins = [f for f in os.listdir(out_dir) if f.startswith(name + "_") and f.endswith(".bin")]
+        if bins:
+            figures = ze_info_figures(os.path.join(out_dir, bins[0]))
+        for m in re.finditer(r"kernel (\w+)\s+compiled SIMD(\d+) allocated (\d+) regs and spilled "
+                             r"around (\d+)", log):
+            figures.setdefault(m.group(1), {})["spill"] = int(m.group(4))
+        for k in figures:
+            figures[k].setdefault("spill", 0)
+    return ok, log, secs, figures
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--clpt", default=os.path.join(ROOT, "build", "clpt"))
+    ap.add_argument("--kernel-dir", help="kernel sources to dump instead of the built-in ones")
+    ap.add_argument("--targets", default=",".join(TARGETS))
+    ap.add_argument("--programs", help="comma-separated program names (default: all)")
+    ap.add_argument("--report", help="write the per-kernel figures as Markdown to this file")
+    ap.add_argument("--keep", help="keep the dump and the compilers' outputs in this folder")
+    ap.add_argument("--no-ptxas", action="store_true",
+                    help="do not assemble the PTX with ptxas even where it is installed")
+    args = ap.parse_args()
+
+    targets = [t for t in args.targets.split(",") if t]
+    unknown = [t for t in targets if t not in TARGETS]
+    if unknown:
+        ap.error("unknown target(s) %s; known: %s" % (", ".join(unknown), ", ".join(TARGETS)))
+
+    clang, ocloc, ptxas = find_clang(), shutil.which("ocloc"), find_ptxas()
+    missing = []
+    if any(t in ("nvptx", "amdgcn") for t in targets):
+        if not clang:
+            missing.append("clang (Debian package %s)" % PACKAGES["clang"])
+        for f in (["nvptx64--nvidiacl.bc"] if "nvptx" in targets else []) + \
+                 (["amdgcn--amdhsa.bc"] if "amdgcn" in targets else []):
+            if not os.path.exists(os.path.join(LIBCLC, f)):
+                missing.append("%s/%s (Debian package %s)" % (LIBCLC, f, PACKAGES["libclc"]))
+    if any(t in ("tgllp", "dg2") for t in targets) and not ocloc:
+        missing.append("ocloc (Debian package %s)" % PACKAGES["ocloc"])
+    if missing:
+        print("kernel_compile_check: missing " + "; ".join(missing) +
+              ". scripts/install-deps.sh installs them.", file=sys.stderr)
+        return 2
+
+    work = args.keep or tempfile.mkdtemp(prefix="clpt-compile-check-")
+    os.makedirs(work, exist_ok=True)
+    dump = os.path.join(work, "dump")
+    cmd = [args.clpt, "--dump-kernels", dump, "-q"]
+    if args.kernel_dir:
+        cmd += ["--kernel-dir", args.kernel_dir]
+    rc, log, _ = run(cmd)
+    if rc != 0:
+        print("kernel_compile_check: %s failed (exit %d):\n%s" % (" ".join(cmd), rc, log),
+              file=sys.stderr)
+        return 2
+    programs = read_programs(dump)
+    if args.programs:
+        wanted = set(args.programs.split(","))
+        programs = [p for p in programs if p[0] in wanted]
+        if not programs:
+            ap.error("no program named %s" % args.programs)
+
+    versions = {}
+    if clang:
+        versions["clang"] = run([clang, "--version"])[1].splitlines()[0]
+    if ocloc:
+        m = re.search(r"\d+\.\d+\.\d+(\.\d+)?", run(["dpkg-query", "-W", "-f=${Version}",
+                                                      "intel-opencl-icd"])[1])
+        versions["ocloc"] = "ocloc (intel-opencl-icd %s)" % (m.group(0) if m else "?")
+    if ptxas and "nvptx" in targets:
+        versions["ptxas"] = run([ptxas, "--version"])[1].strip().splitlines()[-1]
+
+    shim = None
+    if "nvptx" in targets:
+        # libclc's NVPTX native_ functions that LLVM 15 cannot lower (kernel_check/nvptx_native.cl).
+        shim = os.path.join(work, "nvptx_native.bc")
+        rc, log, _ = run([clang, "-x", "cl", "-cl-std=CL1.2", "-Xclang", "-finclude-default-header",
+                          "-O3", "-target", "nvptx64--nvidiacl", "-emit-llvm", "-c",
+                          os.path.join(ROOT, "scripts", "kernel_check", "nvptx_native.cl"), "-o", shim])
+        if rc != 0:
+            print("kernel_compile_check: the nvptx shim does not build:\n" + log, file=sys.stderr)
+            return 2
+    if args.no_ptxas:
+        ptxas = None
+
+    failures, rows = [], []
+    for name, _entry, _options in programs:
+        with open(os.path.join(dump, name + ".cl")) as f:
+            violations = source_rule_violations(f.read())
+        if violations:
+            failures.append(("rules", name))
+            print("rules   %-10s FAILED\n  %s" % (name, "\n  ".join(violations)), flush=True)
+    for target in targets:
+        for name, _entry, options in programs:
+            src = os.path.join(dump, name + ".cl")
+            base = os.path.join(work, "%s-%s" % (name, target))
+            if target == "nvptx":
+                ok, log, secs, out = clang_compile(clang, os.path.join(LIBCLC, "nvptx64--nvidiacl.bc"),
+                                                   "nvptx64--nvidiacl", None, src, options, base,
+                                                   shim)
+                figures = {}
+                if ok:
+                    with open(out) as f:
+                        figures = ptx_local_bytes(f.read())
+                    if ptxas:
+                        pok, plog, psecs, pfig = ptxas_figures(ptxas, out, set(figures))
+                        secs += psecs
+                        if not pok:
+                            ok, log = False, log + "\nptxas:\n" + plog
+                        for k, v in pfig.items():
+                            figures.setdefault(k, {}).update(v)
+            elif target == "amdgcn":
+                ok, log, secs, _ = clang_compile(clang, os.path.join(LIBCLC, "amdgcn--amdhsa.bc"),
+                                                 "amdgcn-amd-amdhsa", "gfx1030", src, options, base)
+                figures = amdgpu_figures(log) if ok else {}
+            else:
+                ok, log, secs, figures = ocloc_compile(ocloc, target, name, src, options, work)
+            status = "ok" if ok else "FAILED"
+            print("%-7s %-10s %6.1f s  %s" % (target, name, secs, status), flush=True)
+            if not ok:
+                failures.append((target, name))
+                print("---- %s for %s, options '%s':\n%s\n----" % (target, name, " ".join(options),
+                                                                  log.strip()), flush=True)
+            for kernel in sorted(figures):
+                rows.append((target, name, kernel, figures[kernel]))
+            if ok and not figures:
+                rows.append((target, name, "(no figures)", {}))
+            rows.append((target, name, None, {"seconds": secs}))
+
+    if args.report:
+        write_report(args.report, targets, rows, versions, ptxas is not None)
+    if not args.keep:
+        shutil.rmtree(work, ignore_errors=True)
+    print("kernel_compile_check: %d programs x %d targets, %d failed%s" % (
+        len(programs), len(targets), len(failures),
+        (": " + ", ".join("%s/%s" % f for f in failures)) if failures else ""))
+    return 1 if failures else 0
+
+
+def write_report(path, targets, rows, versions, have_ptxas):
+    columns = {
+        "nvptx": ["registers", "stack bytes", "spill stores", "spill loads", "local bytes"]
+        if have_ptxas else ["local bytes"],
+        "amdgcn": ["VGPRs", "SGPRs", "scratch bytes", "waves/SIMD"],
+        "tgllp": ["SIMD", "GRF", "spill", "scratch bytes"],
+        "dg2": ["SIMD", "GRF", "spill", "scratch bytes"],
+    }
+    lines = ["Compilers: " + "; ".join(versions[k] for k in sorted(versions)), ""]
+    for target in targets:
+        cols = columns[target]
+        lines += ["### %s" % target, "",
+                  "| program | kernel | " + " | ".join(cols) + " | compile s |",
+                  "|---|---|" + "---|" * (len(cols) + 1)]
+        seconds = {r[1]: r[3]["seconds"] for r in rows if r[0] == target and r[2] is None}
+        for t, name, kernel, fig in rows:
+            if t != target or kernel is None:
+                continue
+            lines.append("| %s | %s | %s | %.1f |" % (
+                name, kernel, " | ".join(str(fig.get(c, "")) for c in cols), seconds.get(name, 0)))
+        lines.append("")
+    with open(path, "w") as f:
+        f.write("\n".join(lines))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,130 @@
+// The list of kernel programs (host/cl/programs.h) and `clpt --dump-kernels`, which the
+// vendor compile checks (scripts/kernel_compile_check.py, ctest label portability) read:
+//   KernelPrograms.EveryKernelFileIsAProgram   every file under kernels/ that defines a
+//       __kernel is some program's entry file, and every entry file exists: a new program
+//       left out of the list would escape the vendors' compilers
+//   KernelPrograms.EveryProgramBuilds    each program of the list builds on the test device (PoCL) with
+//       its options, and each of its __kernel functions can be created
+//   KernelPrograms.DumpIsWhatADeviceIsGiven     the dump's files are the resolved sources and
+//       programs.tsv the build options, byte for byte; it refuses a file or a folder of
+//       other things, and rewrites an earlier dump
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+
+#include "cl/programs.h"
+#include "support/device.h"
+#include "util/error.h"
+
+namespace clpt {
+namespace {
+namespace fs = std::filesystem;
+
+std::string read_file(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// Names of the __kernel functions defined in `source` (a line starting with __kernel void).
+std::vector<std::string> kernel_names(const std::string& source) {
+  static const std::regex def(R"(^\s*__kernel\s+void\s+([A-Za-z_][A-Za-z0-9_]*)\s*\()");
+  std::vector<std::string> names;
+  std::istringstream in(source);
+  std::string line;
+  std::smatch m;
+  while (std::getline(in, line))
+    if (std::regex_search(line, m, def)) names.push_back(m[1]);
+  return names;
+}
+
+TEST(KernelPrograms, EveryKernelFileIsAProgram) {
+  const fs::path kernels = fs::path(CLPT_SOURCE_DIR) / "kernels";
+  std::set<std::string> entries, names;
+  for (const cl::ProgramSpec& spec : programs::all()) {
+    EXPECT_TRUE(names.insert(spec.name).second) << "two programs named " << spec.name;
+    EXPECT_TRUE(fs::is_regular_file(kernels / spec.entry_file)) << spec.entry_file;
+    entries.insert(spec.entry_file);
+  }
+  size_t files = 0;
+  for (const auto& e : fs::recursive_directory_iterator(kernels)) {
+    if (e.path().extension() != ".cl" || kernel_names(read_file(e.path())).empty()) continue;
+    ++files;
+    const std::string rel = fs::relative(e.path(), kernels).generic_string();
+    EXPECT_TRUE(entries.count(rel)) << rel << " defines a __kernel but is no program of "
+                                    << "host/cl/programs.h";
+  }
+  EXPECT_GE(files, 11u);  // the scan found the integrators (a wrong root finds none)
+}
+
+TEST(KernelPrograms, EveryProgramBuilds) {
+  for (const cl::ProgramSpec& spec : programs::all()) {
+    SCOPED_TRACE(spec.name);
+    const cl::Program program(test::device_context(), spec);
+    const std::vector<std::string> kernels =
+        kernel_names(cl::resolve_kernel_source(spec.entry_file, cl::KernelSources::core()));
+    EXPECT_FALSE(kernels.empty());
+    for (const std::string& k : kernels) EXPECT_NO_THROW(cl::Kernel(program, k.c_str())) << k;
+  }
+}
+
+class KernelDump : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("clpt-dump-test-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(KernelDump, DumpIsWhatADeviceIsGiven) {
+  const fs::path out = dir_ / "dump";
+  ASSERT_EQ(programs::dump(out), programs::all().size());
+  std::string expected_table = "# name\tentry file\tbuild options\n";
+  for (const cl::ProgramSpec& spec : programs::all()) {
+    EXPECT_EQ(read_file(out / (std::string(spec.name) + ".cl")),
+              cl::resolve_kernel_source(spec.entry_file, cl::KernelSources::core()))
+        << spec.name;
+    expected_table += std::string(spec.name) + '\t' + spec.entry_file + '\t' +
+                      cl::build_options(spec.options) + '\n';
+  }
+  EXPECT_EQ(read_file(out / "programs.tsv"), expected_table);
+  EXPECT_NE(expected_table.find("mmlt\tintegrators/mlt.cl\t-cl-std=CL1.2 -DCLPT_MLT_MULTIPLEXED=1"),
+            std::string::npos);
+
+  // An earlier dump is rewritten; an empty folder is used.
+  std::ofstream(out / "pt.cl", std::ios::trunc) << "stale";
+  EXPECT_EQ(programs::dump(out), programs::all().size());
+  EXPECT_NE(read_file(out / "pt.cl"), "stale");
+  fs::create_directories(dir_ / "empty");
+  EXPECT_EQ(programs::dump(dir_ / "empty"), programs::all().size());
+}
+
+TEST_F(KernelDump, RefusesAFileAndAFolderOfOtherThings) {
+  fs::create_directories(dir_ / "other");
+  std::ofstream(dir_ / "other" / "notes.txt") << "mine";
+  std::ofstream(dir_ / "file") << "mine";
+  for (const fs::path& p : {dir_ / "other", dir_ / "file"}) {
+    try {
+      programs::dump(p);
+      ADD_FAILURE() << "dumped into " << p;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ExitCode::Usage);
+      EXPECT_NE(std::string(e.what()).find(p.string()), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(read_file(dir_ / "other" / "notes.txt"), "mine");
+  EXPECT_EQ(read_file(dir_ / "file"), "mine");
+  EXPECT_FALSE(fs::exists(dir_ / "other" / "pt.cl"));
+}
+
+}  // namespace
+}  // namespace clpt
