@@ -21,6 +21,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -269,6 +270,17 @@ TEST(VcmCli, StatsFigures) {
     EXPECT_NE(bad.err.find("--vcm-radius"), std::string::npos) << bad.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "bad.exr"));
   }
+  // The default radius (a pixel footprint) is no usage error at a tiny resolution, where a
+  // footprint is more than 10 % of the diagonal: it is held at the bound.
+  const test::RunResult tiny = test::run_clpt({scene, "--device", "pocl", "--integrator", "vcm",
+                                               "--resolution", "8x8", "--spp", "1", "-q", "-o",
+                                               (dir / "tiny.exr").string(), "--stats",
+                                               (dir / "tiny.json").string()});
+  EXPECT_EQ(tiny.exit_code, 0) << tiny.err;
+  std::ifstream tiny_stats(dir / "tiny.json");
+  const nlohmann::json t = nlohmann::json::parse(tiny_stats, nullptr, false);
+  ASSERT_FALSE(t.is_discarded());
+  EXPECT_NEAR(t["vcm"]["first_radius"].get<float>(), 0.1f * 0.96074f, 1e-3f);  // Cornell diagonal
   // Without merging nothing merges and no grid is built.
   const nlohmann::json b = run("b", {"--vcm-mode", "bpt"});
   ASSERT_FALSE(b.is_null());

@@ -109,12 +109,16 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   VcmConfig vcm = settings_.vcm;
   // One pixel footprint at the scene's centre: half sppm's default radius (the --vcm-radius
   // sweep in docs/BENCHMARKS.md, session 11).
-  if (!(vcm.radius > 0.0f)) vcm.radius = 0.5f * params_.sppm_radius;
+  const bool vcm_radius_given = vcm.radius > 0.0f;
+  if (!vcm_radius_given) vcm.radius = 0.5f * params_.sppm_radius;
   if (row.options & OPTIONS_VCM) {
     // A radius near the scene's size merges every light vertex at every camera vertex, and one
     // below float resolution at the scene's scale puts them all in one saturated grid cell:
-    // either is a render that does not end. 10 % and 1e-6 of the diagonal bound it.
+    // either is a render that does not end. 10 % and 1e-6 of the diagonal bound it. The
+    // default (a pixel footprint) is held inside the bounds: at a tiny resolution (8x8) a
+    // footprint is above 10 %, and a radius nobody asked for is no usage error.
     const float diagonal = glm::length(scene.bounds().extent());
+    if (!vcm_radius_given) vcm.radius = std::clamp(vcm.radius, 1e-6f * diagonal, 0.1f * diagonal);
     if (!(vcm.radius <= 0.1f * diagonal && vcm.radius >= 1e-6f * diagonal))
       throw Error(ExitCode::Usage, "--vcm-radius " + std::to_string(vcm.radius) +
                                        " is outside [1e-6, 0.1] times the scene's diagonal (" +
