@@ -3,6 +3,7 @@
 
     scripts/kernel_compile_check.py [--clpt BIN] [--kernel-dir DIR] [--targets LIST]
                                     [--programs LIST] [--report FILE] [--keep DIR] [--no-ptxas]
+                                    [--no-cache]
 
 The programs are what `clpt --dump-kernels` writes: each resolved source with the exact build
 options clpt gives the device (programs.tsv). Targets (--targets, comma-separated; default all):
@@ -27,8 +28,16 @@ to link it) or computes in double. Every program's source is also held to the po
 rules its text shows (docs/ARCHITECTURE.md): no printf, no test of __OPENCL_VERSION__ alone. Every failure prints the compiler's log. Exit status 0 when every program compiles
 for every target, 1 when one fails, 2 when a compiler is missing or the dump fails.
 --report writes the per-kernel figures as a Markdown table (docs/BENCHMARKS.md quotes them).
+
+A pass is remembered (CLPT_COMPILE_CHECK_CACHE, else $XDG_CACHE_HOME/clpt/compile-check) under a
+hash of everything it depends on: this script, the target, the compilers' versions and
+packages, the options and the source. The same program is then not compiled again until one of
+those changes (Intel's compiler takes minutes a target); a failure is never remembered.
+--no-cache compiles everything.
 """
 import argparse
+import hashlib
+import json
 import os
 import re
 import shutil
@@ -73,6 +82,10 @@ def read_programs(dump_dir):
             name, entry, options = line.rstrip("\n").split("\t")
             programs.append((name, entry, options.split()))
     return programs
+
+
+def kernel_names(source):
+    return re.findall(r"^\s*__kernel\s+void\s+(\w+)\s*\(", source, re.M)
 
 
 def source_rule_violations(source):
@@ -132,7 +145,7 @@ def ptx_local_bytes(ptx_text):
     """Per .entry: bytes of its __local_depot (the PTX's own stack/local memory)."""
     figures, current = {}, None
     for line in ptx_text.splitlines():
-        m = re.match(r"\.entry (\w+)\(", line)
+        m = re.search(r"\.entry (\w+)\(", line)
         if m:
             current = m.group(1)
             figures[current] = {"local bytes": 0}
@@ -168,13 +181,14 @@ def ptxas_figures(ptxas, ptx, kernels):
     return True, log, secs, figures
 
 
-def amdgpu_figures(log):
+def amdgpu_figures(log, kernels):
     figures, current = {}, None
     for line in log.splitlines():
         m = re.search(r"remark: Function Name: (\w+)", line)
         if m:
-            current = m.group(1)
-            figures[current] = {}
+            current = m.group(1) if m.group(1) in kernels else None
+            if current:
+                figures[current] = {}
             continue
         m = re.search(r"remark:\s+(SGPRs|VGPRs|ScratchSize \[bytes/lane\]|Occupancy \[waves/SIMD\]): "
                       r"(\d+)", line)
@@ -200,19 +214,24 @@ def elf_sections(data):
     return sections
 
 
-def ze_info_figures(binary_path):
-    """Per kernel: simd_size, grf_count and scratch bytes per thread from zebin's .ze_info."""
+def ze_info_figures(binary_path, kernels):
+    """Per kernel of `kernels`: simd_size, grf_count and scratch bytes per thread from
+    zebin's .ze_info (its top-level 'kernels:' section alone; later sections name them again)."""
     with open(binary_path, "rb") as f:
         info = elf_sections(f.read()).get(".ze_info", b"").decode(errors="replace")
-    figures, current, in_buffers = {}, None, False
+    figures, current, in_kernels, in_buffers = {}, None, False, False
     for line in info.splitlines():
+        if re.match(r"\S", line):  # a top-level key
+            in_kernels, current = line.startswith("kernels:"), None
+            continue
+        if not in_kernels:
+            continue
         m = re.match(r"  - name:\s+(\w+)", line)
         if m:
-            current, in_buffers = m.group(1), False
-            figures[current] = {"scratch bytes": 0}
+            current, in_buffers = (m.group(1) if m.group(1) in kernels else None), False
+            if current:
+                figures[current] = {"scratch bytes": 0}
             continue
-        if line.startswith("kernels_misc_info"):
-            current = None
         if current is None:
             continue
         m = re.match(r"\s+(grf_count|simd_size):\s+(\d+)", line)
@@ -226,7 +245,7 @@ def ze_info_figures(binary_path):
     return figures
 
 
-def ocloc_compile(ocloc, device, name, src, options, work):
+def ocloc_compile(ocloc, device, name, src, options, work, kernels):
     out_dir = os.path.join(work, "ocloc-" + device)
     os.makedirs(out_dir, exist_ok=True)
     cmd = [ocloc, "compile", "-file", src, "-device", device, "--format", "zebin",
@@ -237,13 +256,56 @@ def ocloc_compile(ocloc, device, name, src, options, work):
     if ok:
         bins = [f for f in os.listdir(out_dir) if f.startswith(name + "_") and f.endswith(".bin")]
         if bins:
-            figures = ze_info_figures(os.path.join(out_dir, bins[0]))
+            figures = ze_info_figures(os.path.join(out_dir, bins[0]), kernels)
         for m in re.finditer(r"kernel (\w+)\s+compiled SIMD(\d+) allocated (\d+) regs and spilled "
                              r"around (\d+)", log):
-            figures.setdefault(m.group(1), {})["spill"] = int(m.group(4))
+            if m.group(1) in kernels:
+                figures.setdefault(m.group(1), {})["spill"] = int(m.group(4))
         for k in figures:
             figures[k].setdefault("spill", 0)
     return ok, log, secs, figures
+
+
+def cache_dir():
+    d = os.environ.get("CLPT_COMPILE_CHECK_CACHE")
+    if d:
+        return d
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(base, "clpt", "compile-check")
+
+
+def cache_key(target, identity, options, source):
+    """Everything a result depends on: this script and the nvptx shim, the target, the
+    compilers' identities (versions, packages), the options and the source."""
+    h = hashlib.sha256()
+    for path in (os.path.abspath(__file__),
+                 os.path.join(ROOT, "scripts", "kernel_check", "nvptx_native.cl")):
+        with open(path, "rb") as f:
+            h.update(f.read())
+    h.update(json.dumps([target, identity, options]).encode())
+    h.update(source.encode())
+    return h.hexdigest()
+
+
+def cache_load(key):
+    try:
+        with open(os.path.join(cache_dir(), key + ".json")) as f:
+            entry = json.load(f)
+        return entry if entry.get("ok") is True else None
+    except (OSError, ValueError):
+        return None
+
+
+def cache_store(key, seconds, figures):
+    d = cache_dir()
+    try:
+        os.makedirs(d, exist_ok=True)
+        tmp = os.path.join(d, "%s.%d.tmp" % (key, os.getpid()))
+        with open(tmp, "w") as f:
+            json.dump({"ok": True, "seconds": seconds, "figures": figures}, f)
+        os.replace(tmp, os.path.join(d, key + ".json"))
+    except OSError:
+        pass  # an unwritable cache only costs time
 
 
 def main():
@@ -256,6 +318,8 @@ def main():
     ap.add_argument("--keep", help="keep the dump and the compilers' outputs in this folder")
     ap.add_argument("--no-ptxas", action="store_true",
                     help="do not assemble the PTX with ptxas even where it is installed")
+    ap.add_argument("--no-cache", action="store_true",
+                    help="compile everything, even what an identical earlier run passed")
     args = ap.parse_args()
 
     targets = [t for t in args.targets.split(",") if t]
@@ -306,6 +370,7 @@ def main():
         versions["ocloc"] = "ocloc (intel-opencl-icd %s)" % (m.group(0) if m else "?")
     if ptxas and "nvptx" in targets:
         versions["ptxas"] = run([ptxas, "--version"])[1].strip().splitlines()[-1]
+    libclc = run(["dpkg-query", "-W", "-f=${Version}", "libclc-15"])[1].strip()
 
     shim = None
     if "nvptx" in targets:
@@ -319,6 +384,14 @@ def main():
             return 2
     if args.no_ptxas:
         ptxas = None
+        versions.pop("ptxas", None)
+    identity = {
+        "nvptx": [run([clang, "--version"])[1] if clang else "", libclc,
+                  versions.get("ptxas", "no ptxas")],
+        "amdgcn": [run([clang, "--version"])[1] if clang else "", libclc],
+        "tgllp": [versions.get("ocloc", "")],
+        "dg2": [versions.get("ocloc", "")],
+    }
 
     failures, rows = [], []
     for name, _entry, _options in programs:
@@ -330,8 +403,15 @@ def main():
     for target in targets:
         for name, _entry, options in programs:
             src = os.path.join(dump, name + ".cl")
+            with open(src) as f:
+                source = f.read()
+            kernels = set(kernel_names(source))
             base = os.path.join(work, "%s-%s" % (name, target))
-            if target == "nvptx":
+            key = cache_key(target, identity[target], options, source)
+            cached = None if args.no_cache else cache_load(key)
+            if cached:
+                ok, log, secs, figures = True, "", cached["seconds"], cached["figures"]
+            elif target == "nvptx":
                 ok, log, secs, out = clang_compile(clang, os.path.join(LIBCLC, "nvptx64--nvidiacl.bc"),
                                                    "nvptx64--nvidiacl", None, src, options, base,
                                                    shim)
@@ -349,10 +429,14 @@ def main():
             elif target == "amdgcn":
                 ok, log, secs, _ = clang_compile(clang, os.path.join(LIBCLC, "amdgcn--amdhsa.bc"),
                                                  "amdgcn-amd-amdhsa", "gfx1030", src, options, base)
-                figures = amdgpu_figures(log) if ok else {}
+                figures = amdgpu_figures(log, kernels) if ok else {}
             else:
-                ok, log, secs, figures = ocloc_compile(ocloc, target, name, src, options, work)
-            status = "ok" if ok else "FAILED"
+                ok, log, secs, figures = ocloc_compile(ocloc, target, name, src, options, work,
+                                                       kernels)
+            if ok and not cached:
+                cache_store(key, secs, figures)
+            status = ("ok (cached: this source, options and compiler passed before)" if cached
+                      else "ok") if ok else "FAILED"
             print("%-7s %-10s %6.1f s  %s" % (target, name, secs, status), flush=True)
             if not ok:
                 failures.append((target, name))

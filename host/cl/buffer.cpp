@@ -12,7 +12,7 @@ std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1)
 
 Buffer::Buffer(const Context& ctx, size_t bytes, cl_mem_flags flags, const void* data,
                const char* what)
-    : queue_(ctx.queue()), size_(bytes) {
+    : ctx_(&ctx), size_(bytes) {
   const DeviceInfo& dev = ctx.device();
   if (bytes > dev.max_alloc_bytes || bytes > dev.global_mem_bytes)
     throw Error(ExitCode::Device,
@@ -22,42 +22,52 @@ Buffer::Buffer(const Context& ctx, size_t bytes, cl_mem_flags flags, const void*
   const size_t alloc = bytes < 16 ? 16 : bytes;
   cl_int err = CL_SUCCESS;
   mem_ = clCreateBuffer(ctx.get(), flags, alloc, nullptr, &err);
-  check(err, (std::string("clCreateBuffer (") + what + ", " + mib(bytes) + ")").c_str());
+  ctx.check(err, std::string("clCreateBuffer (") + what + ", " + mib(bytes) + ")");
+  ctx.note_buffer(mem_, what, bytes);
   if (data && bytes) write(data, bytes);
 }
 
 Buffer::~Buffer() {
-  if (mem_) clReleaseMemObject(mem_);
+  if (mem_) {
+    ctx_->forget_buffer(mem_);
+    clReleaseMemObject(mem_);
+  }
 }
 
 Buffer::Buffer(Buffer&& o) noexcept
-    : mem_(std::exchange(o.mem_, nullptr)), queue_(o.queue_), size_(std::exchange(o.size_, 0)) {}
+    : mem_(std::exchange(o.mem_, nullptr)), ctx_(o.ctx_), size_(std::exchange(o.size_, 0)) {}
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
   if (this != &o) {
-    if (mem_) clReleaseMemObject(mem_);
+    if (mem_) {
+      ctx_->forget_buffer(mem_);
+      clReleaseMemObject(mem_);
+    }
     mem_ = std::exchange(o.mem_, nullptr);
-    queue_ = o.queue_;
+    ctx_ = o.ctx_;
     size_ = std::exchange(o.size_, 0);
   }
   return *this;
 }
 
 void Buffer::write(const void* data, size_t bytes, size_t offset) {
-  check(clEnqueueWriteBuffer(queue_, mem_, CL_TRUE, offset, bytes, data, 0, nullptr, nullptr),
-        "clEnqueueWriteBuffer");
+  ctx_->check(clEnqueueWriteBuffer(ctx_->queue(), mem_, CL_TRUE, offset, bytes, data, 0, nullptr,
+                                   nullptr),
+              "clEnqueueWriteBuffer");
 }
 
 void Buffer::read(void* data, size_t bytes, size_t offset) const {
-  check(clEnqueueReadBuffer(queue_, mem_, CL_TRUE, offset, bytes, data, 0, nullptr, nullptr),
-        "clEnqueueReadBuffer");
+  ctx_->check(clEnqueueReadBuffer(ctx_->queue(), mem_, CL_TRUE, offset, bytes, data, 0, nullptr,
+                                  nullptr),
+              "clEnqueueReadBuffer");
 }
 
 void Buffer::fill_zero() {
   const cl_uint zero = 0;
   const size_t bytes = (size_ < 16 ? 16 : size_) & ~size_t(3);
-  check(clEnqueueFillBuffer(queue_, mem_, &zero, sizeof(zero), 0, bytes, 0, nullptr, nullptr),
-        "clEnqueueFillBuffer");
+  ctx_->check(clEnqueueFillBuffer(ctx_->queue(), mem_, &zero, sizeof(zero), 0, bytes, 0, nullptr,
+                                  nullptr),
+              "clEnqueueFillBuffer");
 }
 
 }  // namespace clpt::cl

@@ -45,7 +45,7 @@ class Buffer {
 
  private:
   cl_mem mem_ = nullptr;
-  cl_command_queue queue_ = nullptr;
+  const Context* ctx_ = nullptr;  // errors name the context's last kernel and buffers
   size_t size_ = 0;
 };
 

@@ -1,6 +1,10 @@
 #include "cl/context.h"
 
+#include <algorithm>
+#include <vector>
+
 #include "cl/cl_error.h"
+#include "util/error.h"
 
 namespace clpt::cl {
 
@@ -30,5 +34,64 @@ Context::~Context() {
 }
 
 void Context::finish() const { check(clFinish(queue_), "clFinish"); }
+
+namespace {
+std::string mib(size_t bytes) {
+  if (bytes < (size_t(1) << 20)) return std::to_string((bytes + 1023) >> 10) + " KiB";
+  return std::to_string((bytes + (size_t(1) << 19)) >> 20) + " MiB";
+}
+}  // namespace
+
+void Context::note_launch(const std::string& kernel, size_t work_items) const {
+  std::lock_guard<std::mutex> lock(notes_mutex_);
+  last_kernel_ = kernel;
+  last_work_items_ = work_items;
+}
+
+void Context::note_buffer(cl_mem mem, const char* what, size_t bytes) const {
+  std::lock_guard<std::mutex> lock(notes_mutex_);
+  buffers_[mem] = BufferNote{what ? what : "buffer", bytes};
+}
+
+void Context::forget_buffer(cl_mem mem) const {
+  std::lock_guard<std::mutex> lock(notes_mutex_);
+  buffers_.erase(mem);
+}
+
+std::string Context::resource_report() const {
+  std::lock_guard<std::mutex> lock(notes_mutex_);
+  std::string r = last_kernel_.empty() ? std::string("no kernel launched yet")
+                                       : "last kernel: " + last_kernel_ + " (" +
+                                             std::to_string(last_work_items_) + " work-items)";
+  std::vector<const BufferNote*> notes;
+  size_t total = 0;
+  for (const auto& [mem, note] : buffers_) {
+    notes.push_back(&note);
+    total += note.bytes;
+  }
+  std::sort(notes.begin(), notes.end(), [](const BufferNote* a, const BufferNote* b) {
+    return a->bytes != b->bytes ? a->bytes > b->bytes : a->what < b->what;
+  });
+  r += "; device buffers: " + mib(total) + " in " + std::to_string(notes.size()) + " of " +
+       mib(device_.global_mem_bytes);
+  for (size_t i = 0; i < notes.size() && i < 3; ++i)
+    r += std::string(i ? ", " : " (largest: ") + notes[i]->what + " " + mib(notes[i]->bytes);
+  if (!notes.empty()) r += ")";
+  return r;
+}
+
+void Context::check(cl_int code, const std::string& what) const {
+  if (code == CL_SUCCESS) return;
+  if (code == CL_OUT_OF_RESOURCES || code == CL_MEM_OBJECT_ALLOCATION_FAILURE ||
+      code == CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST) {
+    throw Error(ExitCode::Device,
+                what + " failed: " + error_name(code) + " (" + std::to_string(code) +
+                    ") on '" + device_.name + "': the device ran out of memory or resources; " +
+                    resource_report() +
+                    ". Try a smaller resolution or scene, a smaller --bdpt-memory or photon "
+                    "count, or another device");
+  }
+  cl::check(code, what.c_str());
+}
 
 }  // namespace clpt::cl

@@ -349,9 +349,10 @@ void Kernel::launch(const Context& ctx, size_t count) const {
   if (forced) local = forced;
   if (local > max_wg) local = max_wg ? max_wg : 1;
   const size_t global = (count + local - 1) / local * local;
-  check(clEnqueueNDRangeKernel(ctx.queue(), kernel_, 1, nullptr, &global, &local, 0, nullptr,
-                               nullptr),
-        ("clEnqueueNDRangeKernel(" + name_ + ")").c_str());
+  ctx.note_launch(name_, global);
+  ctx.check(clEnqueueNDRangeKernel(ctx.queue(), kernel_, 1, nullptr, &global, &local, 0, nullptr,
+                                   nullptr),
+            "clEnqueueNDRangeKernel(" + name_ + ")");
 }
 
 }  // namespace clpt::cl

@@ -5,6 +5,7 @@
 
 #include "bvh/bvh.h"
 #include "render/camera_setup.h"
+#include "render/pass_schedule.h"
 #include "util/error.h"
 #include "util/log.h"
 #include "util/timer.h"
@@ -178,8 +179,11 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   // the same image however fast or busy the machine is. A --time render stops by the
   // clock and is not reproducible anyway.
   constexpr uint64_t kFixedPassSamples = uint64_t(1) << 20;
-  const bool by_clock = target == 0 || integrator_->pass_invariant();
-  const uint64_t fixed_cap = std::max<uint64_t>(1, kFixedPassSamples / (uint64_t(width_) * height_));
+  PassSchedule schedule;
+  schedule.pass_seconds = pass_seconds;
+  schedule.by_clock = target == 0 || integrator_->pass_invariant();
+  schedule.fixed_cap = std::max<uint64_t>(1, kFixedPassSamples / (uint64_t(width_) * height_));
+  bool watchdog_warned = false;
   const auto start = Clock::now();
   uint64_t done = start_spp_;
   uint64_t pass_spp = 1;
@@ -212,10 +216,15 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
     done += n;
     ++stats_.passes;
 
-    // Aim the next pass at pass_seconds, growing at most 2x per pass.
     seconds_per_spp = dt / double(n);
-    const double fit = seconds_per_spp > 0.0 ? pass_seconds / seconds_per_spp : 2.0 * n;
-    pass_spp = by_clock ? std::clamp<uint64_t>(uint64_t(fit), 1, 2 * n) : std::min(2 * pass_spp, fixed_cap);
+    pass_spp = next_pass_samples(schedule, pass_spp, n, dt);
+    if (n == 1 && dt > kWatchdogWarningSeconds && ctx_.device().is_gpu() && !watchdog_warned) {
+      watchdog_warned = true;
+      log::warn("one sample per pixel took " + std::to_string(dt) + " s on '" +
+                ctx_.device().name + "', and no pass is smaller: a display driver's watchdog "
+                "(about 2 s on Windows) may stop such kernels; a smaller --resolution or "
+                "--max-depth shortens every pass");
+    }
     if (progress) progress(done, target, seconds_since(start));
   }
   stats_.render_seconds = seconds_since(start);
