@@ -36,7 +36,7 @@ Context::~Context() {
 void Context::finish() const { check(clFinish(queue_), "clFinish"); }
 
 namespace {
-std::string mib(size_t bytes) {
+std::string bytes_text(size_t bytes) {
   if (bytes < (size_t(1) << 20)) return std::to_string((bytes + 1023) >> 10) + " KiB";
   return std::to_string((bytes + (size_t(1) << 19)) >> 20) + " MiB";
 }
@@ -72,10 +72,10 @@ std::string Context::resource_report() const {
   std::sort(notes.begin(), notes.end(), [](const BufferNote* a, const BufferNote* b) {
     return a->bytes != b->bytes ? a->bytes > b->bytes : a->what < b->what;
   });
-  r += "; device buffers: " + mib(total) + " in " + std::to_string(notes.size()) + " of " +
-       mib(device_.global_mem_bytes);
+  r += "; device buffers: " + bytes_text(total) + " in " + std::to_string(notes.size()) + " of " +
+       bytes_text(device_.global_mem_bytes);
   for (size_t i = 0; i < notes.size() && i < 3; ++i)
-    r += std::string(i ? ", " : " (largest: ") + notes[i]->what + " " + mib(notes[i]->bytes);
+    r += std::string(i ? ", " : " (largest: ") + notes[i]->what + " " + bytes_text(notes[i]->bytes);
   if (!notes.empty()) r += ")";
   return r;
 }
