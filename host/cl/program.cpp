@@ -10,9 +10,9 @@
 #include <iomanip>
 #include <set>
 #include <sstream>
-#include <unistd.h>
 
 #include "cl/cl_error.h"
+#include "util/atomic_file.h"
 #include "util/log.h"
 
 namespace clpt::cl {
@@ -176,13 +176,10 @@ bool read_cache(const fs::path& file, uint64_t key_check, std::vector<unsigned c
 void write_cache(const fs::path& file, uint64_t key_check, const std::vector<unsigned char>& bin) {
   std::error_code ec;
   fs::create_directories(file.parent_path(), ec);
-  const fs::path tmp = file.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) {
-      log::verbose("kernel cache: cannot write " + tmp.string());
-      return;
-    }
+  // Atomic: readers see the old entry or the whole new one; a cache that cannot be written only
+  // costs the next start its build.
+  std::string why;
+  const bool written = write_file_atomically(file, [&](std::ostream& f) {
     const uint64_t size = bin.size();
     const uint64_t payload_hash = OIIO::xxhash::XXH64(bin.data(), bin.size(), 0);
     f.write(kCacheMagic, 8);
@@ -190,13 +187,9 @@ void write_cache(const fs::path& file, uint64_t key_check, const std::vector<uns
     f.write(reinterpret_cast<const char*>(&size), 8);
     f.write(reinterpret_cast<const char*>(&payload_hash), 8);
     f.write(reinterpret_cast<const char*>(bin.data()), static_cast<std::streamsize>(size));
-    if (!f.flush()) {
-      fs::remove(tmp, ec);
-      return;
-    }
-  }
-  fs::rename(tmp, file, ec);  // atomic: readers see the old entry or the whole new one
-  if (ec) fs::remove(tmp, ec);
+  }, &why);
+  if (!written)
+    log::verbose("kernel cache: cannot write " + file.string() + (why.empty() ? "" : ": " + why));
 }
 
 std::string build_log(cl_program program, cl_device_id device) {

@@ -1,9 +1,8 @@
 #include "cl/programs.h"
 
-#include <fstream>
 #include <system_error>
-#include <unistd.h>
 
+#include "util/atomic_file.h"
 #include "util/error.h"
 
 namespace clpt::programs {
@@ -18,25 +17,10 @@ const std::vector<cl::ProgramSpec>& all() {
 
 namespace {
 
-// Writes `text` to `file` through a temporary file in the same folder and a rename, so a
-// failed write leaves no half file.
 void write_text(const fs::path& file, const std::string& text) {
-  const fs::path tmp = file.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out.flush()) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw Error(ExitCode::Output, "--dump-kernels: cannot write " + file.string());
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
+  std::string why;
+  if (!write_file_atomically(file, [&](std::ostream& out) { out << text; }, &why))
     throw Error(ExitCode::Output, "--dump-kernels: cannot write " + file.string());
-  }
 }
 
 }  // namespace

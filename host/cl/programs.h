@@ -1,6 +1,6 @@
 // Every OpenCL program clpt builds, in one list: the integrators construct their programs
 // from these rows, and `clpt --dump-kernels` writes each one's resolved source, so the
-// compile checks of other vendors' compilers (scripts/kernel-compile-check.sh) see exactly
+// compile checks of other vendors' compilers (scripts/kernel_compile_check.py) see exactly
 // what a device is given.
 #pragma once
 

@@ -4,9 +4,9 @@
 
 #include <cstring>
 #include <fstream>
-#include <unistd.h>
 
 #include "io/output_path.h"
+#include "util/atomic_file.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -52,28 +52,18 @@ void write_checkpoint(const fs::path& path, const std::string& signature, const 
   h.samples_per_pixel = s.samples_per_pixel;
   h.signature_bytes = signature.size();
   h.payload_hash = payload_hash(h, signature, s);
-  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()));
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+  std::string why;
+  const bool written = write_file_atomically(path, [&](std::ostream& f) {
     f.write(reinterpret_cast<const char*>(&h), sizeof h);
     f.write(signature.data(), std::streamsize(signature.size()));
     f.write(reinterpret_cast<const char*>(s.sum.data()), std::streamsize(s.sum.size() * 4));
     f.write(reinterpret_cast<const char*>(s.sum_sq.data()), std::streamsize(s.sum_sq.size() * 4));
     f.write(reinterpret_cast<const char*>(s.ray_counts.data()),
             std::streamsize(s.ray_counts.size() * 4));
-    if (!f.flush()) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw Error(ExitCode::Output, "cannot write checkpoint " + path.string());
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error(ExitCode::Output, "cannot write checkpoint " + path.string() + ": " + ec.message());
-  }
+  }, &why);
+  if (!written)
+    throw Error(ExitCode::Output,
+                "cannot write checkpoint " + path.string() + (why.empty() ? "" : ": " + why));
 }
 
 FilmState read_checkpoint(const fs::path& path, const std::string& signature) {
