@@ -362,8 +362,9 @@ def main():
             ap.error("no program named %s" % args.programs)
 
     versions = {}
+    clang_version = run([clang, "--version"])[1] if clang else ""
     if clang:
-        versions["clang"] = run([clang, "--version"])[1].splitlines()[0]
+        versions["clang"] = clang_version.splitlines()[0]
     if ocloc:
         m = re.search(r"\d+\.\d+\.\d+(\.\d+)?", run(["dpkg-query", "-W", "-f=${Version}",
                                                       "intel-opencl-icd"])[1])
@@ -386,9 +387,9 @@ def main():
         ptxas = None
         versions.pop("ptxas", None)
     identity = {
-        "nvptx": [run([clang, "--version"])[1] if clang else "", libclc,
+        "nvptx": [clang_version, libclc,
                   versions.get("ptxas", "no ptxas")],
-        "amdgcn": [run([clang, "--version"])[1] if clang else "", libclc],
+        "amdgcn": [clang_version, libclc],
         "tgllp": [versions.get("ocloc", "")],
         "dg2": [versions.get("ocloc", "")],
     }
