@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "integrators/integrator.h"
+#include "io/image.h"
 #include "scene/load_limits.h"
 #include "util/error.h"
 
@@ -316,7 +317,7 @@ bool parse_resolution(const std::string& s, uint32_t* w, uint32_t* h) {
     return false;
   *w = static_cast<uint32_t>(std::stoul(a));
   *h = static_cast<uint32_t>(std::stoul(b));
-  return *w >= 1 && *h >= 1 && *w <= 16384 && *h <= 16384;
+  return *w >= 1 && *h >= 1 && *w <= kMaxFilmSide && *h <= kMaxFilmSide;
 }
 
 }  // namespace

@@ -171,6 +171,48 @@ TEST(ImageDecode, WebpDecodesToItsPixels) {
   }
 }
 
+// The size from the header alone (issue 23, class 3: what the loader adds up before decoding
+// any image): PNG, JPEG and each of WebP's three chunk kinds; cut-off headers answer false.
+TEST(ImageDecode, HeaderSizeWithoutDecoding) {
+  uint64_t w = 0, h = 0;
+  const std::vector<unsigned char> png = small_png();
+  ASSERT_TRUE(image_header_size(png.data(), png.size(), &w, &h));
+  EXPECT_EQ(w, 3u);
+  EXPECT_EQ(h, 2u);
+  const std::vector<unsigned char> jpg = grey_jpeg(40, 24);
+  ASSERT_TRUE(image_header_size(jpg.data(), jpg.size(), &w, &h));
+  EXPECT_EQ(w, 40u);
+  EXPECT_EQ(h, 24u);
+  unsigned char pixels[5 * 3 * 4] = {};
+  std::vector<uint32_t> reference;
+  const std::vector<unsigned char> webp = small_webp(pixels, &reference);
+  ASSERT_TRUE(image_header_size(webp.data(), webp.size(), &w, &h));
+  EXPECT_EQ(w, 5u);
+  EXPECT_EQ(h, 3u);
+  // WebP's extended (VP8X: 24-bit sizes minus one) and lossless (VP8L: 14-bit) headers, by hand.
+  std::vector<unsigned char> vp8x = {'R', 'I', 'F', 'F', 22, 0, 0, 0, 'W', 'E', 'B', 'P', 'V', 'P', '8', 'X',
+                                     10,  0,   0,   0,   0,  0, 0, 0, 0x3F, 0x1F, 0, 0xFF, 0x3F, 0};
+  ASSERT_TRUE(image_header_size(vp8x.data(), vp8x.size(), &w, &h));
+  EXPECT_EQ(w, 8000u);   // 0x001F3F + 1
+  EXPECT_EQ(h, 16384u);  // 0x003FFF + 1
+  const uint32_t bits = (1000u - 1) | (700u - 1) << 14;
+  std::vector<unsigned char> vp8l = {'R', 'I', 'F', 'F', 22, 0, 0, 0, 'W', 'E', 'B', 'P', 'V', 'P', '8', 'L',
+                                     10,  0,   0,   0,   0x2F, (unsigned char)bits, (unsigned char)(bits >> 8),
+                                     (unsigned char)(bits >> 16), (unsigned char)(bits >> 24), 0, 0, 0, 0, 0};
+  ASSERT_TRUE(image_header_size(vp8l.data(), vp8l.size(), &w, &h));
+  EXPECT_EQ(w, 1000u);
+  EXPECT_EQ(h, 700u);
+  // A WebP header past the per-image limit is refused before any decoder sees it.
+  DecodedImage img;
+  std::string why;
+  EXPECT_FALSE(decode_image(vp8x.data(), vp8x.size(), &img, &why, 16384, uint64_t{1} << 26));
+  EXPECT_NE(why.find("8000x16384, larger than the limit"), std::string::npos) << why;
+  for (const std::vector<unsigned char>* bytes : {&png, &jpg, &webp}) {
+    EXPECT_FALSE(image_header_size(bytes->data(), 12, &w, &h));
+    EXPECT_FALSE(image_header_size(bytes->data() + 1, bytes->size() - 1, &w, &h));
+  }
+}
+
 // KHR_texture_basisu's KTX2 images are named as such (no transcoder in Debian).
 TEST(ImageDecode, Ktx2IsNamed) {
   const unsigned char ktx2[16] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A, 0, 0, 0, 0};

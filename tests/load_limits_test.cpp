@@ -122,11 +122,25 @@ TEST(LoadLimits, MemoryBudgetRefusesATinyFileThatNeedsGigabytes) {
     "accessors":[{"componentType":5126,"count":16777216,"type":"VEC3","min":[0,0,0],"max":[0,0,0]}]})";
   LoadOptions o;
   o.limits.memory_bytes = uint64_t{1} << 30;  // 1 GiB: 4 x 2^24 vertices need about 10 GiB
+  o.limits.zero_accessor_count = uint64_t{1} << 24;  // raised: the memory budget is tested here
+  o.limits.memory_per_file_byte = uint64_t{1} << 40;  // the absolute budget binds, not this one
   const std::string m = message_of([&] { load_gltf(file, o); });
-  fs::remove_all(dir);
   EXPECT_EQ(m.rfind("2: ", 0), 0u) << m;
   EXPECT_NE(m.find("needs about"), std::string::npos) << m;
-  EXPECT_NE(m.find("--limit memory"), std::string::npos) << m;
+  EXPECT_NE(m.find("--limit memory=BYTES"), std::string::npos) << m;
+
+  // With the default limits, the zeros alone are refused (issue 23, class 4), and with them
+  // raised, the budget per byte of the file binds long before the machine's memory does.
+  const std::string zeros = message_of([&] { load_gltf(file, LoadOptions{}); });
+  EXPECT_NE(zeros.find("no bufferView (all zeros) and count 16777216"), std::string::npos) << zeros;
+  EXPECT_NE(zeros.find("--limit zero-accessor-count=N"), std::string::npos) << zeros;
+  LoadOptions raised;
+  raised.limits.zero_accessor_count = uint64_t{1} << 24;
+  const std::string per_byte = message_of([&] { load_gltf(file, raised); });
+  EXPECT_NE(per_byte.find("needs about"), std::string::npos) << per_byte;
+  EXPECT_NE(per_byte.find("more than the budget of 256.0 MiB"), std::string::npos) << per_byte;
+  EXPECT_NE(per_byte.find("--limit memory-per-file-byte=N"), std::string::npos) << per_byte;
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <utility>
@@ -38,7 +39,12 @@
 #include <csignal>
 #include <thread>
 
+#include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
+
+#include "io/image_io.h"
 #include "render/renderer.h"
+#include "support/gltf_plane.h"
 #include "support/device.h"
 #include "support/mesh.h"
 #include "support/scenes.h"
@@ -86,6 +92,7 @@ struct Result {
   int exit_code = -1;  // -1: did not exit normally (killed by a signal)
   int signal = 0;
   std::string out, err;
+  long max_rss_kib = 0;  // the child's peak resident memory
 };
 
 // Runs the clpt executable with `args` and extra environment variables set in the child only
@@ -125,11 +132,12 @@ Result run_clpt_env(const std::vector<std::string>& args,
   Result r;
   if (pid < 0) return r;
   int status = 0;
+  struct rusage usage {};
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
-  while (::waitpid(pid, &status, WNOHANG) != pid) {
+  while (::wait4(pid, &status, WNOHANG, &usage) != pid) {
     if (std::chrono::steady_clock::now() > give_up) {
       ::kill(pid, SIGKILL);
-      ::waitpid(pid, &status, 0);
+      ::wait4(pid, &status, 0, &usage);
       r.err = "(killed after " + std::to_string(timeout_s) + " s)\n";
       break;
     }
@@ -137,6 +145,7 @@ Result run_clpt_env(const std::vector<std::string>& args,
   }
   if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
   if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+  r.max_rss_kib = usage.ru_maxrss;
   r.out = slurp(out_path);
   r.err += slurp(err_path);
   fs::remove(out_path);
@@ -224,8 +233,11 @@ TEST(OutOfMemory, SceneLargerThanTheDeviceAllowsIsExit3) {
   TempDir dir, out;
   // 65536 vertices x 136 instances = 8,912,896 vertices x 32 bytes = 272 MiB > 256 MiB.
   write_many_vertices_gltf(dir.path() / "many.gltf", 65536, 136);
+  // 1.4 GB of host memory from a 0.8 MB file: more than the loader's default budget per byte
+  // of the file (1024), raised here to reach the device's limit.
   const Result r = run_clpt_env({dir / "many.gltf", "--device", "pocl", "--resolution", "16x16",
-                                 "--spp", "1", "-o", out / "scene.exr"},
+                                 "--spp", "1", "--limit", "memory-per-file-byte=4096", "-o",
+                                 out / "scene.exr"},
                                 kOneGiB, out);
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_EQ(r.signal, 0) << r.err;
@@ -405,6 +417,177 @@ TEST(UnreadableInput, ExtremeCameraAspectIsASceneErrorNamingTheFile) {
   EXPECT_FALSE(fs::exists(dir / "t.exr"));
   const Result ok = run_clpt_env(tiny({scene, "-o", dir / "t.exr"}), {}, dir);
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
+// ---------------------------------------------------------------------------------------------
+// HostileSizes (issue 23, classes 3 and 4): files whose headers or accessors claim far more
+// than their bytes hold. Each is refused with exit 2 (1 for a reference of the wrong size),
+// naming the file, and the refused run's peak memory (the child's ru_maxrss, which includes
+// PoCL's libraries where the device was set up first: about 210 MiB) stays under 256 MiB.
+
+#if defined(__SANITIZE_ADDRESS__)
+// AddressSanitizer's shadow memory and quarantine multiply every process's footprint: the
+// bound is for the Release build; under the sanitizers these tests check exit codes,
+// messages and that nothing crashes.
+constexpr long kRejectedPeakKiB = 1L << 40;
+#else
+constexpr long kRejectedPeakKiB = 256 * 1024;
+#endif
+
+// A Radiance .hdr whose header claims `w` x `h` but which holds `data` bytes of pixels.
+void write_hdr_header(const fs::path& path, int w, int h, const std::string& data) {
+  std::ofstream(path, std::ios::binary) << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " << h << " +X " << w << "\n"
+                                        << data;
+}
+
+// A valid 16 x 16 EXR whose data and display windows are rewritten to claim 8000 x 8000.
+void write_lying_exr(const fs::path& path) {
+  write_image(path, Image(16, 16), {});
+  std::string bytes = slurp(path);
+  for (const std::string name : {"dataWindow", "displayWindow"}) {
+    const std::string key = name + std::string("\0box2i\0", 7);
+    const size_t at = bytes.find(key);
+    ASSERT_NE(at, std::string::npos) << name;
+    const int32_t window[4] = {0, 0, 7999, 7999};
+    std::memcpy(&bytes[at + key.size() + 4], window, sizeof window);
+  }
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+TEST(HostileSizes, ImagesWhoseHeadersLieAreRefusedBeforeTheirSizeIsAllocated) {
+  TempDir dir;
+  const fs::path lying_hdr = dir.path() / "lying.hdr", huge_hdr = dir.path() / "huge.hdr",
+                 lying_exr = dir.path() / "lying.exr";
+  write_hdr_header(lying_hdr, 8000, 8000, std::string("\x02\x02\x1f\x40", 4));  // 55 bytes
+  write_hdr_header(huge_hdr, 16000, 16000, "");
+  write_lying_exr(lying_exr);
+  struct Case {
+    std::string option;
+    fs::path file;
+    int exit_code;
+    std::string says;
+  };
+  const std::vector<Case> cases = {
+      // Read whole before: 954 MB for these 55 bytes (issue 23, class 3).
+      {"--env", lying_hdr, 2, "cannot read scanlines 0..63 of 8000"},
+      {"--env", huge_hdr, 2, "is 16000x16000, larger than the limit of 16384 per side and 67108864 pixels"},
+      {"--env", lying_exr, 2, "cannot read image"},
+      // No size cap at all before; now its header is compared with the render's size first.
+      {"--reference", lying_hdr, 1, "is 8000x8000 but the render is 8x8"},
+      {"--reference", lying_exr, 2, "cannot read image"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.option + " " + c.file.string());
+    const Result r = run_clpt_env(tiny({kCornell, "-o", dir / "img.exr", c.option, c.file.string()}), {}, dir);
+    EXPECT_EQ(r.exit_code, c.exit_code) << r.err;
+    EXPECT_TRUE(contains(r.err, c.file.string())) << r.err;
+    EXPECT_TRUE(contains(r.err, c.says)) << r.err;
+    EXPECT_LT(r.max_rss_kib, kRejectedPeakKiB);
+    EXPECT_FALSE(fs::exists(dir / "img.exr"));
+  }
+  // A raised limit reads the large header (and then finds the data missing).
+  const Result raised = run_clpt_env(tiny({kCornell, "-o", dir / "img.exr", "--env", huge_hdr.string(), "--limit",
+                                           "image-pixels=1G"}),
+                                     {}, dir);
+  EXPECT_EQ(raised.exit_code, 2) << raised.err;
+  EXPECT_TRUE(contains(raised.err, "cannot read scanlines 0..63 of 16000")) << raised.err;
+  EXPECT_LT(raised.max_rss_kib, kRejectedPeakKiB);
+}
+
+// Five 8192 x 8192 PNGs (64 KB each on disk, 2^26 texels each, within the per-image limit)
+// are 2^28 + 2^26 texels together, more than total-texels (2^28): refused from their headers
+// before any is decoded. Before, four were decoded (over 1 GB) before the fifth was refused.
+TEST(HostileSizes, TexturesTooLargeTogetherAreRefusedBeforeAnyIsDecoded) {
+  TempDir dir;
+  const fs::path png = dir.path() / "big.png";
+  {
+    auto out = OIIO::ImageOutput::create(png.string());
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(8192, 8192, 1, OIIO::TypeDesc::UINT8);
+    ASSERT_TRUE(out->open(png.string(), spec));
+    const std::vector<unsigned char> zeros(size_t(8192) * 8192, 0);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, zeros.data()));
+    out->close();
+  }
+  ASSERT_LT(fs::file_size(png), 200u * 1024u);
+  nlohmann::json m = {{"pbrMetallicRoughness",
+                       {{"baseColorTexture", {{"index", 0}}}, {"metallicRoughnessTexture", {{"index", 1}}}}},
+                      {"normalTexture", {{"index", 2}}},
+                      {"emissiveTexture", {{"index", 3}}},
+                      {"emissiveFactor", {1, 1, 1}}};
+  const fs::path plane = test::write_tilted_plane("hostile-textures", m, {});
+  nlohmann::json doc = nlohmann::json::parse(slurp(plane));
+  fs::copy_file(plane.parent_path() / "plane.bin", dir.path() / "plane.bin");
+  fs::remove_all(plane.parent_path());
+  for (int i = 0; i < 5; ++i) {
+    doc["images"].push_back({{"uri", "big.png"}});
+    doc["textures"].push_back({{"source", i}});
+  }
+  doc["materials"].push_back({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 4}}}}}});
+  const std::string scene = dir / "textures.gltf";
+  std::ofstream(scene) << doc.dump();
+  const Result r = run_clpt_env(tiny({scene, "-o", dir / "img.exr"}), {}, dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(contains(r.err, scene)) << r.err;
+  EXPECT_TRUE(contains(r.err, "the images the materials use are 335544320 texels together")) << r.err;
+  EXPECT_TRUE(contains(r.err, "(image 0 'big.png' 8192x8192, image 1 'big.png' 8192x8192, image 2")) << r.err;
+  EXPECT_TRUE(contains(r.err, "--limit total-texels=N")) << r.err;
+  EXPECT_LT(r.max_rss_kib, kRejectedPeakKiB);
+  EXPECT_FALSE(fs::exists(dir / "img.exr"));
+
+  // --lenient does not decode past the limit either: an image that would pass it becomes the
+  // magenta placeholder, decided from its header (here every one, under a limit of 1000).
+  const Result lenient = run_clpt_env(
+      tiny({scene, "-o", dir / "img.exr", "--lenient", "--limit", "total-texels=1000"}), {}, dir);
+  EXPECT_EQ(lenient.exit_code, 0) << lenient.err;
+  for (int i = 0; i < 5; ++i)
+    EXPECT_TRUE(contains(lenient.err, "image " + std::to_string(i) + " 'big.png' (used by material ")) << lenient.err;
+  EXPECT_TRUE(contains(lenient.err, "with it the images the materials use exceed the limit of 1000 texels"))
+      << lenient.err;
+  EXPECT_LT(lenient.max_rss_kib, kRejectedPeakKiB);
+}
+
+// Accessors without bufferView are zeros that cost the file no bytes; instancing multiplies a
+// mesh without more file. A 1 KB file used to take 6.7 GB this way (issue 23, class 4).
+TEST(HostileSizes, ZeroAccessorsAndInstancingCannotMakeASmallFileCostGigabytes) {
+  TempDir dir;
+  auto write = [&](const std::string& name, uint64_t instances, uint64_t vertices) {
+    std::ostringstream j;
+    j << R"({"asset":{"version":"2.0"},"extensionsUsed":["EXT_mesh_gpu_instancing"],"scene":0,)"
+      << R"("scenes":[{"nodes":[0]}],"nodes":[{"mesh":0)";
+    if (instances)
+      j << R"(,"extensions":{"EXT_mesh_gpu_instancing":{"attributes":{"TRANSLATION":1}}})";
+    j << R"(}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+      << R"("accessors":[{"componentType":5126,"count":)" << vertices
+      << R"(,"type":"VEC3","min":[0,0,0],"max":[0,0,0]},{"componentType":5126,"count":)" << instances
+      << R"(,"type":"VEC3"}]})";
+    const std::string path = dir / name;
+    std::ofstream(path) << j.str();
+    EXPECT_LT(fs::file_size(path), 1024u);
+    return path;
+  };
+  struct Case {
+    std::string file;
+    std::string says;
+  };
+  const std::vector<Case> cases = {
+      // 2^24 zero instances: the zeros' limit counts every read (2^20 together).
+      {write("instances.gltf", uint64_t{1} << 24, 3), "accessor 1 (TRANSLATION of node 0 EXT_mesh_gpu_instancing) has no bufferView (all zeros) and count 16777216"},
+      // 2^24 zero vertices: used to load (2.7 GB) and render.
+      {write("vertices.gltf", 0, uint64_t{1} << 24), "has no bufferView (all zeros) and count 16777216"},
+      // Within the zeros' limit, 2^20 - 3 instances of a triangle need about 640 MiB: more than
+      // the budget per byte of the file (1024 x its ~400 bytes, at least 256 MiB), before any copy.
+      {write("within.gltf", (uint64_t{1} << 20) - 3, 3), "more than the budget of 256.0 MiB"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.file);
+    const Result r = run_clpt_env(tiny({c.file, "-o", dir / "img.exr"}), {}, dir);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_TRUE(contains(r.err, c.file)) << r.err;
+    EXPECT_TRUE(contains(r.err, c.says)) << r.err;
+    EXPECT_LT(r.max_rss_kib, kRejectedPeakKiB);
+    EXPECT_FALSE(fs::exists(dir / "img.exr"));
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -133,14 +133,37 @@ int run(const Options& opt) {
   if (opt.stats && *opt.stats != "-") check_writable_path(*opt.stats, "--stats");
   if (!opt.checkpoint.empty()) check_writable_path(opt.checkpoint, "--checkpoint");
 
-  // A reference image is read before any work, so a bad one fails fast.
-  std::optional<Image> reference;
-  if (!opt.reference.empty()) reference = read_image(opt.reference);
-
-  auto t0 = Clock::now();
+  // A reference image's header is read before any work, so a bad one fails fast; its pixels
+  // once the render's size is known and the header matches it (no allocation sized by an
+  // unchecked header).
+  std::optional<ImageSize> reference_size;
+  if (!opt.reference.empty()) {
+    ImageLimits any_film;  // a reference is compared with the film: no larger than the largest
+    any_film.max_dimension = kMaxFilmSide;
+    any_film.max_pixels = uint64_t{kMaxFilmSide} * kMaxFilmSide;
+    any_film.raise = "no film is larger";
+    try {
+      reference_size = read_image_size(opt.reference, any_film);
+    } catch (const Error& e) {
+      throw Error(e.code(), std::string("--reference ") + e.what());
+    }
+  }
   LoadOptions load_options;
   load_options.lenient = opt.lenient;
   for (const std::string& spec : opt.limits) load_options.limits.set(spec);
+  // The environment map's header, likewise (its pixels are read by the renderer).
+  ImageLimits env_limits;
+  env_limits.max_dimension = load_options.limits.image_dimension;
+  env_limits.max_pixels = load_options.limits.image_pixels;
+  if (!opt.env.empty()) {
+    try {
+      read_image_size(opt.env, env_limits);
+    } catch (const Error& e) {
+      throw Error(e.code(), std::string("environment ") + e.what());
+    }
+  }
+
+  auto t0 = Clock::now();
   const Scene scene = load_gltf(opt.scene, load_options);
   const double load_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   log::verbose("scene " + opt.scene + ": " + std::to_string(scene.triangles.size()) +
@@ -164,6 +187,7 @@ int run(const Options& opt) {
   settings.integrator = opt.integrator;
   settings.camera = opt.camera;
   settings.env_file = opt.env;
+  settings.env_limits = env_limits;
   settings.env_scale = opt.env_scale;
   settings.env_rotation = opt.env_rotate;
   settings.background = glm::vec3(opt.background[0], opt.background[1], opt.background[2]);
@@ -231,16 +255,25 @@ int run(const Options& opt) {
   try {
     made.emplace(ctx, scene, settings);
   } catch (const Error& e) {
-    if (e.code() != ExitCode::BadInput) throw;
+    // The environment map's errors name that file already.
+    if (e.code() != ExitCode::BadInput || std::string(e.what()).rfind("environment ", 0) == 0) throw;
     throw Error(ExitCode::BadInput, opt.scene + ": " + e.what());
   }
   Renderer& renderer = *made;
-  if (reference && (reference->width != renderer.width() || reference->height != renderer.height()))
-    throw Error(ExitCode::Usage, "--reference " + opt.reference + " is " +
-                                     std::to_string(reference->width) + "x" +
-                                     std::to_string(reference->height) + " but the render is " +
-                                     std::to_string(renderer.width()) + "x" +
-                                     std::to_string(renderer.height()) + " (use --resolution)");
+  std::optional<Image> reference;
+  if (reference_size) {
+    if (reference_size->width != renderer.width() || reference_size->height != renderer.height())
+      throw Error(ExitCode::Usage, "--reference " + opt.reference + " is " +
+                                       std::to_string(reference_size->width) + "x" +
+                                       std::to_string(reference_size->height) + " but the render is " +
+                                       std::to_string(renderer.width()) + "x" +
+                                       std::to_string(renderer.height()) + " (use --resolution)");
+    ImageLimits exact;
+    exact.max_dimension = std::max(renderer.width(), renderer.height());
+    exact.max_pixels = uint64_t(renderer.width()) * renderer.height();
+    exact.raise = "the render's size";
+    reference = read_image(opt.reference, exact);
+  }
 
   // Everything a checkpoint's sums depend on; a resume must match it exactly.
   std::error_code ec;

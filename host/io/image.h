@@ -6,6 +6,10 @@
 
 namespace clpt {
 
+// The largest width or height of a film (--resolution, a camera's default image, a
+// checkpoint, a --reference image).
+inline constexpr uint32_t kMaxFilmSide = 16384;
+
 struct Image {
   uint32_t width = 0, height = 0;
   std::vector<float> rgb;  // 3 floats per pixel

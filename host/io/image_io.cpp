@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <unistd.h>
 
 #include "io/output_path.h"
@@ -129,7 +130,61 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
   if (ec) fail(ec.message());
 }
 
-Image read_image(const fs::path& path) { return read_image_channels(path).image; }
+namespace {
+
+// Opens an image for reading: a regular file (a FIFO or /dev/zero would block or never end)
+// that OIIO recognises, with a non-empty size within the limits.
+std::unique_ptr<OIIO::ImageInput> open_image(const fs::path& path, const ImageLimits& limits) {
+  check_regular_input(path, "");
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) throw Error(ExitCode::BadInput, path.string() + ": cannot read image: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
+    throw Error(ExitCode::BadInput, path.string() + ": empty image (the header gives " +
+                                        std::to_string(spec.width) + "x" + std::to_string(spec.height) + ")");
+  const uint64_t w = uint64_t(spec.width), h = uint64_t(spec.height);
+  if (w > limits.max_dimension || h > limits.max_dimension || w * h > limits.max_pixels)
+    throw Error(ExitCode::BadInput, path.string() + ": the image is " + std::to_string(w) + "x" +
+                                        std::to_string(h) + ", larger than the limit of " +
+                                        std::to_string(limits.max_dimension) + " per side and " +
+                                        std::to_string(limits.max_pixels) + " pixels (" + limits.raise + ")");
+  return in;
+}
+
+// The pixels, nch floats each, read in strips of scanlines. Memory grows strip by strip with
+// what was really decoded (a vector's growth: at most twice that), never to the header's
+// claim at once: a file that lies about its size fails at its first missing strip.
+std::vector<float> read_pixels(OIIO::ImageInput& in, const fs::path& path) {
+  const OIIO::ImageSpec& spec = in.spec();
+  const size_t row = size_t(spec.width) * size_t(spec.nchannels);
+  const int strip = 64;
+  std::vector<float> pixels;
+  for (int y = 0; y < spec.height; y += strip) {
+    const int y_end = std::min(spec.height, y + strip);
+    pixels.resize(size_t(y_end) * row);
+    if (!in.read_scanlines(0, 0, spec.y + y, spec.y + y_end, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT,
+                           pixels.data() + size_t(y) * row)) {
+      std::string e = in.geterror();
+      for (char& c : e)
+        if (c == '\n') c = ' ';
+      throw Error(ExitCode::BadInput, path.string() + ": cannot read scanlines " + std::to_string(y) + ".." +
+                                          std::to_string(y_end - 1) + " of " + std::to_string(spec.height) +
+                                          (e.empty() ? std::string() : ": " + e));
+    }
+  }
+  return pixels;
+}
+
+}  // namespace
+
+ImageSize read_image_size(const fs::path& path, const ImageLimits& limits) {
+  auto in = open_image(path, limits);
+  return {uint32_t(in->spec().width), uint32_t(in->spec().height)};
+}
+
+Image read_image(const fs::path& path, const ImageLimits& limits) {
+  return read_image_channels(path, limits).image;
+}
 
 const Image* ImageChannels::layer(const std::string& name) const {
   for (const NamedChannel& l : layers)
@@ -143,18 +198,12 @@ int ImageChannels::int_attribute(const std::string& name, int fallback) const {
   return fallback;
 }
 
-ImageChannels read_image_channels(const fs::path& path) {
-  check_regular_input(path, "");  // a FIFO or /dev/zero would block or never end
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw Error(ExitCode::BadInput, path.string() + ": cannot read image: " + OIIO::geterror());
+ImageChannels read_image_channels(const fs::path& path, const ImageLimits& limits) {
+  auto in = open_image(path, limits);
   const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    throw Error(ExitCode::BadInput, path.string() + ": empty image");
   const size_t px = size_t(spec.width) * size_t(spec.height);
   const size_t nch = size_t(spec.nchannels);
-  std::vector<float> pixels(px * nch);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
-    throw Error(ExitCode::BadInput, path.string() + ": " + in->geterror());
+  const std::vector<float> pixels = read_pixels(*in, path);
   const bool decode = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
                       spec.format.basetype == OIIO::TypeDesc::UINT16;
 

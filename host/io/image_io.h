@@ -4,6 +4,7 @@
 // or destroys an existing one.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -26,9 +27,27 @@ void check_output_path(const std::filesystem::path& path);
 // Throws Error(ExitCode::Output) naming the file when it cannot be written.
 void write_image(const std::filesystem::path& path, const Image& image, const ImageMetadata& meta);
 
+// The largest image a reader accepts, checked against the file's header before any pixel
+// is read or allocated (issue 23, class 3: a 55-byte .hdr whose header claimed 8000 x 8000
+// took 954 MB before it was refused). The defaults are the glTF loader's image limits.
+struct ImageLimits {
+  uint64_t max_dimension = 16384;          // width or height
+  uint64_t max_pixels = uint64_t{1} << 26;  // width x height
+  std::string raise = "--limit image-dimension=N, image-pixels=N";  // how to raise them
+};
+
+// A file's size from its header alone (nothing else is read). Throws Error(BadInput) naming
+// the file when it is not a regular file, no image, an empty one or one past `limits`.
+struct ImageSize {
+  uint32_t width = 0, height = 0;
+};
+ImageSize read_image_size(const std::filesystem::path& path, const ImageLimits& limits = {});
+
 // Reads any image OIIO can read as linear float RGB (8-bit files are decoded from sRGB).
-// Throws Error(ExitCode::BadInput) naming the file.
-Image read_image(const std::filesystem::path& path);
+// The header is checked against `limits` first, and the pixels are read in strips into
+// memory that grows with what the file really holds, so a header that lies about the size
+// costs no more than the bytes behind it. Throws Error(ExitCode::BadInput) naming the file.
+Image read_image(const std::filesystem::path& path, const ImageLimits& limits = {});
 
 // ---- Extra named layers (EXR only) ----------------------------------------------------
 //
@@ -66,7 +85,8 @@ struct ImageChannels {
 
 // Reads the image (as read_image does) plus its extra layers and metadata. The main image
 // is taken from the channels named R, G, B when the file has them, else from the first
-// channels (a one-channel file gives grey). Throws Error(ExitCode::BadInput) naming the file.
-ImageChannels read_image_channels(const std::filesystem::path& path);
+// channels (a one-channel file gives grey). Limits and reading as read_image. Throws
+// Error(ExitCode::BadInput) naming the file.
+ImageChannels read_image_channels(const std::filesystem::path& path, const ImageLimits& limits = {});
 
 }  // namespace clpt

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "io/image.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -33,11 +34,12 @@ void default_resolution(const Camera& camera, uint32_t* width, uint32_t* height)
   // 640 wide: an extreme aspect ratio asks for an image no film holds (0.001: 640 x 640 000,
   // which used to fail as a device error, exit 3). The scene's problem: exit 2, with what to do.
   const double h = std::round(640.0 / double(aspect));
-  if (h > 16384.0)
+  if (h > double(kMaxFilmSide))
     throw Error(ExitCode::BadInput, "camera '" + camera.name + "' has aspect ratio " +
                                         std::to_string(aspect) + ": its default image, 640x" +
                                         std::to_string(uint64_t(std::min(h, 1e18))) +
-                                        ", is taller than 16384 pixels (give --resolution)");
+                                        ", is taller than " + std::to_string(kMaxFilmSide) +
+                                        " pixels (give --resolution)");
   *width = 640;
   *height = std::max<uint32_t>(1, static_cast<uint32_t>(h));
 }

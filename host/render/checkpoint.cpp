@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "io/image.h"
 #include "io/output_path.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
@@ -82,7 +83,7 @@ FilmState read_checkpoint(const fs::path& path, const std::string& signature) {
               "render again without --resume");
   if (std::memcmp(h.magic, kMagic, 8) != 0) throw bad("not a clpt checkpoint");
   const uint64_t pixels = uint64_t(h.width) * h.height;
-  if (h.width == 0 || h.height == 0 || h.width > 16384 || h.height > 16384 ||
+  if (h.width == 0 || h.height == 0 || h.width > kMaxFilmSide || h.height > kMaxFilmSide ||
       h.signature_bytes > (1u << 20) ||
       file_size != sizeof h + h.signature_bytes + pixels * 4 * (4 + 4 + 1))
     throw bad("truncated or damaged (its size does not match its header)");

@@ -57,17 +57,17 @@ double spot_falloff_integral(double cos_outer, double cos_inner) {
   return ramp * x * x * x / 3.0 + std::max(0.0, 1.0 - (cos_outer + ramp));
 }
 
-Environment load_environment(const std::string& file, float scale, float rotation_degrees) {
+Environment load_environment(const std::string& file, float scale, float rotation_degrees,
+                             const ImageLimits& limits) {
   Environment env;
   env.scale = scale;
   env.rotation = rotation_degrees * float(M_PI / 180.0);
-  Image img = read_image(file);  // Error(BadInput) naming the file
-  if (img.width == 0 || img.height == 0)
-    throw Error(ExitCode::BadInput, "environment " + file + ": the image is empty");
-  if (uint64_t(img.width) * img.height > (uint64_t{1} << 26))
-    throw Error(ExitCode::BadInput, "environment " + file + ": " + std::to_string(img.width) + "x" +
-                                        std::to_string(img.height) +
-                                        " is more than the limit of 2^26 texels");
+  Image img;
+  try {
+    img = read_image(file, limits);  // Error(BadInput) naming the file
+  } catch (const Error& e) {
+    throw Error(e.code(), "environment " + std::string(e.what()));
+  }
   size_t bad = 0;
   for (float& v : img.rgb)
     if (!(v >= 0.0f) || !std::isfinite(v)) v = 0.0f, ++bad;

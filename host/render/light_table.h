@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "io/image.h"
+#include "io/image_io.h"
 #include "scene/scene.h"
 #include "shared/scene_types.h"
 
@@ -27,8 +28,10 @@ struct Environment {
 };
 
 // Reads an equirectangular .hdr/.exr (anything OpenImageIO reads) for --env. Negative and
-// non-finite texels are set to 0 with a warning. Throws Error(BadInput) naming the file.
-Environment load_environment(const std::string& file, float scale, float rotation_degrees);
+// non-finite texels are set to 0 with a warning. The file's header is checked against
+// `limits` before any pixel is read. Throws Error(BadInput) naming the file.
+Environment load_environment(const std::string& file, float scale, float rotation_degrees,
+                             const ImageLimits& limits = {});
 
 // The environment's texels (RGB, .w = density in (u, v)), its sampling distribution
 // (marginal and conditional CDFs of luminance x sin(theta)) and SceneInfo's env fields.

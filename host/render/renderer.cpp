@@ -42,7 +42,8 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
 
   Environment env;  // --env (read before anything renders) or the constant --background
   if (!settings_.env_file.empty())
-    env = load_environment(settings_.env_file, settings_.env_scale, settings_.env_rotation);
+    env = load_environment(settings_.env_file, settings_.env_scale, settings_.env_rotation,
+                           settings_.env_limits);
   env.background = settings_.background;
   const FlatScene flat = flatten_scene(scene, bvh, env);
   stats_.emitters = flat.emissive_triangles;

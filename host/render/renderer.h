@@ -9,6 +9,7 @@
 
 #include "cl/context.h"
 #include "integrators/integrator.h"
+#include "io/image_io.h"
 #include "render/checkpoint.h"
 #include "render/film.h"
 #include "render/scene_buffers.h"
@@ -53,6 +54,7 @@ struct RenderSettings {
   uint32_t indirect = 0;            // indirect1: dev::IndirectGenerator
   std::string camera;              // index or name; empty: the first camera or a default one
   std::string env_file;            // equirectangular environment map; empty: none
+  ImageLimits env_limits;          // the largest map read (--limit image-dimension, image-pixels)
   float env_scale = 1.0f;          // multiplies the map
   float env_rotation = 0.0f;       // degrees about +y
   glm::vec3 background{0.0f};      // constant radiance of escaping rays when there is no map

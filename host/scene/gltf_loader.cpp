@@ -154,7 +154,7 @@ Scene load_gltf(const std::filesystem::path& file, const LoadOptions& options) {
       log::warn(display + ": ignoring unsupported extension" + (unsupported_used.size() > 1 ? "s " : " ") +
                 join(unsupported_used, ", "));
 
-    Scene scene = Converter(model, display, images, options.limits).convert();
+    Scene scene = Converter(model, display, images, options.limits, ctx.bytes_read).convert();
     log::verbose(display + ": " + std::to_string(scene.triangles.size()) + " triangles, " +
                  std::to_string(scene.positions.size()) + " vertices, " + std::to_string(scene.materials.size()) +
                  " materials, " + std::to_string(scene.cameras.size()) + " cameras");

@@ -100,6 +100,31 @@ bool jpeg_is_huffman(const unsigned char* p, size_t size) {
   return false;
 }
 
+uint32_t read_u24le(const unsigned char* p) { return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16; }
+
+// The first SOF segment's height and width (the frame header: length, precision, Y, X).
+bool jpeg_frame_size(const unsigned char* p, size_t size, uint64_t* w, uint64_t* h) {
+  size_t at = 2;  // after SOI
+  while (at + 4 <= size) {
+    if (p[at] != 0xFF) return false;
+    const unsigned char m = p[at + 1];
+    if (m == 0xFF) {
+      ++at;
+      continue;
+    }
+    if (m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC) {
+      if (at + 9 > size) return false;
+      *h = uint64_t(p[at + 5]) << 8 | p[at + 6];
+      *w = uint64_t(p[at + 7]) << 8 | p[at + 8];
+      return true;
+    }
+    const size_t length = size_t(p[at + 2]) << 8 | p[at + 3];
+    if (length < 2) return false;
+    at += 2 + length;
+  }
+  return false;
+}
+
 std::string one_line(std::string s) {
   for (char& c : s)
     if (c == '\n' || c == '\r') c = ' ';
@@ -127,6 +152,16 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
            " bytes, the data has " + std::to_string(size);
     return false;
   }
+  auto too_large = [&](uint64_t w, uint64_t h) {
+    if (w <= max_dimension && h <= max_dimension && w * h <= max_pixels) return false;
+    *why = "the image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than the limit of " +
+           std::to_string(max_dimension) + " per side and " + std::to_string(max_pixels) +
+           " pixels (--limit image-dimension=N, image-pixels=N)";
+    return true;
+  };
+  // The size from the header first: a decoder may allocate the whole image when it opens it.
+  uint64_t header_w = 0, header_h = 0;
+  if (image_header_size(data, size, &header_w, &header_h) && too_large(header_w, header_h)) return false;
   try {
     OIIO::Filesystem::IOMemReader proxy(data, size);
     // Straight alpha, as glTF means it (OIIO would otherwise premultiply PNG alpha).
@@ -153,12 +188,7 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
       return false;
     }
     const uint64_t w = uint64_t(spec.width), h = uint64_t(spec.height);
-    if (w > max_dimension || h > max_dimension || w * h > max_pixels) {
-      *why = "the image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than the limit of " +
-             std::to_string(max_dimension) + " per side and " + std::to_string(max_pixels) +
-             " pixels (--limit image-dimension=N, image-pixels=N)";
-      return false;
-    }
+    if (too_large(w, h)) return false;
     // A JPEG whose header claims more pixels than its bytes can code: Huffman coding spends
     // at least 2 bits on every 8 x 8 block of the first component (a 1-bit DC code and a
     // 1-bit end of block), w h / 256 bytes; with a margin of 4, fewer than w h / 1024 bytes
@@ -200,6 +230,40 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
     *why = std::string("cannot decode the image: ") + e.what();
     return false;
   }
+}
+
+bool image_header_size(const unsigned char* p, size_t size, uint64_t* w, uint64_t* h) {
+  const char* format = sniff_format(p, size);
+  if (!format) return false;
+  const std::string f(format);
+  if (f == "png") {  // signature, then IHDR: length, type, width, height (big-endian)
+    if (size < 24 || !std::equal(p + 12, p + 16, "IHDR")) return false;
+    *w = read_u32be(p + 16);
+    *h = read_u32be(p + 20);
+    return true;
+  }
+  if (f == "jpeg") return jpeg_frame_size(p, size, w, h);
+  // WebP: RIFF, size, WEBP, then the first chunk (its FourCC and size) at byte 12.
+  if (size < 30) return false;
+  if (std::equal(p + 12, p + 16, "VP8X")) {  // flags, then canvas width - 1, height - 1 (24 bits)
+    *w = uint64_t(read_u24le(p + 24)) + 1;
+    *h = uint64_t(read_u24le(p + 27)) + 1;
+    return true;
+  }
+  if (std::equal(p + 12, p + 16, "VP8L")) {  // signature 0x2F, then 14 bits each of w - 1, h - 1
+    if (p[20] != 0x2F) return false;
+    const uint32_t bits = read_u32le(p + 21);
+    *w = uint64_t(bits & 0x3FFFu) + 1;
+    *h = uint64_t((bits >> 14) & 0x3FFFu) + 1;
+    return true;
+  }
+  if (std::equal(p + 12, p + 16, "VP8 ")) {  // frame tag (3), start code 9D 01 2A, 14-bit w, h
+    if (p[23] != 0x9D || p[24] != 0x01 || p[25] != 0x2A) return false;
+    *w = (uint64_t(p[26]) | uint64_t(p[27]) << 8) & 0x3FFFu;
+    *h = (uint64_t(p[28]) | uint64_t(p[29]) << 8) & 0x3FFFu;
+    return true;
+  }
+  return false;
 }
 
 DecodedImage placeholder_image() {

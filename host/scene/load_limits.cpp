@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <utility>
 
@@ -25,7 +26,8 @@ std::vector<std::pair<const char*, uint64_t LoadLimits::*>> fields() {
           {"image-dimension", &LoadLimits::image_dimension},
           {"image-pixels", &LoadLimits::image_pixels},
           {"total-texels", &LoadLimits::total_texels},
-          {"memory", &LoadLimits::memory_bytes}};
+          {"memory", &LoadLimits::memory_bytes},
+          {"memory-per-file-byte", &LoadLimits::memory_per_file_byte}};
 }
 
 bool parse_count(const std::string& text, uint64_t* out) {
@@ -102,6 +104,23 @@ uint64_t LoadLimits::memory_budget() const {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page <= 0) return UINT64_MAX;
   return uint64_t(pages) / 10 * 8 * uint64_t(page);
+}
+
+uint64_t LoadLimits::memory_budget(uint64_t file_bytes, std::string* which) const {
+  const uint64_t absolute = memory_budget();
+  const unsigned __int128 scaled = (unsigned __int128)memory_per_file_byte * file_bytes;
+  const uint64_t relative =
+      std::max<uint64_t>(kMinMemoryBudget, scaled > UINT64_MAX ? UINT64_MAX : uint64_t(scaled));
+  if (relative < absolute) {
+    if (which)
+      *which = std::to_string(memory_per_file_byte) + " bytes per byte of the scene's " + std::to_string(file_bytes) +
+               " bytes of files, at least 256 MiB; --limit memory-per-file-byte=N changes it";
+    return relative;
+  }
+  if (which)
+    *which = std::string(memory_bytes ? "--limit memory" : "80 % of this machine's memory") +
+             "; --limit memory=BYTES changes it";
+  return absolute;
 }
 
 }  // namespace clpt

@@ -14,8 +14,9 @@ struct LoadLimits {
   uint64_t total_bytes = uint64_t{1} << 32;        // all files of one scene together
   uint64_t json_depth = 256;                       // nesting of JSON arrays/objects
   uint64_t accessor_count = uint64_t{1} << 30;     // elements in one accessor
-  uint64_t zero_accessor_count = uint64_t{1} << 24;  // elements in an accessor without
-                                                   // bufferView (zeros: memory without file size)
+  uint64_t zero_accessor_count = uint64_t{1} << 20;  // elements read from accessors without
+                                                   // bufferView, all reads together (zeros:
+                                                   // memory that costs the file no bytes)
   uint64_t vertices = uint64_t{1} << 28;           // in the whole scene, after instancing
   uint64_t triangles = uint64_t{1} << 28;          // in the whole scene, after instancing
   uint64_t node_depth = 1024;                      // depth of the node hierarchy
@@ -26,6 +27,10 @@ struct LoadLimits {
   uint64_t memory_bytes = 0;  // host memory the scene's geometry may need while loading and
                               // flattening (estimated per vertex and triangle); 0: 80 % of
                               // this machine's physical memory
+  uint64_t memory_per_file_byte = 1024;  // ... and per byte of the scene's files, at least
+                                         // kMinMemoryBudget: instancing and reused meshes
+                                         // cannot make a 1 KB file cost gigabytes
+  static constexpr uint64_t kMinMemoryBudget = uint64_t{256} << 20;
 
   // Sets one limit from "NAME=VALUE" (VALUE a non-negative integer, or with a suffix k, M, G
   // for 2^10, 2^20, 2^30). Throws Error(Usage) naming the problem and the known names.
@@ -34,6 +39,10 @@ struct LoadLimits {
   std::string describe() const;
   // memory_bytes, or 80 % of physical memory when it is 0.
   uint64_t memory_budget() const;
+  // The budget for a scene of `file_bytes` bytes: the smaller of memory_budget() and
+  // memory_per_file_byte x file_bytes (at least kMinMemoryBudget); `which` (when not null)
+  // gets the binding limit, as a message says it: "... (--limit NAME=N changes it)".
+  uint64_t memory_budget(uint64_t file_bytes, std::string* which) const;
 
   // Stack bytes a level of JSON nesting or node depth may take, with room to spare: the
   // parser and the node walk measured about 540 and 670 bytes per level (a Release build

@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <fstream>
 #include <sstream>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -71,10 +72,11 @@ RunResult run_program(const std::string& binary, const std::vector<std::string>&
   if (pid < 0) return r;
   int status = 0;
   bool exited = false;
+  struct rusage usage {};
   if (!interrupt_after.empty()) {
     const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(300);
     while (std::chrono::steady_clock::now() < give_up) {
-      if (::waitpid(pid, &status, WNOHANG) == pid) {
+      if (::wait4(pid, &status, WNOHANG, &usage) == pid) {
         exited = true;
         break;
       }
@@ -89,8 +91,9 @@ RunResult run_program(const std::string& binary, const std::vector<std::string>&
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   }
-  if (!exited) ::waitpid(pid, &status, 0);
+  if (!exited) ::wait4(pid, &status, 0, &usage);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.max_rss_kib = usage.ru_maxrss;
   r.out = read_file(out_path);
   r.err = read_file(err_path);
   ::unlink(out_path.c_str());

@@ -13,6 +13,7 @@ namespace clpt::test {
 struct RunResult {
   int exit_code = -1;  // -1 when it did not exit normally (e.g. crashed)
   std::string out, err;
+  long max_rss_kib = 0;  // the child's peak resident memory (getrusage's ru_maxrss)
 };
 
 struct RunOptions {

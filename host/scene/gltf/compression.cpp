@@ -58,10 +58,11 @@ int Converter::indices_accessor(const tinygltf::Primitive& p) const {
 }
 
 void Converter::reserve_decoded(uint64_t bytes, const std::string& what) const {
-  const uint64_t budget = limits_.memory_budget();
+  std::string which;
+  const uint64_t budget = limits_.memory_budget(file_bytes_, &which);
   if (bytes > budget || decoded_bytes_ > budget - bytes)
     fail(what + " decodes to " + bytes_text(bytes) + ", which with the " + bytes_text(decoded_bytes_) +
-         " decoded before is more than the budget of " + bytes_text(budget) + " (--limit memory=BYTES)");
+         " decoded before is more than the budget of " + bytes_text(budget) + " (" + which + ")");
   decoded_bytes_ += bytes;
 }
 

@@ -171,26 +171,26 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
   return cache_.emplace(key, std::move(lp)).first->second;
 }
 
+// The host memory the geometry will need up to upload (scene arrays, flattened arrays, BVH
+// build), so that a small file cannot make clpt allocate until the system kills it.
+void Converter::check_geometry_memory(uint64_t v, uint64_t t) const {
+  if (v > limits_.vertices)
+    fail("the scene has more than " + std::to_string(limits_.vertices) + " vertices (the limit; --limit vertices=N)");
+  if (t > limits_.triangles)
+    fail("the scene has more than " + std::to_string(limits_.triangles) + " triangles (the limit; --limit triangles=N)");
+  const u128 need = u128(v) * kHostBytesPerVertex + u128(t) * kHostBytesPerTriangle;
+  std::string which;
+  const uint64_t budget = limits_.memory_budget(file_bytes_, &which);
+  if (need > budget)
+    fail("the scene needs about " + bytes_text(uint64_t(std::min<u128>(need, ~uint64_t{0}))) + " of memory for " +
+         std::to_string(v) + " vertices and " + std::to_string(t) +
+         " triangles (after instancing), more than the budget of " + bytes_text(budget) + " (" + which + ")");
+}
+
 void Converter::add_instance(const LocalPrimitive& lp, const glm::dmat4& world, uint32_t material, int node,
                              int mesh, int prim) {
-  if (scene_.positions.size() + lp.positions.size() > limits_.vertices)
-    fail("the scene has more than " + std::to_string(limits_.vertices) + " vertices (the limit; --limit vertices=N)");
-  if (scene_.triangles.size() + lp.triangles.size() > limits_.triangles)
-    fail("the scene has more than " + std::to_string(limits_.triangles) + " triangles (the limit; --limit triangles=N)");
-  {
-    // The host memory the geometry will need up to upload (scene arrays, flattened arrays, BVH
-    // build), so that a small file cannot make clpt allocate until the system kills it.
-    const uint64_t v = scene_.positions.size() + lp.positions.size(),
-                   t = scene_.triangles.size() + lp.triangles.size();
-    const uint64_t need = v * kHostBytesPerVertex + t * kHostBytesPerTriangle,
-                   budget = limits_.memory_budget();
-    if (need > budget)
-      fail("the scene needs about " + bytes_text(need) + " of memory for " + std::to_string(v) +
-           " vertices and " + std::to_string(t) + " triangles (after instancing), more than the budget of " +
-           bytes_text(budget) + " (" +
-           (limits_.memory_bytes ? std::string("--limit memory") : std::string("80 % of this machine's memory")) +
-           "; --limit memory=BYTES changes it)");
-  }
+  check_geometry_memory(scene_.positions.size() + lp.positions.size(),
+                        scene_.triangles.size() + lp.triangles.size());
   if (lp.triangles.empty()) return;
 
   const glm::dmat3 linear(world);
@@ -246,7 +246,7 @@ void Converter::add_instance(const LocalPrimitive& lp, const glm::dmat4& world, 
 
 // EXT_mesh_gpu_instancing: one transform per instance (TRS from accessors), applied before
 // the node's own world transform. Empty when the node has no such extension.
-std::vector<glm::dmat4> Converter::instance_transforms(int node) {
+std::vector<glm::dmat4> Converter::instance_transforms(int node, uint64_t vertices, uint64_t triangles) {
   const tinygltf::Node& n = m_.nodes[size_t(node)];
   auto ext = n.extensions.find("EXT_mesh_gpu_instancing");
   if (ext == n.extensions.end()) return {};
@@ -272,6 +272,10 @@ std::vector<glm::dmat4> Converter::instance_transforms(int node) {
   read("ROTATION", TINYGLTF_TYPE_VEC4, Components::FloatOrSNorm, &r);
   read("SCALE", TINYGLTF_TYPE_VEC3, Components::Float, &s);
   if (!any) fail(where + " has none of the attributes TRANSLATION, ROTATION, SCALE");
+  // Every instance's geometry against the limits before the first transform is made, let alone
+  // copied (the products are below 2^60: a mesh's vertices and triangles are within their
+  // limits, the instances within accessor-count).
+  check_geometry_memory(scene_.positions.size() + vertices * count, scene_.triangles.size() + triangles * count);
 
   std::vector<glm::dmat4> out(size_t(count), glm::dmat4(1.0));
   for (size_t i = 0; i < count; ++i) {
@@ -302,8 +306,9 @@ void Converter::add_mesh(int node, int mesh, const glm::dmat4& world) {
   if (mesh < 0 || size_t(mesh) >= m_.meshes.size())
     fail("node " + std::to_string(node) + " refers to mesh " + std::to_string(mesh) +
          ", which does not exist (the file has " + std::to_string(m_.meshes.size()) + ")");
-  std::vector<glm::dmat4> instances = instance_transforms(node);
   const auto& prims = m_.meshes[size_t(mesh)].primitives;
+  std::vector<const LocalPrimitive*> local(prims.size(), nullptr);  // null: points or lines
+  uint64_t vertices = 0, triangles = 0;
   for (size_t pi = 0; pi < prims.size(); ++pi) {
     const tinygltf::Primitive& p = prims[pi];
     if (p.mode >= TINYGLTF_MODE_POINTS && p.mode <= TINYGLTF_MODE_LINE_STRIP) {
@@ -311,13 +316,19 @@ void Converter::add_mesh(int node, int mesh, const glm::dmat4& world) {
       skipped_modes_.insert(p.mode);
       continue;
     }
+    local[pi] = &local_primitive(mesh, int(pi));
+    vertices += local[pi]->positions.size();
+    triangles += local[pi]->triangles.size();
+  }
+  const std::vector<glm::dmat4> instances = instance_transforms(node, vertices, triangles);
+  for (size_t pi = 0; pi < prims.size(); ++pi) {
+    if (!local[pi]) continue;
     const std::string where = "mesh " + std::to_string(mesh) + " primitive " + std::to_string(pi);
-    const LocalPrimitive& lp = local_primitive(mesh, int(pi));
-    const uint32_t material = material_for(p.material, where);
+    const uint32_t material = material_for(prims[pi].material, where);
     if (instances.empty()) {
-      add_instance(lp, world, material, node, mesh, int(pi));
+      add_instance(*local[pi], world, material, node, mesh, int(pi));
     } else {
-      for (const glm::dmat4& inst : instances) add_instance(lp, world * inst, material, node, mesh, int(pi));
+      for (const glm::dmat4& inst : instances) add_instance(*local[pi], world * inst, material, node, mesh, int(pi));
     }
   }
 }

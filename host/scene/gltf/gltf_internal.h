@@ -160,9 +160,10 @@ enum class Components {
 
 class Converter {
  public:
+  // file_bytes: the scene's files together (glTF, buffers, images), for the memory budget.
   Converter(const tinygltf::Model& model, std::string display, ImageSources& images,
-            const LoadLimits& limits)
-      : m_(model), display_(std::move(display)), images_(images), limits_(limits),
+            const LoadLimits& limits, uint64_t file_bytes)
+      : m_(model), display_(std::move(display)), images_(images), limits_(limits), file_bytes_(file_bytes),
         quantized_(std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
                              "KHR_mesh_quantization") != model.extensionsUsed.end()) {}
 
@@ -208,18 +209,24 @@ class Converter {
   int indices_accessor(const tinygltf::Primitive& p) const;  // p.indices, or a Draco primitive's
   // Counts decoded bytes against the memory budget before they are allocated.
   void reserve_decoded(uint64_t bytes, const std::string& what) const;
+  // Fails unless the geometry's host memory for `vertices` and `triangles` (the scene's so
+  // far plus what is about to be added) is within the budget (LoadLimits::memory_budget).
+  void check_geometry_memory(uint64_t vertices, uint64_t triangles) const;
 
   void convert_materials();
   TextureRef texture_ref(int index, int texcoord, const tinygltf::Value* transform, const std::string& where);
   TextureRef texture_info(const tinygltf::Value& info, const std::string& where);
   int scene_texture(int texture, const std::string& where);
-  const DecodedImage& image(int index, const std::string& where);
+  std::string image_label(int index) const;
+  bool image_bytes(int index, const unsigned char** data, size_t* size, std::string* why);
+  void decode_textures();
   uint32_t material_for(int gltf_material, const std::string& where);
   const LocalPrimitive& local_primitive(int mesh, int prim);
   void add_instance(const LocalPrimitive& lp, const glm::dmat4& world, uint32_t material, int node,
                     int mesh, int prim);
   void add_mesh(int node, int mesh, const glm::dmat4& world);
-  std::vector<glm::dmat4> instance_transforms(int node);
+  // vertices, triangles: one instance's, checked times the instance count against the limits.
+  std::vector<glm::dmat4> instance_transforms(int node, uint64_t vertices, uint64_t triangles);
   void add_camera(int node, const glm::dmat4& world);
   glm::dmat4 local_transform(int node) const;
   void visit(int node, int parent, const glm::dmat4& parent_world, int depth);
@@ -228,10 +235,15 @@ class Converter {
   std::string display_;
   ImageSources& images_;
   const LoadLimits& limits_;
-  std::map<int, DecodedImage> decoded_;                  // by glTF image
+  const uint64_t file_bytes_;
+  struct PendingTexture {
+    int source;         // glTF image
+    std::string where;  // its first user, for messages
+  };
+  std::map<int, PendingTexture> pending_textures_;  // scene texture -> its image, until decoded
   std::map<std::tuple<int, int, int, bool>, int> textures_;  // (image, wrapS, wrapT, nearest) -> scene texture
   std::map<int, int> texture_of_;                        // glTF texture -> scene texture (-1: none)
-  uint64_t total_texels_ = 0;
+  uint64_t total_texels_ = 0;  // texels of the scene's textures decoded so far
   Scene scene_;
   int default_material_ = -1;
   std::map<std::pair<int, int>, LocalPrimitive> cache_;
@@ -241,6 +253,7 @@ class Converter {
   mutable std::map<int, std::vector<unsigned char>> meshopt_views_;  // decoded, by bufferView
   std::map<int, std::vector<unsigned char>> draco_accessors_;  // decoded elements, tightly packed, by accessor
   mutable uint64_t decoded_bytes_ = 0;
+  mutable uint64_t zero_elements_ = 0;  // read from accessors without bufferView, all reads
   uint64_t visits_ = 0;
   uint64_t skipped_primitives_ = 0;  // points and lines
   std::set<int> skipped_modes_;

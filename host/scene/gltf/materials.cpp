@@ -13,41 +13,114 @@ namespace clpt::gltf {
 
 // ---- textures
 
-const DecodedImage& Converter::image(int index, const std::string& where) {
-  auto found = decoded_.find(index);
-  if (found != decoded_.end()) return found->second;
+std::string Converter::image_label(int index) const {
   const tinygltf::Image& gi = m_.images[size_t(index)];
   std::string label = "image " + std::to_string(index);
   if (!gi.name.empty()) label += " " + printable(gi.name);
   else if (!gi.uri.empty() && gi.uri.rfind("data:", 0) != 0) label += " " + printable(gi.uri);
-  DecodedImage img;
-  std::string why;
-  bool ok = false;
+  return label;
+}
+
+// The encoded bytes of glTF image `index` (a checked bufferView, or what uri.cpp read), or
+// false with the reason.
+bool Converter::image_bytes(int index, const unsigned char** data, size_t* size, std::string* why) {
+  const tinygltf::Image& gi = m_.images[size_t(index)];
   if (gi.bufferView >= 0) {
-    const ViewBytes v = buffer_view(gi.bufferView, label);
-    ok = decode_image(v.data, size_t(v.length), &img, &why, limits_.image_dimension, limits_.image_pixels);
-  } else {
-    auto bytes = images_.bytes.find(index);
-    if (bytes != images_.bytes.end()) {
-      ok = decode_image(bytes->second.data(), bytes->second.size(), &img, &why, limits_.image_dimension,
-                        limits_.image_pixels);
-      images_.bytes.erase(bytes);  // decoded once; the encoded copy is no longer needed
+    const ViewBytes v = buffer_view(gi.bufferView, image_label(index));
+    *data = v.data;
+    *size = size_t(v.length);
+    return true;
+  }
+  auto bytes = images_.bytes.find(index);
+  if (bytes != images_.bytes.end()) {
+    *data = bytes->second.data();
+    *size = bytes->second.size();
+    return true;
+  }
+  auto p = images_.problem.find(index);
+  *why = p != images_.problem.end() ? p->second : "its data could not be read";
+  return false;
+}
+
+// Decodes every image the materials use into its scene textures, once all materials are known:
+// first the sizes their headers give are added up and checked against the limits, so a scene
+// whose textures together are too large is refused before any is decoded (issue 23, class 3:
+// five 8192 x 8192 PNGs in an 84 KB scene were decoded, 2.5 GB, before the total was
+// checked). Each image is decoded once; its last scene texture takes the texels, the others
+// (the same image under other sampler settings) copy them.
+void Converter::decode_textures() {
+  std::map<int, std::vector<int>> users;  // glTF image -> its scene textures
+  for (const auto& [id, pending] : pending_textures_) users[pending.source].push_back(id);
+
+  struct Header {
+    uint64_t width = 0, height = 0;
+    bool known = false;
+  };
+  std::map<int, Header> headers;
+  uint64_t total = 0;
+  std::vector<std::pair<uint64_t, int>> largest;  // (texels, image)
+  for (const auto& [source, ids] : users) {
+    const unsigned char* data = nullptr;
+    size_t size = 0;
+    std::string why;
+    Header h;
+    if (image_bytes(source, &data, &size, &why)) h.known = image_header_size(data, size, &h.width, &h.height);
+    headers[source] = h;
+    if (!h.known) continue;  // decode_image says what is wrong with it
+    const u128 texels = u128(h.width) * h.height * ids.size();
+    total = texels > u128(~uint64_t{0} - total) ? ~uint64_t{0} : total + uint64_t(texels);
+    largest.emplace_back(uint64_t(std::min<u128>(texels, ~uint64_t{0})), source);
+  }
+  if (total > limits_.total_texels && !images_.lenient) {
+    std::stable_sort(largest.begin(), largest.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<std::string> names;
+    for (size_t i = 0; i < largest.size() && i < 3; ++i) {
+      const Header& h = headers[largest[i].second];
+      names.push_back(image_label(largest[i].second) + " " + std::to_string(h.width) + "x" + std::to_string(h.height));
+    }
+    fail("the images the materials use are " + std::to_string(total) + " texels together (" + join(names, ", ") +
+         (largest.size() > 3 ? ", ..." : "") + "), more than the limit of " + std::to_string(limits_.total_texels) +
+         " (--limit total-texels=N)");
+  }
+
+  for (const auto& [source, ids] : users) {
+    const std::string label = image_label(source);
+    const std::string where = "used by " + pending_textures_.at(ids.front()).where;
+    DecodedImage img;
+    std::string why;
+    bool ok = false;
+    const Header& h = headers[source];
+    const uint64_t copies = ids.size();
+    if (h.known && u128(h.width) * h.height * copies > u128(limits_.total_texels - total_texels_)) {
+      why = "with it the images the materials use exceed the limit of " + std::to_string(limits_.total_texels) +
+            " texels (--limit total-texels=N)";
     } else {
-      auto p = images_.problem.find(index);
-      why = p != images_.problem.end() ? p->second : "its data could not be read";
+      const unsigned char* data = nullptr;
+      size_t size = 0;
+      if (image_bytes(source, &data, &size, &why))
+        ok = decode_image(data, size, &img, &why, limits_.image_dimension, limits_.image_pixels);
+      images_.bytes.erase(source);  // decoded once; the encoded copy is no longer needed
+      if (ok && u128(img.width) * img.height * copies > u128(limits_.total_texels - total_texels_)) {
+        ok = false;  // a JPEG whose frame size only the decoder knew (DNL)
+        why = "with it the images the materials use exceed the limit of " + std::to_string(limits_.total_texels) +
+              " texels (--limit total-texels=N)";
+      }
+    }
+    if (!ok) {
+      if (!images_.lenient) fail(label + " (" + where + "): " + why + " (--lenient: warn and use a magenta texture)");
+      log::warn(display_ + ": " + label + " (" + where + "): " + why + "; using a magenta texture");
+      img = placeholder_image();
+    }
+    total_texels_ += uint64_t(img.width) * img.height * copies;
+    for (size_t k = 0; k < ids.size(); ++k) {
+      Texture& t = scene_.textures[size_t(ids[k])];
+      t.width = img.width;
+      t.height = img.height;
+      if (k + 1 < ids.size()) t.texels = img.texels;
+      else t.texels = std::move(img.texels);
     }
   }
-  if (ok && total_texels_ + uint64_t(img.width) * img.height > limits_.total_texels) {
-    ok = false;
-    why = "the scene's textures together exceed the limit of " + std::to_string(limits_.total_texels) + " texels";
-  }
-  if (!ok) {
-    if (!images_.lenient)
-      fail(label + " (used by " + where + "): " + why + " (--lenient: warn and use a magenta texture)");
-    log::warn(display_ + ": " + label + " (used by " + where + "): " + why + "; using a magenta texture");
-    img = placeholder_image();
-  }
-  return decoded_.emplace(index, std::move(img)).first->second;
+  pending_textures_.clear();
 }
 
 // The scene texture for glTF texture `texture` (decoded image + its sampler), or -1 when the
@@ -103,20 +176,16 @@ int Converter::scene_texture(int texture, const std::string& where) {
   const auto key = std::make_tuple(source, int(ws), int(wt), nearest);
   auto shared = textures_.find(key);
   if (shared != textures_.end()) return texture_of_[texture] = shared->second;
-  const DecodedImage& img = image(source, where);
-  total_texels_ += uint64_t(img.width) * img.height;
-  Texture t;
+  Texture t;  // its texels come from decode_textures, once every material is known
   const tinygltf::Image& gi = m_.images[size_t(source)];
   t.name = !gi.name.empty() ? gi.name : (!gi.uri.empty() && gi.uri.rfind("data:", 0) != 0 ? gi.uri
                                                                                           : "image " + std::to_string(source));
-  t.width = img.width;
-  t.height = img.height;
-  t.texels = img.texels;
   t.wrap_s = ws;
   t.wrap_t = wt;
   t.nearest = nearest;
   const int id = int(scene_.textures.size());
   scene_.textures.push_back(std::move(t));
+  pending_textures_.emplace(id, PendingTexture{source, where});
   textures_.emplace(key, id);
   return texture_of_[texture] = id;
 }
@@ -352,6 +421,7 @@ void Converter::convert_materials() {
   if (occlusion > 0)
     log::verbose(display_ + ": " + std::to_string(occlusion) +
                  " material(s) have an occlusion texture; ignored (a path tracer computes occlusion)");
+  decode_textures();
 }
 
 uint32_t Converter::material_for(int gltf_material, const std::string& where) {
