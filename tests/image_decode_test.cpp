@@ -16,6 +16,8 @@
 
 #include <unistd.h>
 
+#include "io/image.h"
+#include "io/image_io.h"
 #include "scene/image_decode.h"
 
 namespace clpt {
@@ -211,6 +213,92 @@ TEST(ImageDecode, HeaderSizeWithoutDecoding) {
     EXPECT_FALSE(image_header_size(bytes->data(), 12, &w, &h));
     EXPECT_FALSE(image_header_size(bytes->data() + 1, bytes->size() - 1, &w, &h));
   }
+}
+
+// An ICC profile whose 'cprt' tag is a multi-localised string (mluc) with one record whose
+// offset runs 2 GiB past the profile, as an APP2 segment. OpenImageIO 2.4's JPEG reader
+// parses embedded profiles when it opens a file and copies from that offset: SEGV (found by
+// tests/fuzz/file_fuzzer.cpp from a mutated texture; this one was written by hand after it).
+std::vector<unsigned char> damaged_icc_segment() {
+  auto be32 = [](std::vector<unsigned char>& v, uint32_t x) {
+    for (int k = 3; k >= 0; --k) v.push_back((unsigned char)(x >> (8 * k)));
+  };
+  std::vector<unsigned char> mluc = {'m', 'l', 'u', 'c', 0, 0, 0, 0};
+  be32(mluc, 1), be32(mluc, 12);
+  for (char c : {'e', 'n', 'U', 'S'}) mluc.push_back((unsigned char)c);
+  be32(mluc, 0x100), be32(mluc, 0x7FFF0000);
+  const uint32_t tag_at = 128 + 4 + 12;
+  std::vector<unsigned char> icc(128, 0);
+  icc[0] = (unsigned char)((tag_at + mluc.size()) >> 24), icc[1] = (unsigned char)((tag_at + mluc.size()) >> 16);
+  icc[2] = (unsigned char)((tag_at + mluc.size()) >> 8), icc[3] = (unsigned char)(tag_at + mluc.size());
+  icc[36] = 'a', icc[37] = 'c', icc[38] = 's', icc[39] = 'p';
+  be32(icc, 1);
+  for (char c : {'c', 'p', 'r', 't'}) icc.push_back((unsigned char)c);
+  be32(icc, tag_at), be32(icc, uint32_t(mluc.size()));
+  icc.insert(icc.end(), mluc.begin(), mluc.end());
+  const std::string magic("ICC_PROFILE\0\x01\x01", 14);
+  std::vector<unsigned char> seg = {0xFF, 0xE2, 0, 0};
+  seg.insert(seg.end(), magic.begin(), magic.end());
+  seg.insert(seg.end(), icc.begin(), icc.end());
+  seg[2] = (unsigned char)((seg.size() - 2) >> 8), seg[3] = (unsigned char)(seg.size() - 2);
+  return seg;
+}
+
+// Embedded ICC profiles never reach OpenImageIO: clpt manages no colour, and OpenImageIO 2.4
+// trusts their offsets. A JPEG texture (and a JPEG --reference) with the damaged profile
+// above decodes to its pixels; a PNG's iCCP chunk is dropped the same way.
+TEST(ImageDecode, EmbeddedIccProfilesAreDroppedBeforeDecoding) {
+  const std::vector<unsigned char> plain = grey_jpeg(8, 8);
+  const std::vector<unsigned char> seg = damaged_icc_segment();
+  std::vector<unsigned char> jpg(plain.begin(), plain.begin() + 2);
+  jpg.insert(jpg.end(), seg.begin(), seg.end());
+  jpg.insert(jpg.end(), plain.begin() + 2, plain.end());
+  std::vector<unsigned char> clean;
+  std::string why;
+  ASSERT_TRUE(without_icc_profiles(jpg.data(), jpg.size(), ImageFormat::Jpeg, &clean, &why)) << why;
+  EXPECT_EQ(clean, plain) << "the APP2 ICC_PROFILE segment, and only it, is removed";
+  DecodedImage img;
+  ASSERT_TRUE(decode_image(jpg.data(), jpg.size(), &img, &why)) << why;
+  EXPECT_EQ(img.width, 8u);
+  EXPECT_EQ(img.texels.size(), 64u);
+  // The file reader behind --env, --reference and clpt-diff.
+  char name[] = "/tmp/clpt-icc-XXXXXX";
+  const int fd = ::mkstemp(name);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::write(fd, jpg.data(), jpg.size()), ssize_t(jpg.size()));
+  ::close(fd);
+  const Image read = read_image(name);
+  std::remove(name);
+  EXPECT_EQ(read.width, 8u);
+  // A marker segment running past the end before the scan: refused, naming it.
+  std::vector<unsigned char> cut(jpg.begin(), jpg.begin() + 2 + 40);
+  EXPECT_FALSE(without_icc_profiles(cut.data(), cut.size(), ImageFormat::Jpeg, &clean, &why));
+  EXPECT_NE(why.find("past the end of the data"), std::string::npos) << why;
+
+  // PNG: an iCCP chunk (made here: libpng's writer refuses a profile this broken) after
+  // IHDR is dropped, the other chunks kept, and the file decodes as before.
+  const std::vector<unsigned char> plain_png = small_png();
+  std::vector<unsigned char> chunk = {0, 0, 0, 0, 'i', 'C', 'C', 'P', 'x', 0, 0};
+  chunk.insert(chunk.end(), seg.begin() + 18, seg.end());  // the profile, not even deflated
+  const uint32_t length = uint32_t(chunk.size() - 8);
+  for (int k = 0; k < 4; ++k) chunk[size_t(k)] = (unsigned char)(length >> (24 - 8 * k));
+  uint32_t crc = 0xFFFFFFFFu;  // CRC-32 (ISO 3309) over type and data
+  for (size_t i = 4; i < chunk.size(); ++i) {
+    crc ^= chunk[i];
+    for (int k = 0; k < 8; ++k) crc = (crc & 1u) ? 0xEDB88320u ^ (crc >> 1) : crc >> 1;
+  }
+  crc ^= 0xFFFFFFFFu;
+  for (int k = 0; k < 4; ++k) chunk.push_back((unsigned char)(crc >> (24 - 8 * k)));
+  std::vector<unsigned char> png(plain_png.begin(), plain_png.begin() + 8 + 25);  // signature, IHDR
+  png.insert(png.end(), chunk.begin(), chunk.end());
+  png.insert(png.end(), plain_png.begin() + 8 + 25, plain_png.end());
+  ASSERT_TRUE(check_png_chunks(png.data(), png.size(), &why)) << why;
+  const std::string as_text(png.begin(), png.end());
+  ASSERT_NE(as_text.find("iCCP"), std::string::npos) << "OpenImageIO wrote no iCCP chunk";
+  ASSERT_TRUE(without_icc_profiles(png.data(), png.size(), ImageFormat::Png, &clean, &why)) << why;
+  EXPECT_EQ(clean, plain_png);
+  ASSERT_TRUE(decode_image(png.data(), png.size(), &img, &why)) << why;
+  EXPECT_EQ(img.texels[0], 0xFF0000FFu);
 }
 
 // KHR_texture_basisu's KTX2 images are named as such (no transcoder in Debian).

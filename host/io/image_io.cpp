@@ -1,13 +1,16 @@
 #include "io/image_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <unistd.h>
 
+#include "io/image_bytes.h"
 #include "io/output_path.h"
 #include "util/error.h"
 
@@ -132,23 +135,71 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
 
 namespace {
 
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  if (s.size() > 300) s = s.substr(0, 300) + "...";
+  return s;
+}
+
+// An image open for reading, with what its reader reads from (destroyed after the reader).
+struct OpenImage {
+  std::vector<unsigned char> bytes;                         // PNG and JPEG: the cleaned file
+  std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy;     // ... and the reader's view of it
+  std::unique_ptr<OIIO::ImageInput> in;
+};
+
 // Opens an image for reading: a regular file (a FIFO or /dev/zero would block or never end)
-// that OIIO recognises, with a non-empty size within the limits.
-std::unique_ptr<OIIO::ImageInput> open_image(const fs::path& path, const ImageLimits& limits) {
+// in one of the formats clpt reads (OpenEXR, Radiance HDR, PNG, JPEG, told by their first
+// bytes, each with its own reader rather than whichever OpenImageIO guesses), with a
+// non-empty size within the limits. PNG and JPEG are read into memory and pass the texture
+// decoder's checks first (io/image_bytes: PNG chunks and CRCs, no ICC profiles).
+OpenImage open_image(const fs::path& path, const ImageLimits& limits) {
   check_regular_input(path, "");
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw Error(ExitCode::BadInput, path.string() + ": cannot read image: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
-    throw Error(ExitCode::BadInput, path.string() + ": empty image (the header gives " +
-                                        std::to_string(spec.width) + "x" + std::to_string(spec.height) + ")");
-  const uint64_t w = uint64_t(spec.width), h = uint64_t(spec.height);
+  auto fail = [&](const std::string& why) { throw Error(ExitCode::BadInput, path.string() + ": " + why); };
+  std::ifstream file(path, std::ios::binary);
+  if (!file) fail("cannot open the file");
+  unsigned char head[16] = {};
+  file.read(reinterpret_cast<char*>(head), sizeof head);
+  const ImageFormat format = sniff_image(head, size_t(file.gcount()));
+  if (format != ImageFormat::Exr && format != ImageFormat::Hdr && format != ImageFormat::Png &&
+      format != ImageFormat::Jpeg)
+    fail(file.gcount() == 0 ? std::string("the file is empty")
+                            : "not an OpenEXR, Radiance HDR, PNG or JPEG image (unknown signature)");
+  OpenImage img;
+  std::string name = path.string();
+  OIIO::ImageSpec config;
+  if (format == ImageFormat::Png || format == ImageFormat::Jpeg) {
+    std::error_code ec;
+    const uintmax_t size = fs::file_size(path, ec);
+    if (ec || size > (uintmax_t{1} << 31)) fail("cannot read the file (larger than 2 GiB, or its size unknown)");
+    std::vector<unsigned char> raw(static_cast<size_t>(size));
+    file.seekg(0);
+    file.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size()));
+    if (size_t(file.gcount()) != raw.size()) fail("cannot read the file");
+    std::string why;
+    if (format == ImageFormat::Png && !check_png_chunks(raw.data(), raw.size(), &why)) fail(why);
+    if (!without_icc_profiles(raw.data(), raw.size(), format, &img.bytes, &why)) fail(why);
+    img.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(img.bytes.data(), img.bytes.size());
+    OIIO::Filesystem::IOProxy* proxy = img.proxy.get();
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    name = std::string("image.") + oiio_format_name(format);
+  }
+  file.close();
+  img.in = OIIO::ImageInput::create(oiio_format_name(format));
+  OIIO::ImageSpec spec;
+  if (!img.in) fail(std::string("OpenImageIO has no ") + oiio_format_name(format) + " reader: " + one_line(OIIO::geterror()));
+  if (!img.in->open(name, spec, config)) fail("cannot read image: " + one_line(img.in->geterror()));
+  const OIIO::ImageSpec& s = img.in->spec();
+  if (s.width <= 0 || s.height <= 0 || s.nchannels <= 0 || s.depth > 1)
+    fail("empty image (the header gives " + std::to_string(s.width) + "x" + std::to_string(s.height) + ")");
+  const uint64_t w = uint64_t(s.width), h = uint64_t(s.height);
   if (w > limits.max_dimension || h > limits.max_dimension || w * h > limits.max_pixels)
-    throw Error(ExitCode::BadInput, path.string() + ": the image is " + std::to_string(w) + "x" +
-                                        std::to_string(h) + ", larger than the limit of " +
-                                        std::to_string(limits.max_dimension) + " per side and " +
-                                        std::to_string(limits.max_pixels) + " pixels (" + limits.raise + ")");
-  return in;
+    fail("the image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than the limit of " +
+         std::to_string(limits.max_dimension) + " per side and " + std::to_string(limits.max_pixels) + " pixels (" +
+         limits.raise + ")");
+  return img;
 }
 
 // The pixels, nch floats each, read in strips of scanlines. Memory grows strip by strip with
@@ -164,9 +215,7 @@ std::vector<float> read_pixels(OIIO::ImageInput& in, const fs::path& path) {
     pixels.resize(size_t(y_end) * row);
     if (!in.read_scanlines(0, 0, spec.y + y, spec.y + y_end, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT,
                            pixels.data() + size_t(y) * row)) {
-      std::string e = in.geterror();
-      for (char& c : e)
-        if (c == '\n') c = ' ';
+      const std::string e = one_line(in.geterror());
       throw Error(ExitCode::BadInput, path.string() + ": cannot read scanlines " + std::to_string(y) + ".." +
                                           std::to_string(y_end - 1) + " of " + std::to_string(spec.height) +
                                           (e.empty() ? std::string() : ": " + e));
@@ -178,8 +227,8 @@ std::vector<float> read_pixels(OIIO::ImageInput& in, const fs::path& path) {
 }  // namespace
 
 ImageSize read_image_size(const fs::path& path, const ImageLimits& limits) {
-  auto in = open_image(path, limits);
-  return {uint32_t(in->spec().width), uint32_t(in->spec().height)};
+  const OpenImage img = open_image(path, limits);
+  return {uint32_t(img.in->spec().width), uint32_t(img.in->spec().height)};
 }
 
 Image read_image(const fs::path& path, const ImageLimits& limits) {
@@ -199,7 +248,8 @@ int ImageChannels::int_attribute(const std::string& name, int fallback) const {
 }
 
 ImageChannels read_image_channels(const fs::path& path, const ImageLimits& limits) {
-  auto in = open_image(path, limits);
+  OpenImage img = open_image(path, limits);
+  OIIO::ImageInput* in = img.in.get();
   const OIIO::ImageSpec& spec = in->spec();
   const size_t px = size_t(spec.width) * size_t(spec.height);
   const size_t nch = size_t(spec.nchannels);

@@ -43,8 +43,9 @@ struct ImageSize {
 };
 ImageSize read_image_size(const std::filesystem::path& path, const ImageLimits& limits = {});
 
-// Reads any image OIIO can read as linear float RGB (8-bit files are decoded from sRGB).
-// The header is checked against `limits` first, and the pixels are read in strips into
+// Reads an OpenEXR, Radiance HDR, PNG or JPEG file (told by its first bytes; other formats
+// are refused) as linear float RGB (8-bit files are decoded from sRGB). PNG and JPEG pass the
+// texture decoder's byte checks first (io/image_bytes.h). The header is checked against `limits` first, and the pixels are read in strips into
 // memory that grows with what the file really holds, so a header that lies about the size
 // costs no more than the bytes behind it. Throws Error(ExitCode::BadInput) naming the file.
 Image read_image(const std::filesystem::path& path, const ImageLimits& limits = {});

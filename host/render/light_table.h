@@ -27,7 +27,7 @@ struct Environment {
   float rotation = 0.0f;       // radians about +y
 };
 
-// Reads an equirectangular .hdr/.exr (anything OpenImageIO reads) for --env. Negative and
+// Reads an equirectangular .hdr/.exr (or PNG/JPEG: io/image_io.h) for --env. Negative and
 // non-finite texels are set to 0 with a warning. The file's header is checked against
 // `limits` before any pixel is read. Throws Error(BadInput) naming the file.
 Environment load_environment(const std::string& file, float scale, float rotation_degrees,

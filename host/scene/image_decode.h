@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "io/image_bytes.h"  // image_header_size
+
 namespace clpt {
 
 // Default limits against hostile images (checked from the header, before any pixel is
@@ -27,12 +29,6 @@ struct DecodedImage {
 // max_dimension and max_pixels: the limits (LoadLimits::image_dimension, image_pixels).
 bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std::string* why,
                   uint64_t max_dimension = kMaxImageDimension, uint64_t max_pixels = kMaxImagePixels);
-
-// The width and height a PNG (IHDR), JPEG (the first SOF) or WebP (VP8, VP8L or VP8X) header
-// gives, read from the header bytes alone without decoding: what the loader counts against
-// its limits before it decodes any image. False when the bytes are none of these or the
-// header is cut off (decode_image then says why).
-bool image_header_size(const unsigned char* data, size_t size, uint64_t* width, uint64_t* height);
 
 // One magenta texel: what --lenient puts in place of an image that cannot be decoded.
 DecodedImage placeholder_image();

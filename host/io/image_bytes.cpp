@@ -1,0 +1,226 @@
+#include "io/image_bytes.h"
+
+#include <algorithm>
+#include <array>
+
+namespace clpt {
+namespace {
+
+uint32_t read_u32le(const unsigned char* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+uint32_t read_u32be(const unsigned char* p) {
+  return (uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | uint32_t(p[3]);
+}
+
+uint32_t read_u24le(const unsigned char* p) { return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16; }
+
+// The first SOF segment's height and width (the frame header: length, precision, Y, X).
+bool jpeg_frame_size(const unsigned char* p, size_t size, uint64_t* w, uint64_t* h) {
+  size_t at = 2;  // after SOI
+  while (at + 4 <= size) {
+    if (p[at] != 0xFF) return false;
+    const unsigned char m = p[at + 1];
+    if (m == 0xFF) {
+      ++at;
+      continue;
+    }
+    if (m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC) {
+      if (at + 9 > size) return false;
+      *h = uint64_t(p[at + 5]) << 8 | p[at + 6];
+      *w = uint64_t(p[at + 7]) << 8 | p[at + 8];
+      return true;
+    }
+    const size_t length = size_t(p[at + 2]) << 8 | p[at + 3];
+    if (length < 2) return false;
+    at += 2 + length;
+  }
+  return false;
+}
+
+// CRC-32 of PNG chunks (ISO 3309, as zlib's crc32), table-driven.
+uint32_t png_crc(const unsigned char* p, size_t n) {
+  static const std::array<uint32_t, 256> table = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  uint32_t c = 0xFFFFFFFFu;
+  for (size_t i = 0; i < n; ++i) c = table[(c ^ p[i]) & 0xFFu] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+}  // namespace
+
+ImageFormat sniff_image(const unsigned char* p, size_t n) {
+  static const unsigned char png[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  static const unsigned char ktx2[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+  static const unsigned char exr[4] = {0x76, 0x2F, 0x31, 0x01};
+  if (n >= 8 && std::equal(png, png + 8, p)) return ImageFormat::Png;
+  if (n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF) return ImageFormat::Jpeg;
+  if (n >= 12 && std::equal(p, p + 4, "RIFF") && std::equal(p + 8, p + 12, "WEBP")) return ImageFormat::Webp;
+  if (n >= 12 && std::equal(ktx2, ktx2 + 12, p)) return ImageFormat::Ktx2;
+  if (n >= 4 && std::equal(exr, exr + 4, p)) return ImageFormat::Exr;
+  if (n >= 2 && p[0] == '#' && p[1] == '?') return ImageFormat::Hdr;  // #?RADIANCE, #?RGBE
+  return ImageFormat::Unknown;
+}
+
+const char* oiio_format_name(ImageFormat format) {
+  switch (format) {
+    case ImageFormat::Png: return "png";
+    case ImageFormat::Jpeg: return "jpeg";
+    case ImageFormat::Webp: return "webp";
+    case ImageFormat::Exr: return "openexr";
+    case ImageFormat::Hdr: return "hdr";
+    default: return nullptr;
+  }
+}
+
+// The chunk structure of a PNG (after its signature): every chunk within the data, with a
+// correct CRC, IHDR first, IEND present. OpenImageIO 2.4 lets libpng longjmp out of its
+// read callback on a truncated file, skipping destructors (the fuzzer found the leak), and
+// libpng prints its own messages: so truncated and damaged files are refused here first.
+bool check_png_chunks(const unsigned char* p, size_t n, std::string* why) {
+  size_t at = 8;
+  for (int index = 0;; ++index) {
+    if (n - at < 12) {
+      *why = "truncated PNG: chunk " + std::to_string(index) + " at byte " + std::to_string(at) +
+             " is cut off (no IEND chunk)";
+      return false;
+    }
+    const uint32_t length = read_u32be(p + at);
+    const std::string type(reinterpret_cast<const char*>(p + at + 4), 4);
+    if (length > 0x7FFFFFFFu || length > n - at - 12) {
+      *why = "truncated PNG: chunk " + std::to_string(index) + " at byte " + std::to_string(at) +
+             " claims " + std::to_string(length) + " bytes, past the end of the data";
+      return false;
+    }
+    if (png_crc(p + at + 4, size_t(length) + 4) != read_u32be(p + at + 8 + length)) {
+      *why = "damaged PNG: chunk " + std::to_string(index) + " at byte " + std::to_string(at) +
+             " has a wrong CRC";
+      return false;
+    }
+    if (index == 0 && type != "IHDR") {
+      *why = "damaged PNG: the first chunk is not IHDR";
+      return false;
+    }
+    at += size_t(length) + 12;
+    if (type == "IEND") return true;
+  }
+}
+
+// Whether a JPEG's frame is Huffman coded (SOF0 to SOF3, SOF5 to SOF7): the markers are
+// walked from SOI to the first SOF. Arithmetic-coded frames (SOF9 to SOF15) answer false.
+bool jpeg_is_huffman(const unsigned char* p, size_t size) {
+  size_t at = 2;  // after SOI
+  while (at + 4 <= size) {
+    if (p[at] != 0xFF) return false;
+    const unsigned char m = p[at + 1];
+    if (m == 0xFF) {  // fill byte
+      ++at;
+      continue;
+    }
+    if (m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC) return m < 0xC8;
+    const size_t length = size_t(p[at + 2]) << 8 | p[at + 3];
+    if (length < 2) return false;
+    at += 2 + length;
+  }
+  return false;
+}
+
+bool image_header_size(const unsigned char* p, size_t size, uint64_t* w, uint64_t* h) {
+  const ImageFormat f = sniff_image(p, size);
+  if (f == ImageFormat::Png) {  // signature, then IHDR: length, type, width, height (big-endian)
+    if (size < 24 || !std::equal(p + 12, p + 16, "IHDR")) return false;
+    *w = read_u32be(p + 16);
+    *h = read_u32be(p + 20);
+    return true;
+  }
+  if (f == ImageFormat::Jpeg) return jpeg_frame_size(p, size, w, h);
+  if (f != ImageFormat::Webp) return false;
+  // WebP: RIFF, size, WEBP, then the first chunk (its FourCC and size) at byte 12.
+  if (size < 30) return false;
+  if (std::equal(p + 12, p + 16, "VP8X")) {  // flags, then canvas width - 1, height - 1 (24 bits)
+    *w = uint64_t(read_u24le(p + 24)) + 1;
+    *h = uint64_t(read_u24le(p + 27)) + 1;
+    return true;
+  }
+  if (std::equal(p + 12, p + 16, "VP8L")) {  // signature 0x2F, then 14 bits each of w - 1, h - 1
+    if (p[20] != 0x2F) return false;
+    const uint32_t bits = read_u32le(p + 21);
+    *w = uint64_t(bits & 0x3FFFu) + 1;
+    *h = uint64_t((bits >> 14) & 0x3FFFu) + 1;
+    return true;
+  }
+  if (std::equal(p + 12, p + 16, "VP8 ")) {  // frame tag (3), start code 9D 01 2A, 14-bit w, h
+    if (p[23] != 0x9D || p[24] != 0x01 || p[25] != 0x2A) return false;
+    *w = (uint64_t(p[26]) | uint64_t(p[27]) << 8) & 0x3FFFu;
+    *h = (uint64_t(p[28]) | uint64_t(p[29]) << 8) & 0x3FFFu;
+    return true;
+  }
+  return false;
+}
+
+bool without_icc_profiles(const unsigned char* p, size_t size, ImageFormat format, std::vector<unsigned char>* out,
+                          std::string* why) {
+  out->clear();
+  if (format == ImageFormat::Png) {  // chunks already checked: length, type, data, CRC
+    out->insert(out->end(), p, p + std::min<size_t>(size, 8));
+    for (size_t at = 8; at + 12 <= size;) {
+      const size_t next = at + 12 + size_t(read_u32be(p + at));
+      if (next > size) break;
+      if (!std::equal(p + at + 4, p + at + 8, "iCCP")) out->insert(out->end(), p + at, p + next);
+      at = next;
+    }
+    return true;
+  }
+  if (format != ImageFormat::Jpeg) {
+    out->assign(p, p + size);
+    return true;
+  }
+  // JPEG: SOI, then marker segments (FF, marker, 16-bit length counting itself) up to the
+  // first SOS, whose entropy-coded data runs to the end: copied as it is.
+  static const char icc[12] = {'I', 'C', 'C', '_', 'P', 'R', 'O', 'F', 'I', 'L', 'E', '\0'};
+  out->insert(out->end(), p, p + 2);
+  size_t at = 2;
+  while (at < size) {
+    if (p[at] != 0xFF || at + 1 >= size) {
+      *why = "damaged JPEG: no marker at byte " + std::to_string(at);
+      return false;
+    }
+    const unsigned char m = p[at + 1];
+    if (m == 0xFF) {  // fill byte
+      out->push_back(0xFF);
+      ++at;
+      continue;
+    }
+    if (m == 0xD8 || m == 0x01 || (m >= 0xD0 && m <= 0xD7)) {  // no length
+      out->insert(out->end(), p + at, p + at + 2);
+      at += 2;
+      continue;
+    }
+    if (at + 4 > size) break;
+    const size_t length = size_t(p[at + 2]) << 8 | p[at + 3];
+    if (length < 2 || at + 2 + length > size) {
+      *why = "damaged JPEG: the segment of marker " + std::to_string(m) + " at byte " + std::to_string(at) +
+             " claims " + std::to_string(length) + " bytes, past the end of the data";
+      return false;
+    }
+    const bool profile = m == 0xE2 && length >= 2 + sizeof icc && std::equal(icc, icc + sizeof icc, p + at + 4);
+    if (m == 0xDA || m == 0xD9) {  // start of scan (or an early end of image): the rest as it is
+      out->insert(out->end(), p + at, p + size);
+      return true;
+    }
+    if (!profile) out->insert(out->end(), p + at, p + at + 2 + length);
+    at += 2 + length;
+  }
+  *why = "truncated JPEG: it ends before its scan starts";
+  return false;
+}
+
+}  // namespace clpt
