@@ -25,7 +25,7 @@ start=$(date +%s)
 
 # The hostile-input suites that run under the sanitizers. The build compiles only the test
 # sources that define one of them (tests/CMakeLists.txt, CLPT_SANITIZE_SUITES).
-suites='Gltf[A-Za-z]*|ClptDiff|ImageStats|ImageDecode|LoadLimits|Cli|KernelCache|KernelSource|OutOfMemory|HostileSizes|UnwritableOutput|BuildFailure|ScaleInvariance|NoNaN'
+suites='Gltf[A-Za-z]*|ClptDiff|ImageStats|ImageDecode|ImageReader|LoadLimits|Cli|KernelCache|KernelSource|OutOfMemory|HostileSizes|UnwritableOutput|BuildFailure|ScaleInvariance|NoNaN'
 # CMakePresets.json: build-asan, RelWithDebInfo, CLPT_SANITIZE=ON
 cmake --preset asan "-DCLPT_SANITIZE_SUITES=$suites"
 printf '%s\n' '# Allocations PoCL and LLVM keep until exit by design (scripts/test-sanitize.sh).' \

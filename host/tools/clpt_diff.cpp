@@ -205,8 +205,12 @@ int run(int argc, char** argv) {
                                      ": needs 0 < MIN < MAX");
   if (!o.error_map.empty()) check_output_path(o.error_map);
 
-  Input img{o.image, read_image_channels(o.image), {}};
-  Input ref{o.reference, read_image_channels(o.reference), {}};
+  ImageLimits film;  // any image clpt renders; the pixels are read as the file holds them
+  film.max_dimension = kMaxFilmSide;
+  film.max_pixels = uint64_t{kMaxFilmSide} * kMaxFilmSide;
+  film.raise = "clpt-diff compares images of at most that size";
+  Input img{o.image, read_image_channels(o.image, film), {}};
+  Input ref{o.reference, read_image_channels(o.reference, film), {}};
   if (img.file.image.width != ref.file.image.width || img.file.image.height != ref.file.image.height)
     throw Error(ExitCode::BadInput, "image " + o.image + " is " + size_text(img.file.image) +
                                         " but reference " + o.reference + " is " +
