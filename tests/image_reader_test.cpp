@@ -2,9 +2,14 @@
 // malformed image corpus (tests/data/malformed-images/README.md has the same table).
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "io/image_io.h"
 #include "util/error.h"
@@ -20,6 +25,7 @@ const std::map<std::string, std::string> kCases = {
     {"huge_16000.hdr", "the image is 16000x16000, larger than the limit"},
     {"lying_window.exr", "cannot read image: OpenEXR exception"},
     {"empty.exr", "the file is empty"},
+    {"huge_attribute.exr", "damaged EXR: attribute 'compression' (compression) claims 1879048192 bytes, past the end"},
     {"tiff_named.exr", "not an OpenEXR, Radiance HDR, PNG or JPEG image"},
     {"truncated_png_named.hdr", "truncated PNG: chunk 9 at byte 275 is cut off"},
     {"cut_in_marker.jpg", "damaged JPEG: the segment of marker 226 at byte 2 claims 188 bytes"},
@@ -54,6 +60,40 @@ TEST(ImageReader, MalformedCorpus) {
     }
   }
   EXPECT_EQ(files, kCases.size()) << "a file of the table is missing from the corpus";
+}
+
+// The EXR header walk (check_exr_headers) must let real files through: a multi-part EXR of two
+// parts written by OpenImageIO (OpenEXR's multi-part layout: headers until an empty one) reads
+// as its first part.
+TEST(ImageReader, MultiPartExrReads) {
+  const fs::path file = fs::temp_directory_path() / ("clpt-multipart-" + std::to_string(::getpid()) + ".exr");
+  {
+    auto out = OIIO::ImageOutput::create(file.string());
+    ASSERT_TRUE(out && out->supports("multiimage"));
+    OIIO::ImageSpec specs[2] = {OIIO::ImageSpec(4, 3, 3, OIIO::TypeDesc::FLOAT),
+                                OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::FLOAT)};
+    specs[0].attribute("name", "first");
+    specs[1].attribute("name", "second");
+    specs[1].full_width = 4, specs[1].full_height = 3;  // one display window for all parts
+    const bool opened = out->open(file.string(), 2, specs);
+    ASSERT_TRUE(opened) << out->geterror() << OIIO::geterror();
+    std::vector<float> a(4 * 3 * 3, 0.25f), b(2 * 2 * 3, 0.5f);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, a.data()));
+    ASSERT_TRUE(out->open(file.string(), specs[1], OIIO::ImageOutput::AppendSubimage));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, b.data()));
+    out->close();
+  }
+  {
+    std::ifstream f(file, std::ios::binary);
+    unsigned char head[8] = {};
+    f.read(reinterpret_cast<char*>(head), 8);
+    ASSERT_TRUE(head[5] & 0x10) << "not written as a multi-part file (version flag 0x1000)";
+  }
+  const Image img = read_image(file);
+  fs::remove(file);
+  EXPECT_EQ(img.width, 4u);
+  EXPECT_EQ(img.height, 3u);
+  EXPECT_FLOAT_EQ(img.rgb[0], 0.25f);
 }
 
 }  // namespace

@@ -166,6 +166,75 @@ bool image_header_size(const unsigned char* p, size_t size, uint64_t* w, uint64_
   return false;
 }
 
+// Bytes from a file, fit for a one-line message: anything but printable ASCII becomes '?'.
+static std::string printable_text(const std::string& s) {
+  std::string out = s;
+  for (char& c : out)
+    if (c < 0x20 || c > 0x7E) c = '?';
+  return out;
+}
+
+bool check_exr_headers(std::istream& in, uint64_t file_size, std::string* why) {
+  unsigned char head[8];
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(head), 8)) {
+    *why = "truncated EXR: no version field";
+    return false;
+  }
+  const uint32_t version = read_u32le(head + 4);
+  const bool multipart = version & 0x1000u, long_names = version & 0x400u;
+  const size_t max_name = long_names ? 255 : 31;
+  uint64_t at = 8;
+  // A zero-terminated name or type; false at the end of the file or past max_name.
+  auto read_text = [&](std::string* text) {
+    text->clear();
+    for (;;) {
+      const int c = in.get();
+      if (c == EOF) return false;
+      ++at;
+      if (c == 0) return true;
+      if (text->size() == max_name) return false;
+      text->push_back(char(c));
+    }
+  };
+  for (int part = 0;; ++part) {
+    std::string name, type;
+    for (int attribute = 0;; ++attribute) {
+      if (!read_text(&name)) {
+        *why = "damaged EXR: header " + std::to_string(part) + " attribute " + std::to_string(attribute) +
+               " has no name of at most " + std::to_string(max_name) + " characters before the end of the file";
+        return false;
+      }
+      if (name.empty()) break;  // the end of this header
+      unsigned char size_bytes[4];
+      if (!read_text(&type) || !in.read(reinterpret_cast<char*>(size_bytes), 4)) {
+        *why = "truncated EXR: attribute '" + printable_text(name) + "' is cut off";
+        return false;
+      }
+      at += 4;
+      const uint32_t size = read_u32le(size_bytes);
+      if (size > 0x7FFFFFFFu || size > file_size - std::min(file_size, at)) {
+        *why = "damaged EXR: attribute '" + printable_text(name) + "' (" + printable_text(type) + ") claims " +
+               std::to_string(size) +
+               " bytes, past the end of the file";
+        return false;
+      }
+      in.seekg(std::streamoff(size), std::ios::cur);
+      at += size;
+    }
+    // One header, or (multi-part) headers until an empty one: a zero byte right after the
+    // previous header's end.
+    if (!multipart) break;
+    const int next = in.peek();
+    if (next == EOF) {
+      *why = "truncated EXR: the multi-part headers do not end";
+      return false;
+    }
+    if (next == 0) break;
+  }
+  return true;
+}
+
 bool without_icc_profiles(const unsigned char* p, size_t size, ImageFormat format, std::vector<unsigned char>* out,
                           std::string* why) {
   out->clear();

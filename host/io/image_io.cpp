@@ -167,6 +167,13 @@ OpenImage open_image(const fs::path& path, const ImageLimits& limits) {
       format != ImageFormat::Jpeg)
     fail(file.gcount() == 0 ? std::string("the file is empty")
                             : "not an OpenEXR, Radiance HDR, PNG or JPEG image (unknown signature)");
+  if (format == ImageFormat::Exr) {
+    std::error_code ec;
+    const uintmax_t size = fs::file_size(path, ec);
+    std::string why;
+    file.clear();
+    if (ec || !check_exr_headers(file, uint64_t(size), &why)) fail(ec ? "cannot read the file's size" : why);
+  }
   OpenImage img;
   std::string name = path.string();
   OIIO::ImageSpec config;
