@@ -166,6 +166,47 @@ bool image_header_size(const unsigned char* p, size_t size, uint64_t* w, uint64_
   return false;
 }
 
+// Whether an EXR attribute's value is exactly `value.size()` bytes of its type, as OpenEXR
+// 3.1 reads it: OpenEXR reads known types by their own layout, not by the declared size, so a
+// value of another size puts the rest of the header out of step with this walk.
+static bool exr_value_fits(const std::string& type, const std::vector<unsigned char>& v) {
+  static const std::pair<const char*, size_t> fixed[] = {
+      {"box2i", 16}, {"box2f", 16},  {"compression", 1}, {"lineOrder", 1}, {"envmap", 1},
+      {"deepImageState", 1}, {"float", 4}, {"double", 8}, {"int", 4}, {"v2i", 8},
+      {"v2f", 8}, {"v2d", 16}, {"v3i", 12}, {"v3f", 12}, {"v3d", 24},
+      {"m33f", 36}, {"m33d", 72}, {"m44f", 64}, {"m44d", 128}, {"chromaticities", 32},
+      {"keycode", 28}, {"timecode", 8}, {"rational", 8}, {"tiledesc", 9}};
+  for (const auto& [name, bytes] : fixed)
+    if (type == name) return v.size() == bytes;
+  const size_t n = v.size();
+  if (type == "floatvector") return n % 4 == 0;
+  if (type == "stringvector") {  // (int32 length, bytes) until the value ends
+    for (size_t at = 0; at < n;) {
+      if (n - at < 4) return false;
+      const uint32_t len = read_u32le(v.data() + at);
+      if (len > n - at - 4) return false;
+      at += 4 + len;
+    }
+    return true;
+  }
+  if (type == "preview") {  // width, height, then RGBA8 pixels
+    if (n < 8) return false;
+    const uint64_t w = read_u32le(v.data()), h = read_u32le(v.data() + 4);
+    return w * h * 4 == n - 8;
+  }
+  if (type == "chlist") {  // (name, 0, 16 bytes) per channel, then a 0
+    size_t at = 0;
+    for (;;) {
+      if (at >= n) return false;
+      if (v[at] == 0) return at + 1 == n;
+      while (at < n && v[at] != 0) ++at;
+      if (n - at < 17) return false;
+      at += 17;
+    }
+  }
+  return true;  // string, opaque and other types: read as `size` bytes
+}
+
 // Bytes from a file, fit for a one-line message: anything but printable ASCII becomes '?'.
 static std::string printable_text(const std::string& s) {
   std::string out = s;
@@ -219,8 +260,17 @@ bool check_exr_headers(std::istream& in, uint64_t file_size, std::string* why) {
                " bytes, past the end of the file";
         return false;
       }
-      in.seekg(std::streamoff(size), std::ios::cur);
+      std::vector<unsigned char> value(size);
+      if (size && !in.read(reinterpret_cast<char*>(value.data()), std::streamsize(size))) {
+        *why = "truncated EXR: attribute '" + printable_text(name) + "' is cut off";
+        return false;
+      }
       at += size;
+      if (!exr_value_fits(type, value)) {
+        *why = "damaged EXR: attribute '" + printable_text(name) + "' (" + printable_text(type) + ") of " +
+               std::to_string(size) + " bytes does not hold a value of its type";
+        return false;
+      }
     }
     // One header, or (multi-part) headers until an empty one: a zero byte right after the
     // previous header's end.
