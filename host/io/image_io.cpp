@@ -12,6 +12,7 @@
 
 #include "io/image_bytes.h"
 #include "io/output_path.h"
+#include "util/text.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -134,14 +135,6 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
 }
 
 namespace {
-
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  if (s.size() > 300) s = s.substr(0, 300) + "...";
-  return s;
-}
 
 // An image open for reading, with what its reader reads from (destroyed after the reader).
 struct OpenImage {

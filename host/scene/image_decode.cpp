@@ -8,20 +8,13 @@
 #include <memory>
 
 #include "io/image_bytes.h"
+#include "util/text.h"
 
 namespace clpt {
 namespace {
 
 uint32_t read_u32le(const unsigned char* p) {
   return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  if (s.size() > 300) s = s.substr(0, 300) + "...";
-  return s;
 }
 
 }  // namespace

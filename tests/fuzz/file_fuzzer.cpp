@@ -37,6 +37,7 @@
 #include "io/image_io.h"
 #include "render/checkpoint.h"
 #include "scene/image_decode.h"
+#include "fuzz/harness.h"
 #include "util/error.h"
 #include "util/log.h"
 
@@ -47,27 +48,9 @@ namespace fs = std::filesystem;
 constexpr char kSignature[] = "clpt-fuzz-signature";
 const char* const kNames[] = {"image.hdr", "image.exr", "image.png", "image.jpg", "", "film.ckpt"};
 
-fs::path g_dir;
+using clpt::fuzz::write_file;
 
-void remove_dir() {
-  std::error_code ec;
-  if (!g_dir.empty()) fs::remove_all(g_dir, ec);
-}
-
-void write_file(const fs::path& path, const uint8_t* data, size_t size) {
-  FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) {
-    std::perror(path.c_str());
-    std::abort();  // the harness itself is broken, not a reader
-  }
-  if (size && std::fwrite(data, 1, size, f) != size) std::abort();
-  std::fclose(f);
-}
-
-[[noreturn]] void finding(const char* what) {
-  std::fprintf(stderr, "file_fuzzer: %s\n", what);
-  std::abort();
-}
+[[noreturn]] void finding(const char* what) { clpt::fuzz::finding("file_fuzzer", what); }
 
 void check_error(const clpt::Error& e, const fs::path& file, bool usage_allowed) {
   if (e.code() != clpt::ExitCode::BadInput && !(usage_allowed && e.code() == clpt::ExitCode::Usage))
@@ -79,7 +62,7 @@ void check_error(const clpt::Error& e, const fs::path& file, bool usage_allowed)
 // One small valid input per reader, tagged with its reader's byte.
 void write_seeds(const fs::path& dir) {
   fs::create_directories(dir);
-  const fs::path scratch = g_dir;
+  const fs::path scratch = clpt::fuzz::scratch_dir();
   clpt::Image img(5, 3);
   for (size_t i = 0; i < img.rgb.size(); ++i) img.rgb[i] = float(i % 7) * 0.25f;
   auto tagged = [&](int tag, const fs::path& file, const std::string& name) {
@@ -141,13 +124,7 @@ void write_seeds(const fs::path& dir) {
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   clpt::log::set_level(clpt::log::Level::Quiet);
   OIIO::attribute("threads", 1);  // one input at a time; OpenImageIO's pool would only add noise
-  std::string templ = (fs::temp_directory_path() / "clpt-file-fuzz-XXXXXX").string();
-  if (!::mkdtemp(templ.data())) {
-    std::perror("mkdtemp");
-    std::abort();
-  }
-  g_dir = templ;
-  std::atexit(remove_dir);
+  clpt::fuzz::make_scratch_dir("file-fuzz");
   if (const char* seeds = std::getenv("CLPT_FUZZ_WRITE_SEEDS")) {
     write_seeds(seeds);
     std::exit(0);
@@ -185,7 +162,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
 
-  const fs::path file = g_dir / kNames[reader];
+  const fs::path file = clpt::fuzz::scratch_dir() / kNames[reader];
   write_file(file, body, body_size);
   if (reader == 5) {
     try {

@@ -32,6 +32,7 @@
 #include "scene/gltf_lights.h"
 #include "scene/image_decode.h"
 #include "scene/load_limits.h"
+#include "util/text.h"
 #include "scene/scene.h"
 #include "util/error.h"
 
@@ -54,7 +55,6 @@ std::string to_string_u128(u128 v);
 std::string number(double v);
 std::string bytes_text(uint64_t b);
 std::string join(const std::vector<std::string>& items, const char* sep);
-std::string one_line(const std::string& text);
 std::string printable(const std::string& s);  // quoted, control characters escaped
 
 // ------------------------------------------------------------------------------------------

@@ -46,22 +46,6 @@ std::string join(const std::vector<std::string>& items, const char* sep) {
   return out;
 }
 
-// tinygltf's messages are several "\n"-terminated lines; clpt's errors are one line.
-std::string one_line(const std::string& text) {
-  std::vector<std::string> lines;
-  std::string line;
-  std::istringstream in(text);
-  while (std::getline(in, line)) {
-    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
-    size_t start = 0;
-    while (start < line.size() && std::isspace(static_cast<unsigned char>(line[start]))) ++start;
-    if (start >= line.size()) continue;
-    line = line.substr(start);
-    if (line.size() > 300) line = line.substr(0, 300) + "...";  // e.g. a whole data: URI
-    lines.push_back(line);
-  }
-  return join(lines, "; ");
-}
 
 std::string printable(const std::string& s) {
   // Keep messages on one line and printable whatever the file contains.
