@@ -45,8 +45,15 @@ struct Parser {
     app.get_formatter()->column_width(30);
     app.add_option("scene", o.scene, "glTF 2.0 scene to render (.gltf or .glb)")->type_name("FILE");
     app.add_option("-o,--output", o.output,
-                   "Output image: .exr (linear float) or .png/.jpg (sRGB) [clpt.exr]")
+                   "Output image: .exr (linear float) or .png/.jpg (sRGB, through --view) [clpt.exr]")
         ->type_name("FILE");
+    app.add_option("--view", o.view,
+                   "How .png/.jpg show radiance: standard (clamp), khronos-neutral, agx, aces [standard]")
+        ->type_name("NAME")
+        ->check(CLI::IsMember({"standard", "khronos-neutral", "agx", "aces"}).description(""));
+    app.add_option("--exposure", o.exposure, "Exposure in stops before --view; .exr stays unscaled [0]")
+        ->type_name("EV")
+        ->check(kFinite);
     app.add_option("--device", o.device,
                    "OpenCL device: pocl, gpu, cpu, PLATFORM:DEVICE, or a name substring "
                    "[first GPU, else PoCL]")

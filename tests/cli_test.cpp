@@ -4,12 +4,14 @@
 #include <nlohmann/json.hpp>
 #include <OpenImageIO/imageio.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <utility>
 #include <vector>
 
 #include "io/image_io.h"
+#include "io/view_transform.h"
 #include "stats/image_stats.h"
 #include "support/parse_options.h"
 #include "support/run.h"
@@ -57,6 +59,59 @@ TEST_F(Cli, UnknownOptionIsAUsageError) {
   const test::RunResult r = run_clpt({kCornell, "--no-such-option"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("no-such-option"), std::string::npos) << r.err;
+}
+
+// --view and --exposure shape PNG and JPEG only (issue 24): every PNG byte is the view
+// transform of the linear EXR pixel the same render writes (same seed, same samples), the EXR's
+// pixels do not change with them, and both files record them in their metadata.
+TEST_F(Cli, ViewTransformsShapePngOnly) {
+  const std::vector<std::string> base = {kCornell, "--device", "pocl", "--resolution", "24x24",
+                                         "--spp", "4", "--quiet", "--exposure", "3"};
+  auto render = [&](const std::string& out, const std::string& view) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), {"--view", view, "-o", path(out)});
+    const test::RunResult r = run_clpt(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+  };
+  render("plain.exr", "standard");
+  render("agx.exr", "agx");
+  const Image linear = read_image(path("plain.exr"));
+  EXPECT_EQ(read_image(path("agx.exr")).rgb, linear.rgb) << "an EXR stays linear scene radiance";
+  auto in = OIIO::ImageInput::open(path("agx.exr"));
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().get_string_attribute("clpt:view"), "agx");
+  EXPECT_FLOAT_EQ(in->spec().get_float_attribute("clpt:exposure"), 3.0f);
+  in.reset();
+
+  size_t saturated_standard = 0, saturated_neutral = 0;
+  for (const std::string view : {"standard", "khronos-neutral", "agx", "aces"}) {
+    SCOPED_TRACE(view);
+    render(view + ".png", view);
+    auto png = OIIO::ImageInput::open(path(view + ".png"));
+    ASSERT_TRUE(png);
+    EXPECT_EQ(png->spec().get_string_attribute("clpt:view"), view);
+    std::vector<unsigned char> bytes(24 * 24 * 3);
+    ASSERT_TRUE(png->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, bytes.data()));
+    const DisplaySettings display{*parse_view_transform(view), 3.0f};
+    size_t differ = 0, saturated = 0;
+    for (size_t i = 0; i < 24 * 24; ++i) {
+      const auto d = display_encode(display, {linear.rgb[3 * i], linear.rgb[3 * i + 1], linear.rgb[3 * i + 2]});
+      for (int c = 0; c < 3; ++c) {
+        differ += bytes[3 * i + size_t(c)] != (unsigned char)std::lround(d[size_t(c)] * 255.0f);
+        saturated += bytes[3 * i + size_t(c)] == 255;
+      }
+    }
+    EXPECT_EQ(differ, 0u);
+    if (view == "standard") saturated_standard = saturated;
+    if (view == "khronos-neutral") saturated_neutral = saturated;
+  }
+  // 3 EV over the Cornell box burns much of a standard PNG out; the neutral view keeps it.
+  EXPECT_GT(saturated_standard, 200u);
+  EXPECT_LT(saturated_neutral * 4, saturated_standard);
+
+  const test::RunResult bad = run_clpt({kCornell, "--view", "filmic", "-o", path("x.png")});
+  EXPECT_EQ(bad.exit_code, 1) << bad.err;
+  EXPECT_NE(bad.err.find("--view"), std::string::npos) << bad.err;
 }
 
 TEST_F(Cli, BadValuesAreUsageErrors) {
@@ -371,7 +426,7 @@ TEST_F(Cli, CameraByIndexAndByName) {
 TEST(CliNumbers, NonFiniteRealsAreUsageErrorsNamingTheOption) {
   // option, and what it needs beside it to be read at all
   const std::vector<std::pair<const char*, std::vector<const char*>>> reals = {
-      {"--time", {}}, {"--aperture", {}}, {"--focus-distance", {}}, {"--env-scale", {}},
+      {"--time", {}}, {"--exposure", {}}, {"--aperture", {}}, {"--focus-distance", {}}, {"--env-scale", {}},
       {"--env-rotate", {}}, {"--ao-radius", {"--integrator", "ao"}},
       {"--pm-max-radius", {"--integrator", "pm"}}, {"--sppm-radius", {"--integrator", "sppm"}},
       {"--sppm-alpha", {"--integrator", "sppm"}}, {"--mlt-large-step", {"--integrator", "mlt"}},

@@ -74,6 +74,17 @@ void write_stats(const std::string& where, const nlohmann::json& j) {
   }
 }
 
+// --view and --exposure (checked by the options parser), and their record in the image's
+// metadata: an EXR keeps linear radiance but says how its PNG would have been shown.
+DisplaySettings display_settings(const Options& opt, ImageMetadata* meta) {
+  DisplaySettings d;
+  d.view = parse_view_transform(opt.view).value_or(ViewTransform::Standard);
+  d.exposure = opt.exposure;
+  meta->strings.emplace_back("clpt:view", view_transform_name(d.view));
+  meta->floats.emplace_back("clpt:exposure", d.exposure);
+  return d;
+}
+
 // --bdpt-mosaic: the strategies of bdpt as one image (app/bdpt_mosaic.h).
 int run_mosaic(const Options& opt, const cl::Context& ctx, const Scene& scene,
                const RenderSettings& settings, const std::string& device_name) {
@@ -99,7 +110,8 @@ int run_mosaic(const Options& opt, const cl::Context& ctx, const Scene& scene,
                   {"clpt:device", device_name},
                   {"clpt:scene", opt.scene}};
   meta.ints = {{"clpt:spp", int(m.samples_per_pixel)}, {"clpt:seed", int(opt.seed)}};
-  write_image(opt.output, m.image, meta);
+  const DisplaySettings display = display_settings(opt, &meta);
+  write_image(opt.output, m.image, meta, {}, display);
   log::info((m.interrupted ? "interrupted: " : "") + std::to_string(m.cells_rendered) + " of " +
             std::to_string(m.cells_total) + " strategies at " + std::to_string(m.samples_per_pixel) +
             " spp, wrote " + opt.output + " (rows: 0 to 4 bounces; columns: S = 0, 1, ...)");
@@ -346,7 +358,8 @@ int run(const Options& opt) {
     if (opt.vcm_merged)
       for (const NamedChannel& l : out.layers)
         if (l.name == "merged") layers.push_back(l);
-    write_image(opt.output, film.mean, meta, layers);
+    const DisplaySettings display = display_settings(opt, &meta);
+    write_image(opt.output, film.mean, meta, layers, display);
   } else {
     log::warn("no sample was taken; " + opt.output + " was not written");
   }

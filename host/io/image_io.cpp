@@ -28,12 +28,6 @@ std::string lower_extension(const fs::path& path) {
 
 bool is_float_format(const std::string& ext) { return ext == ".exr"; }
 
-float srgb_encode(float linear) {
-  if (!(linear > 0.0f)) return 0.0f;  // also maps NaN to 0
-  if (linear >= 1.0f) return 1.0f;
-  return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
-}
-
 float srgb_decode(float v) {
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
 }
@@ -54,6 +48,11 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
 
 void write_image(const fs::path& path, const Image& image, const ImageMetadata& meta,
                  const std::vector<NamedChannel>& aovs) {
+  write_image(path, image, meta, aovs, DisplaySettings{});
+}
+
+void write_image(const fs::path& path, const Image& image, const ImageMetadata& meta,
+                 const std::vector<NamedChannel>& aovs, const DisplaySettings& display) {
   const std::string ext = lower_extension(path);
   const bool hdr = is_float_format(ext);
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
@@ -118,8 +117,10 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
     ok = out->write_image(OIIO::TypeDesc::FLOAT, buf.data());
   } else {
     std::vector<unsigned char> bytes(image.rgb.size());
-    for (size_t i = 0; i < bytes.size(); ++i)
-      bytes[i] = static_cast<unsigned char>(std::lround(srgb_encode(image.rgb[i]) * 255.0f));
+    for (size_t i = 0; i + 2 < bytes.size(); i += 3) {
+      const std::array<float, 3> d = display_encode(display, {image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]});
+      for (int c = 0; c < 3; ++c) bytes[i + size_t(c)] = static_cast<unsigned char>(std::lround(d[c] * 255.0f));
+    }
     ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
   }
   if (!ok) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "io/image.h"
+#include "io/view_transform.h"
 
 namespace clpt {
 
@@ -71,6 +72,10 @@ struct NamedChannel {
 // is atomic in the same way (temporary file, then rename).
 void write_image(const std::filesystem::path& path, const Image& image, const ImageMetadata& meta,
                  const std::vector<NamedChannel>& aovs);
+// As above; PNG and JPEG show the image through `display` (view transform and exposure;
+// io/view_transform.h), an EXR stays linear.
+void write_image(const std::filesystem::path& path, const Image& image, const ImageMetadata& meta,
+                 const std::vector<NamedChannel>& aovs, const DisplaySettings& display);
 
 struct ImageChannels {
   Image image;                      // RGB, as read_image returns it
