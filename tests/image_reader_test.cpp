@@ -25,6 +25,7 @@ const std::map<std::string, std::string> kCases = {
     {"huge_16000.hdr", "the image is 16000x16000, larger than the limit"},
     {"lying_window.exr", "cannot read image: OpenEXR exception"},
     {"empty.exr", "the file is empty"},
+    {"wide_window.exr", "the image is 1048577x1, larger than the limit"},
     {"chlist_size_lies.exr", "damaged EXR: attribute 'channels' (chlist) of 75 bytes does not hold a value of its type"},
     {"huge_attribute.exr", "damaged EXR: attribute 'compression' (compression) claims 1879048192 bytes, past the end"},
     {"tiff_named.exr", "not an OpenEXR, Radiance HDR, PNG or JPEG image"},

@@ -215,7 +215,8 @@ static std::string printable_text(const std::string& s) {
   return out;
 }
 
-bool check_exr_headers(std::istream& in, uint64_t file_size, std::string* why) {
+bool check_exr_headers(std::istream& in, uint64_t file_size, std::string* why, ExrExtent* largest) {
+  *largest = ExrExtent{};
   unsigned char head[8];
   in.seekg(0);
   if (!in.read(reinterpret_cast<char*>(head), 8)) {
@@ -270,6 +271,25 @@ bool check_exr_headers(std::istream& in, uint64_t file_size, std::string* why) {
         *why = "damaged EXR: attribute '" + printable_text(name) + "' (" + printable_text(type) + ") of " +
                std::to_string(size) + " bytes does not hold a value of its type";
         return false;
+      }
+      if (name == "dataWindow" && type == "box2i") {
+        int32_t box[4];
+        for (int k = 0; k < 4; ++k) box[k] = int32_t(read_u32le(value.data() + 4 * k));
+        const int64_t w = int64_t(box[2]) - box[0] + 1, h = int64_t(box[3]) - box[1] + 1;
+        if (w <= 0 || h <= 0) {
+          *why = "damaged EXR: an empty data window (" + std::to_string(w) + "x" + std::to_string(h) + ")";
+          return false;
+        }
+        largest->width = std::max(largest->width, uint64_t(w));
+        largest->height = std::max(largest->height, uint64_t(h));
+      }
+      if (name == "channels" && type == "chlist") {
+        uint64_t n = 0;
+        for (size_t k = 0; k < value.size() && value[k] != 0; ++n) {
+          while (value[k] != 0) ++k;
+          k += 17;
+        }
+        largest->channels = std::max(largest->channels, n);
       }
     }
     // One header, or (multi-part) headers until an empty one: a zero byte right after the

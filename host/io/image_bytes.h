@@ -34,7 +34,13 @@ bool check_png_chunks(const unsigned char* data, size_t size, std::string* why);
 // type and size within the file. OpenEXR 3.1 allocates an attribute's declared size before
 // reading it: a 190-byte file asked for 1.9 GB (found by tests/fuzz/file_fuzzer.cpp). False
 // with a reason naming the attribute otherwise.
-bool check_exr_headers(std::istream& in, uint64_t file_size, std::string* why);
+// `largest` gets the widest and tallest data window and the most channels of any part, which
+// the caller checks against its limits before OpenEXR sizes its buffers by them (a 574-byte
+// file whose window was 1 048 577 pixels wide asked for 403 MB).
+struct ExrExtent {
+  uint64_t width = 0, height = 0, channels = 0;
+};
+bool check_exr_headers(std::istream& in, uint64_t file_size, std::string* why, ExrExtent* largest);
 
 // Whether a JPEG's frame is Huffman coded (SOF0 to SOF3, SOF5 to SOF7; arithmetic: false).
 bool jpeg_is_huffman(const unsigned char* data, size_t size);

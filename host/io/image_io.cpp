@@ -137,6 +137,11 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
 
 namespace {
 
+// Values in one line of an EXR (width x channels) clpt reads at most: OpenEXR sizes a block's
+// buffers by them when it opens a file (up to 256 lines a block for DWAB: 256 MiB at 4 bytes).
+// 16384 pixels x 16 channels, or 4096 x 64.
+constexpr uint64_t kMaxExrLineValues = uint64_t{1} << 18;
+
 // An image open for reading, with what its reader reads from (destroyed after the reader).
 struct OpenImage {
   std::vector<unsigned char> bytes;                         // PNG and JPEG: the cleaned file
@@ -165,8 +170,18 @@ OpenImage open_image(const fs::path& path, const ImageLimits& limits) {
     std::error_code ec;
     const uintmax_t size = fs::file_size(path, ec);
     std::string why;
+    ExrExtent extent;
     file.clear();
-    if (ec || !check_exr_headers(file, uint64_t(size), &why)) fail(ec ? "cannot read the file's size" : why);
+    if (ec || !check_exr_headers(file, uint64_t(size), &why, &extent)) fail(ec ? "cannot read the file's size" : why);
+    // OpenEXR sizes its line buffers by the window and the channels when it opens the file.
+    if (extent.width > limits.max_dimension || extent.height > limits.max_dimension ||
+        extent.width * extent.height > limits.max_pixels)
+      fail("the image is " + std::to_string(extent.width) + "x" + std::to_string(extent.height) +
+           ", larger than the limit of " + std::to_string(limits.max_dimension) + " per side and " +
+           std::to_string(limits.max_pixels) + " pixels (" + limits.raise + ")");
+    if (extent.width * extent.channels > kMaxExrLineValues)
+      fail("the EXR's lines are " + std::to_string(extent.width) + " pixels of " + std::to_string(extent.channels) +
+           " channels, more than the " + std::to_string(kMaxExrLineValues) + " values a line clpt reads may hold");
   }
   OpenImage img;
   std::string name = path.string();
