@@ -6,15 +6,15 @@
 namespace clpt {
 namespace {
 
-uint32_t read_u32le(const unsigned char* p) {
+uint32_t le32(const unsigned char* p) {
   return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
 }
 
-uint32_t read_u32be(const unsigned char* p) {
+uint32_t be32(const unsigned char* p) {
   return (uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | uint32_t(p[3]);
 }
 
-uint32_t read_u24le(const unsigned char* p) { return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16; }
+uint32_t le24(const unsigned char* p) { return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16; }
 
 // The first SOF segment's height and width (the frame header: length, precision, Y, X).
 bool jpeg_frame_size(const unsigned char* p, size_t size, uint64_t* w, uint64_t* h) {
@@ -93,14 +93,14 @@ bool check_png_chunks(const unsigned char* p, size_t n, std::string* why) {
              " is cut off (no IEND chunk)";
       return false;
     }
-    const uint32_t length = read_u32be(p + at);
+    const uint32_t length = be32(p + at);
     const std::string type(reinterpret_cast<const char*>(p + at + 4), 4);
     if (length > 0x7FFFFFFFu || length > n - at - 12) {
       *why = "truncated PNG: chunk " + std::to_string(index) + " at byte " + std::to_string(at) +
              " claims " + std::to_string(length) + " bytes, past the end of the data";
       return false;
     }
-    if (png_crc(p + at + 4, size_t(length) + 4) != read_u32be(p + at + 8 + length)) {
+    if (png_crc(p + at + 4, size_t(length) + 4) != be32(p + at + 8 + length)) {
       *why = "damaged PNG: chunk " + std::to_string(index) + " at byte " + std::to_string(at) +
              " has a wrong CRC";
       return false;
@@ -137,8 +137,8 @@ bool image_header_size(const unsigned char* p, size_t size, uint64_t* w, uint64_
   const ImageFormat f = sniff_image(p, size);
   if (f == ImageFormat::Png) {  // signature, then IHDR: length, type, width, height (big-endian)
     if (size < 24 || !std::equal(p + 12, p + 16, "IHDR")) return false;
-    *w = read_u32be(p + 16);
-    *h = read_u32be(p + 20);
+    *w = be32(p + 16);
+    *h = be32(p + 20);
     return true;
   }
   if (f == ImageFormat::Jpeg) return jpeg_frame_size(p, size, w, h);
@@ -146,13 +146,13 @@ bool image_header_size(const unsigned char* p, size_t size, uint64_t* w, uint64_
   // WebP: RIFF, size, WEBP, then the first chunk (its FourCC and size) at byte 12.
   if (size < 30) return false;
   if (std::equal(p + 12, p + 16, "VP8X")) {  // flags, then canvas width - 1, height - 1 (24 bits)
-    *w = uint64_t(read_u24le(p + 24)) + 1;
-    *h = uint64_t(read_u24le(p + 27)) + 1;
+    *w = uint64_t(le24(p + 24)) + 1;
+    *h = uint64_t(le24(p + 27)) + 1;
     return true;
   }
   if (std::equal(p + 12, p + 16, "VP8L")) {  // signature 0x2F, then 14 bits each of w - 1, h - 1
     if (p[20] != 0x2F) return false;
-    const uint32_t bits = read_u32le(p + 21);
+    const uint32_t bits = le32(p + 21);
     *w = uint64_t(bits & 0x3FFFu) + 1;
     *h = uint64_t((bits >> 14) & 0x3FFFu) + 1;
     return true;
@@ -183,7 +183,7 @@ static bool exr_value_fits(const std::string& type, const std::vector<unsigned c
   if (type == "stringvector") {  // (int32 length, bytes) until the value ends
     for (size_t at = 0; at < n;) {
       if (n - at < 4) return false;
-      const uint32_t len = read_u32le(v.data() + at);
+      const uint32_t len = le32(v.data() + at);
       if (len > n - at - 4) return false;
       at += 4 + len;
     }
@@ -191,7 +191,7 @@ static bool exr_value_fits(const std::string& type, const std::vector<unsigned c
   }
   if (type == "preview") {  // width, height, then RGBA8 pixels
     if (n < 8) return false;
-    const uint64_t w = read_u32le(v.data()), h = read_u32le(v.data() + 4);
+    const uint64_t w = le32(v.data()), h = le32(v.data() + 4);
     return w * h * 4 == n - 8;
   }
   if (type == "chlist") {  // (name, 0, 16 bytes) per channel, then a 0
@@ -223,7 +223,7 @@ bool check_exr_headers(std::istream& in, uint64_t file_size, std::string* why, E
     *why = "truncated EXR: no version field";
     return false;
   }
-  const uint32_t version = read_u32le(head + 4);
+  const uint32_t version = le32(head + 4);
   const bool multipart = version & 0x1000u, long_names = version & 0x400u;
   const size_t max_name = long_names ? 255 : 31;
   uint64_t at = 8;
@@ -254,7 +254,7 @@ bool check_exr_headers(std::istream& in, uint64_t file_size, std::string* why, E
         return false;
       }
       at += 4;
-      const uint32_t size = read_u32le(size_bytes);
+      const uint32_t size = le32(size_bytes);
       if (size > 0x7FFFFFFFu || size > file_size - std::min(file_size, at)) {
         *why = "damaged EXR: attribute '" + printable_text(name) + "' (" + printable_text(type) + ") claims " +
                std::to_string(size) +
@@ -274,7 +274,7 @@ bool check_exr_headers(std::istream& in, uint64_t file_size, std::string* why, E
       }
       if (name == "dataWindow" && type == "box2i") {
         int32_t box[4];
-        for (int k = 0; k < 4; ++k) box[k] = int32_t(read_u32le(value.data() + 4 * k));
+        for (int k = 0; k < 4; ++k) box[k] = int32_t(le32(value.data() + 4 * k));
         const int64_t w = int64_t(box[2]) - box[0] + 1, h = int64_t(box[3]) - box[1] + 1;
         if (w <= 0 || h <= 0) {
           *why = "damaged EXR: an empty data window (" + std::to_string(w) + "x" + std::to_string(h) + ")";
@@ -311,7 +311,7 @@ bool without_icc_profiles(const unsigned char* p, size_t size, ImageFormat forma
   if (format == ImageFormat::Png) {  // chunks already checked: length, type, data, CRC
     out->insert(out->end(), p, p + std::min<size_t>(size, 8));
     for (size_t at = 8; at + 12 <= size;) {
-      const size_t next = at + 12 + size_t(read_u32be(p + at));
+      const size_t next = at + 12 + size_t(be32(p + at));
       if (next > size) break;
       if (!std::equal(p + at + 4, p + at + 8, "iCCP")) out->insert(out->end(), p + at, p + next);
       at = next;

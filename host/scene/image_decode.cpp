@@ -11,13 +11,6 @@
 #include "util/text.h"
 
 namespace clpt {
-namespace {
-
-uint32_t read_u32le(const unsigned char* p) {
-  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
-}  // namespace
 
 bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std::string* why,
                   uint64_t max_dimension, uint64_t max_pixels) {
@@ -32,8 +25,12 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
   const char* format = oiio_format_name(kind);
   if (kind == ImageFormat::Png && !check_png_chunks(data, size, why)) return false;
   // WebP: a RIFF container whose size field covers the file (libwebp reads past a short one).
-  if (kind == ImageFormat::Webp && uint64_t(read_u32le(data + 4)) + 8 > size) {
-    *why = "truncated WebP: the RIFF header gives " + std::to_string(uint64_t(read_u32le(data + 4)) + 8) +
+  const uint64_t riff_bytes =  // RIFF's size field (little-endian) plus its own 8 bytes
+      kind == ImageFormat::Webp ? (uint64_t(data[4]) | uint64_t(data[5]) << 8 | uint64_t(data[6]) << 16 |
+                                   uint64_t(data[7]) << 24) + 8
+                                : 0;
+  if (kind == ImageFormat::Webp && riff_bytes > size) {
+    *why = "truncated WebP: the RIFF header gives " + std::to_string(riff_bytes) +
            " bytes, the data has " + std::to_string(size);
     return false;
   }
