@@ -30,6 +30,7 @@ const std::map<std::string, std::string> kCases = {
     {"huge_attribute.exr", "damaged EXR: attribute 'compression' (compression) claims 1879048192 bytes, past the end"},
     {"tiff_named.exr", "not an OpenEXR, Radiance HDR, PNG or JPEG image"},
     {"truncated_png_named.hdr", "truncated PNG: chunk 9 at byte 275 is cut off"},
+    {"premature_end.jpg", "cannot read scanlines 0..63 of 256: JPEG error: Corrupt JPEG data: premature end"},
     {"cut_in_marker.jpg", "damaged JPEG: the segment of marker 226 at byte 2 claims 188 bytes"},
     {"damaged_icc_profile.jpg", ""},
 };

@@ -229,8 +229,11 @@ std::vector<float> read_pixels(OIIO::ImageInput& in, const fs::path& path) {
   for (int y = 0; y < spec.height; y += strip) {
     const int y_end = std::min(spec.height, y + strip);
     pixels.resize(size_t(y_end) * row);
+    // A reader that reports a problem and still returns pixels (libjpeg pads a JPEG whose data
+    // ends early with grey, and warns once per missing row) is damaged input too.
     if (!in.read_scanlines(0, 0, spec.y + y, spec.y + y_end, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT,
-                           pixels.data() + size_t(y) * row)) {
+                           pixels.data() + size_t(y) * row) ||
+        in.has_error()) {
       const std::string e = one_line(in.geterror());
       throw Error(ExitCode::BadInput, path.string() + ": cannot read scanlines " + std::to_string(y) + ".." +
                                           std::to_string(y_end - 1) + " of " + std::to_string(spec.height) +

@@ -87,7 +87,9 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
     const int nc = spec.nchannels;
     const int keep = nc > 4 ? 4 : nc;
     std::vector<unsigned char> pixels(size_t(w * h) * size_t(keep));
-    if (!in->read_image(0, 0, 0, keep, OIIO::TypeDesc::UINT8, pixels.data())) {
+    // A decoder that reports a problem and still returns pixels (libjpeg pads a JPEG whose
+    // data ends early with grey) has read a damaged image.
+    if (!in->read_image(0, 0, 0, keep, OIIO::TypeDesc::UINT8, pixels.data()) || in->has_error()) {
       std::string e = one_line(in->geterror());
       *why = std::string("cannot decode the ") + format + " pixels" + (e.empty() ? "" : ": " + e);
       return false;
