@@ -120,7 +120,7 @@ fi
 
 before=$(ls "$build/$findings_dir" | wc -l)
 tmp_dir=$(mktemp -d)  # the fuzzer's own scene folders go here (TMPDIR) and are removed after
-echo "fuzz.sh: fuzzing for $seconds s with $jobs worker(s); log in $build/fuzz.log"
+echo "fuzz.sh: fuzzing for $seconds s with $jobs worker(s); log in $build/$log_name"
 set +e
 TMPDIR="$tmp_dir" ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:symbolize=1" \
 UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \

@@ -157,6 +157,12 @@ struct OpenImage {
 OpenImage open_image(const fs::path& path, const ImageLimits& limits) {
   check_regular_input(path, "");
   auto fail = [&](const std::string& why) { throw Error(ExitCode::BadInput, path.string() + ": " + why); };
+  auto check_size = [&](uint64_t w, uint64_t h) {
+    if (w > limits.max_dimension || h > limits.max_dimension || w * h > limits.max_pixels)
+      fail("the image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than the limit of " +
+           std::to_string(limits.max_dimension) + " per side and " + std::to_string(limits.max_pixels) + " pixels (" +
+           limits.raise + ")");
+  };
   std::ifstream file(path, std::ios::binary);
   if (!file) fail("cannot open the file");
   unsigned char head[16] = {};
@@ -174,11 +180,7 @@ OpenImage open_image(const fs::path& path, const ImageLimits& limits) {
     file.clear();
     if (ec || !check_exr_headers(file, uint64_t(size), &why, &extent)) fail(ec ? "cannot read the file's size" : why);
     // OpenEXR sizes its line buffers by the window and the channels when it opens the file.
-    if (extent.width > limits.max_dimension || extent.height > limits.max_dimension ||
-        extent.width * extent.height > limits.max_pixels)
-      fail("the image is " + std::to_string(extent.width) + "x" + std::to_string(extent.height) +
-           ", larger than the limit of " + std::to_string(limits.max_dimension) + " per side and " +
-           std::to_string(limits.max_pixels) + " pixels (" + limits.raise + ")");
+    check_size(extent.width, extent.height);
     if (extent.width * extent.channels > kMaxExrLineValues)
       fail("the EXR's lines are " + std::to_string(extent.width) + " pixels of " + std::to_string(extent.channels) +
            " channels, more than the " + std::to_string(kMaxExrLineValues) + " values a line clpt reads may hold");
@@ -210,11 +212,7 @@ OpenImage open_image(const fs::path& path, const ImageLimits& limits) {
   const OIIO::ImageSpec& s = img.in->spec();
   if (s.width <= 0 || s.height <= 0 || s.nchannels <= 0 || s.depth > 1)
     fail("empty image (the header gives " + std::to_string(s.width) + "x" + std::to_string(s.height) + ")");
-  const uint64_t w = uint64_t(s.width), h = uint64_t(s.height);
-  if (w > limits.max_dimension || h > limits.max_dimension || w * h > limits.max_pixels)
-    fail("the image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than the limit of " +
-         std::to_string(limits.max_dimension) + " per side and " + std::to_string(limits.max_pixels) + " pixels (" +
-         limits.raise + ")");
+  check_size(uint64_t(s.width), uint64_t(s.height));
   return img;
 }
 
