@@ -54,6 +54,11 @@ struct Parser {
     app.add_option("--exposure", o.exposure, "Exposure in stops before --view; .exr stays unscaled [0]")
         ->type_name("EV")
         ->check(kFinite);
+    app.add_option("--save-every", o.save_every,
+                   "Also write the output every SECONDS while rendering, atomically, for viewers that reload")
+        ->type_name("SECONDS")
+        ->check(CLI::PositiveNumber.description(""))
+        ->check(kFinite);
     app.add_option("--device", o.device,
                    "OpenCL device: pocl, gpu, cpu, PLATFORM:DEVICE, or a name substring "
                    "[first GPU, else PoCL]")
@@ -559,9 +564,9 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
     throw Error(ExitCode::Usage, "--bdpt-unweighted needs --bdpt-strategy S,T or --bdpt-mosaic");
   if (o.bdpt_mosaic && !o.bdpt_strategy.empty())
     throw Error(ExitCode::Usage, "--bdpt-mosaic renders every strategy: leave out --bdpt-strategy");
-  if (o.bdpt_mosaic && (o.reference.size() || o.stats))
-    throw Error(ExitCode::Usage, "--bdpt-mosaic writes a mosaic image: --reference and --stats "
-                                 "do not apply");
+  if (o.bdpt_mosaic && (o.reference.size() || o.stats || o.save_every > 0.0))
+    throw Error(ExitCode::Usage, "--bdpt-mosaic writes a mosaic image: --reference, --stats and "
+                                 "--save-every do not apply");
   if (!o.bdpt_strategy.empty()) {
     uint32_t s = 0, t = 0;
     if (!parse_strategy(o.bdpt_strategy, &s, &t))

@@ -13,6 +13,7 @@ struct Options {
   std::string output = "clpt.exr";
   std::string view = "standard";  // io/view_transform.h: how 8-bit output shows radiance
   float exposure = 0.0f;          // stops, before the view transform
+  double save_every = 0.0;        // > 0: write the output this often while rendering
   std::string device;             // --device spec; empty: first GPU, else PoCL
   bool list_devices = false;
   std::string dump_kernels;       // --dump-kernels DIR: write the programs' sources and exit

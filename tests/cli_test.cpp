@@ -114,6 +114,33 @@ TEST_F(Cli, ViewTransformsShapePngOnly) {
   EXPECT_NE(bad.err.find("--view"), std::string::npos) << bad.err;
 }
 
+// --save-every (issue 24): the output is rewritten while rendering, each time with more
+// samples, through the same atomic write as the final one (no temporary file left behind).
+TEST_F(Cli, SaveEveryRewritesTheOutputWhileRendering) {
+  const test::RunResult r =
+      run_clpt({kCornell, "--device", "pocl", "--resolution", "16x16", "--time", "1.5", "--save-every", "0.2",
+                "--verbose", "--view", "agx", "-o", path("progress.exr")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::vector<long> saved;
+  for (size_t at = r.err.find("saved "); at != std::string::npos; at = r.err.find("saved ", at + 1))
+    saved.push_back(std::stol(r.err.substr(at + 6)));
+  ASSERT_GE(saved.size(), 2u) << r.err;
+  for (size_t i = 1; i < saved.size(); ++i) EXPECT_GT(saved[i], saved[i - 1]) << r.err;
+  auto in = OIIO::ImageInput::open(path("progress.exr"));
+  ASSERT_TRUE(in);
+  EXPECT_GT(in->spec().get_int_attribute("clpt:spp"), saved.back()) << "the final write has every sample";
+  EXPECT_EQ(in->spec().get_string_attribute("clpt:view"), "agx");
+  in.reset();
+  size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir_)) files += e.is_regular_file();
+  EXPECT_EQ(files, 1u) << "a temporary file was left behind";
+
+  const test::RunResult mosaic = run_clpt({kCornell, "--integrator", "bdpt", "--bdpt-mosaic", "--save-every", "1",
+                                           "-o", path("m.exr")});
+  EXPECT_EQ(mosaic.exit_code, 1) << mosaic.err;
+  EXPECT_NE(mosaic.err.find("--save-every"), std::string::npos) << mosaic.err;
+}
+
 TEST_F(Cli, BadValuesAreUsageErrors) {
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{kCornell, "--resolution", "0x10"},
@@ -426,7 +453,7 @@ TEST_F(Cli, CameraByIndexAndByName) {
 TEST(CliNumbers, NonFiniteRealsAreUsageErrorsNamingTheOption) {
   // option, and what it needs beside it to be read at all
   const std::vector<std::pair<const char*, std::vector<const char*>>> reals = {
-      {"--time", {}}, {"--exposure", {}}, {"--aperture", {}}, {"--focus-distance", {}}, {"--env-scale", {}},
+      {"--time", {}}, {"--exposure", {}}, {"--save-every", {}}, {"--aperture", {}}, {"--focus-distance", {}}, {"--env-scale", {}},
       {"--env-rotate", {}}, {"--ao-radius", {"--integrator", "ao"}},
       {"--pm-max-radius", {"--integrator", "pm"}}, {"--sppm-radius", {"--integrator", "sppm"}},
       {"--sppm-alpha", {"--integrator", "sppm"}}, {"--mlt-large-step", {"--integrator", "mlt"}},

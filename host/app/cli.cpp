@@ -308,7 +308,19 @@ int run(const Options& opt) {
     renderer.restore(read_checkpoint(opt.resume, signature));
     log::info("resuming from " + opt.resume);
   }
-  double last_checkpoint = 0.0;
+  double last_checkpoint = 0.0, last_save = 0.0;
+  // The image's metadata for `spp` samples after `seconds` of rendering (the final write and
+  // --save-every's).
+  auto image_metadata = [&](uint64_t spp, double seconds) {
+    ImageMetadata meta;
+    meta.strings = {{"Software", std::string("clpt ") + CLPT_VERSION},
+                    {"clpt:integrator", opt.integrator},
+                    {"clpt:device", device.name},
+                    {"clpt:scene", opt.scene}};
+    meta.ints = {{"clpt:spp", int(spp)}, {"clpt:seed", int(opt.seed)}, {"clpt:max_depth", int(opt.max_depth)}};
+    meta.floats = {{"clpt:render_seconds", float(seconds)}};
+    return meta;
+  };
 
   log::info("rendering " + opt.scene + " at " + std::to_string(renderer.width()) + "x" +
             std::to_string(renderer.height()) + " with " + opt.integrator + " on " + device.name);
@@ -332,6 +344,15 @@ int run(const Options& opt) {
       last_checkpoint = t;
       write_checkpoint(opt.checkpoint, signature, renderer.film_state(done));
     }
+    // --save-every: the image so far, written as the final one is (temporary file, rename), so a
+    // viewer that reloads never sees half a file.
+    if (opt.save_every > 0.0 && done > 0 && t - last_save >= opt.save_every) {
+      last_save = t;
+      ImageMetadata meta = image_metadata(done, t);
+      const DisplaySettings display = display_settings(opt, &meta);
+      write_image(opt.output, renderer.snapshot(done).mean, meta, {}, display);
+      log::verbose("saved " + std::to_string(done) + " spp to " + opt.output);
+    }
   });
   bar.finish();
 
@@ -340,15 +361,7 @@ int run(const Options& opt) {
   const double paths = double(film.samples_per_pixel) * renderer.width() * renderer.height();
   const double secs = st.render_seconds > 0.0 ? st.render_seconds : 1e-9;
 
-  ImageMetadata meta;
-  meta.strings = {{"Software", std::string("clpt ") + CLPT_VERSION},
-                  {"clpt:integrator", opt.integrator},
-                  {"clpt:device", device.name},
-                  {"clpt:scene", opt.scene}};
-  meta.ints = {{"clpt:spp", int(film.samples_per_pixel)},
-               {"clpt:seed", int(opt.seed)},
-               {"clpt:max_depth", int(opt.max_depth)}};
-  meta.floats = {{"clpt:render_seconds", float(st.render_seconds)}};
+  ImageMetadata meta = image_metadata(film.samples_per_pixel, st.render_seconds);
   if (!opt.checkpoint.empty() && film.samples_per_pixel > 0)
     write_checkpoint(opt.checkpoint, signature, renderer.film_state(film.samples_per_pixel));
   if (film.samples_per_pixel > 0) {
