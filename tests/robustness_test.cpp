@@ -422,8 +422,8 @@ TEST(UnreadableInput, ExtremeCameraAspectIsASceneErrorNamingTheFile) {
 // ---------------------------------------------------------------------------------------------
 // HostileSizes (issue 23, classes 3 and 4): files whose headers or accessors claim far more
 // than their bytes hold. Each is refused with exit 2 (1 for a reference of the wrong size),
-// naming the file, and the refused run's peak memory (the child's ru_maxrss, which includes
-// PoCL's libraries where the device was set up first: about 210 MiB) stays under 256 MiB.
+// naming the file, and the refused run's peak memory (the child's ru_maxrss, libraries
+// included: about 130 MiB for clpt before it sets up a device) stays under 256 MiB.
 
 #if defined(__SANITIZE_ADDRESS__)
 // AddressSanitizer's shadow memory and quarantine multiply every process's footprint: the

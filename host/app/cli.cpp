@@ -19,6 +19,7 @@
 #include "io/image_io.h"
 #include "io/output_path.h"
 #include "options.h"
+#include "render/light_table.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "integrators/integrator.h"
@@ -163,16 +164,15 @@ int run(const Options& opt) {
   LoadOptions load_options;
   load_options.lenient = opt.lenient;
   for (const std::string& spec : opt.limits) load_options.limits.set(spec);
-  // The environment map's header, likewise (its pixels are read by the renderer).
+  // The environment map, read whole before the scene and the device: a bad one fails fast,
+  // and what a refused one costs is its own bytes, not the device's set-up as well.
   ImageLimits env_limits;
   env_limits.max_dimension = load_options.limits.image_dimension;
   env_limits.max_pixels = load_options.limits.image_pixels;
+  std::shared_ptr<Environment> environment;
   if (!opt.env.empty()) {
-    try {
-      read_image_size(opt.env, env_limits);
-    } catch (const Error& e) {
-      throw Error(e.code(), std::string("environment ") + e.what());
-    }
+    environment = std::make_shared<Environment>(load_environment(opt.env, opt.env_scale, opt.env_rotate, env_limits));
+    environment->background = glm::vec3(opt.background[0], opt.background[1], opt.background[2]);
   }
 
   auto t0 = Clock::now();
@@ -200,6 +200,7 @@ int run(const Options& opt) {
   settings.camera = opt.camera;
   settings.env_file = opt.env;
   settings.env_limits = env_limits;
+  settings.environment = environment;
   settings.env_scale = opt.env_scale;
   settings.env_rotation = opt.env_rotate;
   settings.background = glm::vec3(opt.background[0], opt.background[1], opt.background[2]);

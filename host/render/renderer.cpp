@@ -40,12 +40,17 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
                std::to_string(bvh.depth) + ", built in " + std::to_string(stats_.bvh_build_seconds) +
                " s");
 
-  Environment env;  // --env (read before anything renders) or the constant --background
-  if (!settings_.env_file.empty())
-    env = load_environment(settings_.env_file, settings_.env_scale, settings_.env_rotation,
-                           settings_.env_limits);
-  env.background = settings_.background;
-  const FlatScene flat = flatten_scene(scene, bvh, env);
+  // --env (read by the caller, or here before anything renders) or the constant --background
+  Environment loaded;
+  const Environment* env = settings_.environment.get();
+  if (!env) {
+    if (!settings_.env_file.empty())
+      loaded = load_environment(settings_.env_file, settings_.env_scale, settings_.env_rotation,
+                                settings_.env_limits);
+    loaded.background = settings_.background;
+    env = &loaded;
+  }
+  const FlatScene flat = flatten_scene(scene, bvh, *env);
   stats_.emitters = flat.emissive_triangles;
   stats_.lights = static_cast<uint32_t>(flat.lights.size());
   const IntegratorInfo& row = integrator_info(settings_.integrator);

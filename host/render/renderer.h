@@ -12,6 +12,7 @@
 #include "io/image_io.h"
 #include "render/checkpoint.h"
 #include "render/film.h"
+#include "render/light_table.h"
 #include "render/scene_buffers.h"
 #include "scene/scene.h"
 
@@ -55,6 +56,10 @@ struct RenderSettings {
   std::string camera;              // index or name; empty: the first camera or a default one
   std::string env_file;            // equirectangular environment map; empty: none
   ImageLimits env_limits;          // the largest map read (--limit image-dimension, image-pixels)
+  // env_file already read by the caller (the CLI reads it before the device is set up, so a bad
+  // map fails fast and cheaply), shared by the renderers made from these settings (its
+  // background field is the caller's to set). Null: read env_file here.
+  std::shared_ptr<const Environment> environment;
   float env_scale = 1.0f;          // multiplies the map
   float env_rotation = 0.0f;       // degrees about +y
   glm::vec3 background{0.0f};      // constant radiance of escaping rays when there is no map
