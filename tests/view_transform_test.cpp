@@ -78,6 +78,18 @@ TEST(ViewTransform, AgxPivotsMiddleGreyToHalf) {
   const auto c = encode(ViewTransform::AgX, 0.18f, 0.18f, 0.18f);
   EXPECT_NEAR(c[0], c[1], 1e-3);
   EXPECT_NEAR(c[1], c[2], 1e-3);
+  // Colours, which grey cannot check (a transposed matrix keeps grey grey): Wrensch's
+  // matrices are GLSL mat3s, column by column; evaluated in that convention by a separate
+  // python3 script from the published constants: red 1 -> (0.86098, 0.23016, 0.23032), a sky
+  // blue (0.05, 0.2, 0.6) -> (0.35991, 0.52903, 0.72308).
+  const auto red = encode(ViewTransform::AgX, 1.0f, 0.0f, 0.0f);
+  EXPECT_NEAR(red[0], 0.86098f, 1e-4);
+  EXPECT_NEAR(red[1], 0.23016f, 1e-4);
+  EXPECT_NEAR(red[2], 0.23032f, 1e-4);
+  const auto sky = encode(ViewTransform::AgX, 0.05f, 0.2f, 0.6f);
+  EXPECT_NEAR(sky[0], 0.35991f, 1e-4);
+  EXPECT_NEAR(sky[1], 0.52903f, 1e-4);
+  EXPECT_NEAR(sky[2], 0.72308f, 1e-4);
 }
 
 // ACES in Hill's fit: both matrices' rows sum to 1, so grey stays grey, and the fit at 0.18
