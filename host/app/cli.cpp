@@ -268,8 +268,7 @@ int run(const Options& opt) {
   try {
     made.emplace(ctx, scene, settings);
   } catch (const Error& e) {
-    // The environment map's errors name that file already.
-    if (e.code() != ExitCode::BadInput || std::string(e.what()).rfind("environment ", 0) == 0) throw;
+    if (e.code() != ExitCode::BadInput) throw;
     throw Error(ExitCode::BadInput, opt.scene + ": " + e.what());
   }
   Renderer& renderer = *made;

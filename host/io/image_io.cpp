@@ -168,17 +168,18 @@ OpenImage open_image(const fs::path& path, const ImageLimits& limits) {
   unsigned char head[16] = {};
   file.read(reinterpret_cast<char*>(head), sizeof head);
   const ImageFormat format = sniff_image(head, size_t(file.gcount()));
+  std::error_code size_error;
+  const uintmax_t file_size = fs::file_size(path, size_error);
   if (format != ImageFormat::Exr && format != ImageFormat::Hdr && format != ImageFormat::Png &&
       format != ImageFormat::Jpeg)
     fail(file.gcount() == 0 ? std::string("the file is empty")
                             : "not an OpenEXR, Radiance HDR, PNG or JPEG image (unknown signature)");
   if (format == ImageFormat::Exr) {
-    std::error_code ec;
-    const uintmax_t size = fs::file_size(path, ec);
     std::string why;
     ExrExtent extent;
     file.clear();
-    if (ec || !check_exr_headers(file, uint64_t(size), &why, &extent)) fail(ec ? "cannot read the file's size" : why);
+    if (size_error || !check_exr_headers(file, uint64_t(file_size), &why, &extent))
+      fail(size_error ? "cannot read the file's size" : why);
     // OpenEXR sizes its line buffers by the window and the channels when it opens the file.
     check_size(extent.width, extent.height);
     if (extent.width * extent.channels > kMaxExrLineValues)
@@ -189,10 +190,9 @@ OpenImage open_image(const fs::path& path, const ImageLimits& limits) {
   std::string name = path.string();
   OIIO::ImageSpec config;
   if (format == ImageFormat::Png || format == ImageFormat::Jpeg) {
-    std::error_code ec;
-    const uintmax_t size = fs::file_size(path, ec);
-    if (ec || size > (uintmax_t{1} << 31)) fail("cannot read the file (larger than 2 GiB, or its size unknown)");
-    std::vector<unsigned char> raw(static_cast<size_t>(size));
+    if (size_error || file_size > (uintmax_t{1} << 31))
+      fail("cannot read the file (larger than 2 GiB, or its size unknown)");
+    std::vector<unsigned char> raw(static_cast<size_t>(file_size));
     file.seekg(0);
     file.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size()));
     if (size_t(file.gcount()) != raw.size()) fail("cannot read the file");

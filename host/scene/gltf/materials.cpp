@@ -91,20 +91,20 @@ void Converter::decode_textures() {
     bool ok = false;
     const Header& h = headers[source];
     const uint64_t copies = ids.size();
-    if (h.known && u128(h.width) * h.height * copies > u128(limits_.total_texels - total_texels_)) {
+    // Whether `copies` textures of w x h would pass total-texels, with `why` set when not.
+    auto fits = [&](uint64_t w, uint64_t hh) {
+      if (u128(w) * hh * copies <= u128(limits_.total_texels - total_texels_)) return true;
       why = "with it the images the materials use exceed the limit of " + std::to_string(limits_.total_texels) +
             " texels (--limit total-texels=N)";
-    } else {
+      return false;
+    };
+    if (!h.known || fits(h.width, h.height)) {
       const unsigned char* data = nullptr;
       size_t size = 0;
       if (image_bytes(source, &data, &size, &why))
         ok = decode_image(data, size, &img, &why, limits_.image_dimension, limits_.image_pixels);
       images_.bytes.erase(source);  // decoded once; the encoded copy is no longer needed
-      if (ok && u128(img.width) * img.height * copies > u128(limits_.total_texels - total_texels_)) {
-        ok = false;  // a JPEG whose frame size only the decoder knew (DNL)
-        why = "with it the images the materials use exceed the limit of " + std::to_string(limits_.total_texels) +
-              " texels (--limit total-texels=N)";
-      }
+      ok = ok && fits(img.width, img.height);  // a JPEG whose frame size only the decoder knew (DNL)
     }
     if (!ok) {
       if (!images_.lenient) fail(label + " (" + where + "): " + why + " (--lenient: warn and use a magenta texture)");
