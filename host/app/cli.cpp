@@ -329,7 +329,7 @@ int run(const Options& opt) {
   const bool tty = ::isatty(STDERR_FILENO);
   ProgressBar bar(log::level() >= log::Level::Normal && tty);
   double last_report = 0.0;
-  const RenderOutput out = renderer.render(&g_stop, [&](uint64_t done, uint64_t target, double t) {
+  const RenderOutput out = renderer.render(&g_stop, [&](uint64_t done, uint64_t target, double t, bool last) {
     std::string note;
     if (reference && t - last_report >= 1.0) {
       last_report = t;
@@ -340,13 +340,14 @@ int run(const Options& opt) {
       if (!tty) log::info(std::to_string(done) + " spp, " + std::to_string(t) + " s: " + note);
     }
     bar.update(done, target, t, opt.time_limit, note);
-    if (!opt.checkpoint.empty() && t - last_checkpoint >= opt.checkpoint_interval) {
+    if (!opt.checkpoint.empty() && !last && t - last_checkpoint >= opt.checkpoint_interval) {
       last_checkpoint = t;
       write_checkpoint(opt.checkpoint, signature, renderer.film_state(done));
     }
     // --save-every: the image so far, written as the final one is (temporary file, rename), so a
-    // viewer that reloads never sees half a file.
-    if (opt.save_every > 0.0 && done > 0 && t - last_save >= opt.save_every) {
+    // viewer that reloads never sees half a file; not after the last pass, which the final
+    // write follows at once.
+    if (opt.save_every > 0.0 && !last && done > 0 && t - last_save >= opt.save_every) {
       last_save = t;
       ImageMetadata meta = image_metadata(done, t);
       const DisplaySettings display = display_settings(opt, &meta);

@@ -195,15 +195,17 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   uint64_t pass_spp = 1;
   double seconds_per_spp = 0.0;
 
-  while (target == 0 || done < target) {
+  // The sample target or the time limit ends the render after a pass, decided once, right
+  // after it, so that the progress callback knows which pass is the last. The time limit
+  // never ends it before the first pass: a render that took no sample has no image to write
+  // (--time 1e-300 used to exit 0 without one).
+  bool last = target != 0 && done >= target;
+  while (!last) {
     if (stop && stop->load()) {
       out.interrupted = true;
       break;
     }
     const double elapsed = seconds_since(start);
-    // The time limit ends the render after a pass, never before the first: a render that
-    // took no sample has no image to write (--time 1e-300 used to exit 0 without one).
-    if (limit > 0.0 && elapsed >= limit && done > start_spp_) break;
 
     uint64_t n = pass_spp;
     if (target) n = std::min(n, target - done);
@@ -231,7 +233,9 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
                 "(about 2 s on Windows) may stop such kernels; a smaller --resolution or "
                 "--max-depth shortens every pass");
     }
-    if (progress) progress(done, target, seconds_since(start));
+    const double now = seconds_since(start);
+    last = (target != 0 && done >= target) || (limit > 0.0 && now >= limit);
+    if (progress) progress(done, target, now, last);
   }
   stats_.render_seconds = seconds_since(start);
   out.film = film_->resolve(done);

@@ -103,8 +103,10 @@ class Renderer {
   Renderer(const cl::Context& ctx, const Scene& scene, const RenderSettings& settings);
   ~Renderer();
 
-  // progress(samples done, samples target (0 = none), seconds elapsed)
-  using Progress = std::function<void(uint64_t, uint64_t, double)>;
+  // progress(samples done, samples target (0 = none), seconds elapsed, last): called after
+  // each pass; `last` says the sample target or the time limit ends the render with this pass
+  // (an interrupt may still end it sooner, after any pass).
+  using Progress = std::function<void(uint64_t, uint64_t, double, bool)>;
   // Renders until the sample target or the time limit is reached, or *stop becomes true
   // (checked between passes; the pass in flight completes).
   RenderOutput render(const std::atomic<bool>* stop = nullptr, const Progress& progress = {});
