@@ -15,6 +15,8 @@ packages=(
   # with Intel's OpenCL ICD, which also registers /etc/OpenCL/vendors/intel.icd; the test
   # scripts keep sanitized processes away from it, scripts/test-sanitize.sh says why).
   python3 clang-15 libclc-15 intel-opencl-icd
+  # The Python module (host/python, docs/python.md): pybind11 and NumPy for Debian's python3.
+  python3-dev python3-numpy python3-pybind11
   # Oclgrind: a simulated OpenCL device with memory checks (scripts/oclgrind-check.sh).
   oclgrind bc
 )

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/image_io.h"
+#include "stats/diff_report.h"
 #include "stats/image_stats.h"
 #include "util/error.h"
 
@@ -154,35 +155,14 @@ std::string num(double v) {
   return buf;
 }
 
-struct Input {
-  std::string path;
-  ImageChannels file;
-  ImageSummary summary;
-};
-
-nlohmann::ordered_json input_json(const Input& in) {
-  nlohmann::ordered_json j;
-  j["path"] = in.path;
-  j["width"] = in.file.image.width;
-  j["height"] = in.file.image.height;
-  j["mean"] = in.summary.finite_mean;  // NaN (no finite value) is written as null
-  j["channel_mean"] = in.summary.channel_finite_mean;
-  j["nan"] = in.summary.nan_count;
-  j["inf"] = in.summary.inf_count;
-  j["has_variance"] = in.file.variance() != nullptr;
-  const int spp = in.file.int_attribute("clpt:spp", -1);
-  j["spp"] = spp >= 0 ? nlohmann::ordered_json(spp) : nlohmann::ordered_json(nullptr);
-  return j;
-}
-
-void print_input(const char* label, const Input& in) {
+void print_input(const char* label, const DiffInput& in, const ImageSummary& summary) {
   std::cout << label << in.path << "  " << size_text(in.file.image);
   const int spp = in.file.int_attribute("clpt:spp", -1);
   if (spp >= 0) std::cout << "  spp " << spp;
-  std::cout << "  mean " << num(in.summary.finite_mean) << " (" << num(in.summary.channel_finite_mean[0])
-            << " " << num(in.summary.channel_finite_mean[1]) << " "
-            << num(in.summary.channel_finite_mean[2]) << ")  NaN " << in.summary.nan_count
-            << "  Inf " << in.summary.inf_count
+  std::cout << "  mean " << num(summary.finite_mean) << " (" << num(summary.channel_finite_mean[0])
+            << " " << num(summary.channel_finite_mean[1]) << " "
+            << num(summary.channel_finite_mean[2]) << ")  NaN " << summary.nan_count
+            << "  Inf " << summary.inf_count
             << (in.file.variance() ? "  variance channels" : "") << "\n";
 }
 
@@ -209,29 +189,17 @@ int run(int argc, char** argv) {
   film.max_dimension = kMaxFilmSide;
   film.max_pixels = uint64_t{kMaxFilmSide} * kMaxFilmSide;
   film.raise = "clpt-diff compares images of at most that size";
-  Input img{o.image, read_image_channels(o.image, film), {}};
-  Input ref{o.reference, read_image_channels(o.reference, film), {}};
-  if (img.file.image.width != ref.file.image.width || img.file.image.height != ref.file.image.height)
-    throw Error(ExitCode::BadInput, "image " + o.image + " is " + size_text(img.file.image) +
-                                        " but reference " + o.reference + " is " +
-                                        size_text(ref.file.image) + ": the sizes must match");
-
-  const ImageComparison cmp = compare_images(img.file.image, ref.file.image);
-  img.summary = cmp.image;
-  ref.summary = cmp.reference;
-
-  const Image* var_v = img.file.variance();
-  const Image* var_r = ref.file.variance();
-  std::optional<ZTestResult> z;
-  if (var_v || var_r) {
-    ZTestOptions zo;
-    zo.alpha = o.alpha;
-    zo.relative_variance_floor = o.variance_floor;
-    z = z_test(img.file.image, var_v, ref.file.image, var_r, zo);
-  } else if (o.min_z_pass) {
+  const DiffInput img{o.image, read_image_channels(o.image, film)};
+  const DiffInput ref{o.reference, read_image_channels(o.reference, film)};
+  DiffSettings settings;
+  settings.alpha = o.alpha;
+  settings.variance_floor = o.variance_floor;
+  const DiffReport report = diff_images(img, ref, settings);
+  const ImageComparison& cmp = report.comparison;
+  const std::optional<ZTestResult>& z = report.z;
+  if (!z && o.min_z_pass)
     throw Error(ExitCode::BadInput, "--min-z-pass needs a variance: neither " + o.image + " nor " +
                                         o.reference + " has variance.R/G/B channels");
-  }
 
   if (!o.error_map.empty()) write_error_map(o, img.file.image, ref.file.image);
 
@@ -253,35 +221,13 @@ int run(int argc, char** argv) {
   }
 
   if (o.json) {
-    nlohmann::ordered_json j;
-    j["image"] = input_json(img);
-    j["reference"] = input_json(ref);
-    j["compared"] = cmp.compared;
-    j["relmse"] = cmp.rel_mse;
-    j["mse"] = cmp.mse;
-    j["rmse"] = cmp.rmse;
-    j["smape"] = cmp.smape;
-    j["max_abs_diff"] = cmp.max_abs_diff;
-    if (z) {
-      j["z_test"] = {{"variance_from", var_v && var_r ? "both" : var_v ? "image" : "reference"},
-                     {"tested", z->tested},
-                     {"passed", z->passed},
-                     {"failed", z->failed()},
-                     {"skipped", z->skipped},
-                     {"pass_fraction", z->pass_fraction()},
-                     {"threshold", z->threshold},
-                     {"alpha", z->alpha},
-                     {"max_abs_z", z->max_abs_z},
-                     {"variance_floor", o.variance_floor}};
-    } else {
-      j["z_test"] = nullptr;
-    }
+    nlohmann::ordered_json j = diff_json(img, ref, report, settings);
     j["checks_passed"] = failures.empty();
     j["failures"] = failures;
     std::cout << j.dump(2) << "\n";
   } else {
-    print_input("image      ", img);
-    print_input("reference  ", ref);
+    print_input("image      ", img, cmp.image);
+    print_input("reference  ", ref, cmp.reference);
     std::cout << "compared     " << cmp.compared << " pixel-channels (both values finite)\n"
               << "relMSE       " << num(cmp.rel_mse) << "\n"
               << "MSE          " << num(cmp.mse) << "\n"
@@ -291,8 +237,7 @@ int run(int argc, char** argv) {
     if (z) {
       std::cout << "z-test       " << num(100.0 * z->pass_fraction()) << " % of " << z->tested
                 << " pixel-channels pass |z| < " << num(z->threshold) << " (Sidak, alpha "
-                << num(z->alpha) << ", variance from "
-                << (var_v && var_r ? "both" : var_v ? "image" : "reference") << "); "
+                << num(z->alpha) << ", variance from " << report.variance_from << "); "
                 << z->failed() << " fail, max |z| " << num(z->max_abs_z);
       if (z->skipped) std::cout << ", " << z->skipped << " not tested (NaN/Inf)";
       std::cout << "\n";
