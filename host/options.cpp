@@ -118,6 +118,15 @@ struct Parser {
                    "Sampler: independent|stratified|lhs|sobol; stratified and lhs need --spp "
                    "[independent]")
         ->type_name("NAME");
+    app.add_option("--filter", o.filter,
+                   "Pixel filter: box|tent|gaussian|blackman-harris, by filter importance "
+                   "sampling; integrators that splat take box [box]")
+        ->type_name("NAME");
+    app.add_option("--filter-radius", o.filter_radius,
+                   "Filter radius in pixels [box 0.5, tent 1, gaussian 1.5, blackman-harris 2]")
+        ->type_name("PX")
+        ->check(CLI::Range(0.05f, 8.0f).description(""))
+        ->check(kFinite);
     app.add_option("--direct", o.direct,
                    "Direct light: mis (NEE and BSDF sampling by MIS), light (NEE only), bsdf "
                    "(no NEE) [mis]")
@@ -334,6 +343,11 @@ bool parse_resolution(const std::string& s, uint32_t* w, uint32_t* h) {
 
 }  // namespace
 
+float filter_default_radius(const std::string& filter) {
+  return filter == "box" ? 0.5f : filter == "tent" ? 1.0f : filter == "gaussian" ? 1.5f
+       : filter == "blackman-harris" ? 2.0f : 0.0f;
+}
+
 bool parse_strategy(const std::string& text, uint32_t* s, uint32_t* t) {
   const size_t comma = text.find(',');
   if (comma == std::string::npos || comma == 0 || comma + 1 >= text.size()) return false;
@@ -433,6 +447,8 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
     throw Error(ExitCode::Usage, std::string(option) + " " + value + ": expected one of " + list);
   };
   one_of("--sampler", o.sampler, {"independent", "stratified", "lhs", "sobol"});
+  one_of("--filter", o.filter, {"box", "tent", "gaussian", "blackman-harris"});
+  if (o.filter_radius == 0.0f) o.filter_radius = filter_default_radius(o.filter);
   one_of("--direct", o.direct, {"mis", "light", "bsdf"});
   one_of("--mis", o.mis, {"power", "balance"});
   one_of("--hemisphere", o.hemisphere, {"bsdf", "cosine", "uniform"});
@@ -462,6 +478,12 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--checkpoint and --resume are not supported with "
                                    "--integrator " + o.integrator + " (its pixel statistics are not saved)");
   }
+  if (row.film == FilmKind::Splats && (o.filter != "box" || o.filter_radius != 0.5f))
+    // Their light-path strategies splat onto the pixel a point projects to; a filter there
+    // would have to spread each splat over the filter's pixels, which they do not yet.
+    throw Error(ExitCode::Usage, "--filter and --filter-radius are not available with --integrator " +
+                                     o.integrator + ": it splats light paths onto pixels, with the box "
+                                     "filter only (pt, pm, sppm, ic, ao, direct and indirect1 take any)");
   if (row.film == FilmKind::Splats) {
     // Splatted films: no per-pixel sample variance, and float atomics in no fixed order, so a
     // resumed render could not equal an uninterrupted one bit for bit.

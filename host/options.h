@@ -33,6 +33,8 @@ struct Options {
   std::string integrator = "pt";
   // Estimator choices, as names; parse_options validates them.
   std::string sampler = "independent";
+  std::string filter = "box";     // pixel reconstruction filter (camera/pixel_filter.cl)
+  float filter_radius = 0.0f;     // pixels; 0: the filter's default (filter_default_radius)
   std::string direct = "mis";
   std::string mis = "power";
   uint32_t light_samples = 1;
@@ -99,6 +101,10 @@ struct Options {
 // Parses argv. Returns nullopt when the program should exit 0 after printing (--help,
 // --version); throws Error(ExitCode::Usage) with a message for a bad command line.
 std::optional<Options> parse_options(int argc, const char* const* argv);
+
+// The radius --filter NAME has without --filter-radius: box 0.5 (one pixel), tent 1,
+// gaussian 1.5 (sigma 0.5, pbrt-v4's default), blackman-harris 2; 0 for an unknown name.
+float filter_default_radius(const std::string& filter);
 
 // "S,T" of --bdpt-strategy; false unless a strategy bdpt has.
 bool parse_strategy(const std::string& text, uint32_t* s, uint32_t* t);

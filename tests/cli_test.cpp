@@ -460,7 +460,7 @@ TEST(CliNumbers, NonFiniteRealsAreUsageErrorsNamingTheOption) {
       {"--mlt-sigma", {"--integrator", "mlt"}}, {"--ic-error", {"--integrator", "ic"}},
       {"--ic-min-spacing", {"--integrator", "ic"}}, {"--ic-max-spacing", {"--integrator", "ic"}},
       {"--vcm-radius", {"--integrator", "vcm"}}, {"--vcm-alpha", {"--integrator", "vcm"}},
-      {"--checkpoint-interval", {"--checkpoint", "c.ckpt"}}};
+      {"--filter-radius", {"--filter", "gaussian"}}, {"--checkpoint-interval", {"--checkpoint", "c.ckpt"}}};
   for (const auto& [name, context] : reals)
     for (const char* value : {"nan", "NaN", "inf", "-inf", "1e39", "1e999"}) {
       std::vector<const char*> args = {"s.gltf", name, value};
@@ -474,6 +474,42 @@ TEST(CliNumbers, NonFiniteRealsAreUsageErrorsNamingTheOption) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("--env-scale"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("not a finite number"), std::string::npos) << r.err;
+}
+
+// --filter (issue 24): the names and radii it takes, refused where the integrator splats
+// light paths (each splat would have to spread over the filter's pixels), and its record in
+// the image's metadata and --stats.
+TEST(CliFilter, NamesRadiiAndIntegrators) {
+  for (const char* f : {"box", "tent", "gaussian", "blackman-harris"})
+    EXPECT_EQ(test::parse_error({"s.gltf", "--filter", f}), ExitCode::Ok) << f;
+  EXPECT_EQ(test::parse_error({"s.gltf", "--filter", "mitchell"}), ExitCode::Usage);
+  EXPECT_EQ(test::parse_error({"s.gltf", "--filter-radius", "0"}), ExitCode::Usage);
+  EXPECT_EQ(test::parse_error({"s.gltf", "--filter-radius", "9"}), ExitCode::Usage);
+  for (const char* integrator : {"pt", "pm", "sppm", "ic", "ao", "direct", "indirect1"})
+    EXPECT_EQ(test::parse_error({"s.gltf", "--integrator", integrator, "--filter", "tent"}), ExitCode::Ok)
+        << integrator;
+  for (const char* integrator : {"lt", "bdpt", "vcm", "mlt"}) {
+    EXPECT_EQ(test::parse_error({"s.gltf", "--integrator", integrator, "--filter", "gaussian"}), ExitCode::Usage)
+        << integrator;
+    EXPECT_EQ(test::parse_error({"s.gltf", "--integrator", integrator, "--filter-radius", "1"}), ExitCode::Usage)
+        << integrator;
+    EXPECT_EQ(test::parse_error({"s.gltf", "--integrator", integrator, "--filter", "box"}), ExitCode::Ok)
+        << integrator;
+  }
+}
+
+TEST_F(Cli, FilterIsInTheMetadataAndStats) {
+  const test::RunResult r = run_clpt({kCornell, "--filter", "blackman-harris", "--spp", "2", "--resolution", "8x8",
+                                      "-q", "-o", path("f.exr"), "--stats", path("f.json")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto in = OIIO::ImageInput::open(path("f.exr"));
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().get_string_attribute("clpt:filter"), "blackman-harris");
+  EXPECT_FLOAT_EQ(in->spec().get_float_attribute("clpt:filter_radius"), 2.0f);
+  std::ifstream f(path("f.json"));
+  const nlohmann::json j = nlohmann::json::parse(f);
+  EXPECT_EQ(j["filter"]["name"], "blackman-harris");
+  EXPECT_EQ(j["filter"]["radius"], 2.0);
 }
 
 TEST_F(Cli, HugeCameraIndexIsOutOfRangeAndATinyTimeStillRenders) {

@@ -50,6 +50,8 @@ ImageMetadata image_metadata(const Options& opt, const std::string& device, uint
                   {"clpt:scene", opt.scene}};
   meta.ints = {{"clpt:spp", int(spp)}, {"clpt:seed", int(opt.seed)}, {"clpt:max_depth", int(opt.max_depth)}};
   meta.floats = {{"clpt:render_seconds", float(seconds)}};
+  meta.strings.emplace_back("clpt:filter", opt.filter);
+  meta.floats.emplace_back("clpt:filter_radius", opt.filter_radius);
   return meta;
 }
 
@@ -76,6 +78,11 @@ RenderSettings render_settings(const Options& opt) {
                      : opt.sampler == "lhs"      ? dev::SAMPLER_LHS
                      : opt.sampler == "sobol"    ? dev::SAMPLER_SOBOL
                                                  : dev::SAMPLER_INDEPENDENT;
+  settings.filter = opt.filter == "tent"              ? dev::FILTER_TENT
+                    : opt.filter == "gaussian"        ? dev::FILTER_GAUSSIAN
+                    : opt.filter == "blackman-harris" ? dev::FILTER_BLACKMAN_HARRIS
+                                                      : dev::FILTER_BOX;
+  settings.filter_radius = opt.filter_radius > 0.0f ? opt.filter_radius : filter_default_radius(opt.filter);
   settings.direct = opt.direct == "light" ? dev::DIRECT_LIGHT
                     : opt.direct == "bsdf" ? dev::DIRECT_BSDF
                                            : dev::DIRECT_MIS;
@@ -224,6 +231,7 @@ RenderJob::RenderJob(const Options& opt, bool writes_image) : opt_(opt), writes_
       {"max_depth", opt_.max_depth},
       {"seed", opt_.seed},
       {"sampler", opt_.sampler},
+      {"filter", {opt_.filter, opt_.filter_radius}},
       // Stratified and lhs divide each dimension into --spp strata: the total must match.
       {"strata", (opt_.sampler == "stratified" || opt_.sampler == "lhs") ? opt_.spp : 0},
       {"estimator", {opt_.direct, opt_.mis, opt_.light_samples, opt_.hemisphere, opt_.rr,

@@ -159,6 +159,7 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
   }
   j["efficiency"] = mean_variance > 0.0 ? 1.0 / (mean_variance * secs) : 0.0;
   if (!film.variance_available) j["efficiency"] = nullptr;
+  j["filter"] = {{"name", opt.filter}, {"radius", opt.filter_radius}};
   j["estimator"] = {{"sampler", opt.sampler},       {"direct", opt.direct},
                     {"mis", opt.mis},               {"light_samples", opt.light_samples},
                     {"hemisphere", opt.hemisphere}, {"rr", opt.rr},

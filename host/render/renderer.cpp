@@ -79,6 +79,8 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   params_.seed = settings_.seed;
   params_.spp_total = static_cast<uint32_t>(std::min<uint64_t>(settings_.spp, 0xffffffffu));
   params_.sampler = settings_.sampler;
+  params_.filter = settings_.filter;
+  params_.filter_radius = settings_.filter_radius;
   params_.direct = settings_.direct;
   params_.mis = settings_.mis;
   params_.light_samples = std::max<uint32_t>(1, settings_.light_samples);

@@ -28,6 +28,8 @@ struct RenderSettings {
   std::string integrator = "pt";
   // Estimator choices (see kernels/shared/render_types.h for the enums).
   uint32_t sampler = 0;        // dev::SamplerType
+  uint32_t filter = 0;         // dev::PixelFilter of camera samples
+  float filter_radius = 0.5f;  // pixels
   uint32_t direct = 0;         // dev::DirectStrategy
   uint32_t mis = 0;            // dev::MisHeuristic
   uint32_t light_samples = 1;  // shadow rays per vertex

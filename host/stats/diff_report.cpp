@@ -5,7 +5,7 @@
 namespace clpt {
 namespace {
 
-std::string size_text(const Image& i) { return std::to_string(i.width) + "x" + std::to_string(i.height); }
+std::string dimensions_text(const Image& i) { return std::to_string(i.width) + "x" + std::to_string(i.height); }
 
 nlohmann::ordered_json input_json(const DiffInput& in, const ImageSummary& summary) {
   nlohmann::ordered_json j;
@@ -28,8 +28,8 @@ DiffReport diff_images(const DiffInput& image, const DiffInput& reference, const
   const Image& v = image.file.image;
   const Image& r = reference.file.image;
   if (v.width != r.width || v.height != r.height)
-    throw Error(ExitCode::BadInput, "image " + image.path + " is " + size_text(v) + " but reference " +
-                                        reference.path + " is " + size_text(r) + ": the sizes must match");
+    throw Error(ExitCode::BadInput, "image " + image.path + " is " + dimensions_text(v) + " but reference " +
+                                        reference.path + " is " + dimensions_text(r) + ": the sizes must match");
   DiffReport report;
   report.comparison = compare_images(v, r);
   const Image* var_v = image.file.variance();

@@ -1,11 +1,12 @@
 /* The camera ray of one sample: the film position and the lens position each take their own
- * sampler dimensions (DIM_PIXEL, DIM_CAMERA_LENS). pixel_ray jitters inside the work-item's
- * pixel; film_sample_ray takes the film position itself from the sample, for integrators
+ * sampler dimensions (DIM_PIXEL, DIM_CAMERA_LENS). pixel_ray draws the film position from the
+ * pixel filter around the work-item's pixel (camera/pixel_filter.cl); film_sample_ray takes the film position itself from the sample, for integrators
  * whose work-items are not pixels (mlt's chains). */
 #ifndef CLPT_CAMERA_PIXEL_RAY_CL
 #define CLPT_CAMERA_PIXEL_RAY_CL
 
 #include "camera/camera.cl"
+#include "camera/pixel_filter.cl"
 #include "sampler/sampler.cl"
 
 /* The ray through pixel (x, y) at offset `jitter` in [0,1)^2, with the lens point from the
@@ -21,7 +22,8 @@ static inline void jittered_pixel_ray(__constant const RenderParams* p, const Sa
 
 static inline void pixel_ray(__constant const RenderParams* p, const Sampler* sampler, u32 x, u32 y,
                              float3* org, float3* dir) {
-  jittered_pixel_ray(p, sampler, x, y, sample_2d(sampler, DIM_PIXEL), org, dir);
+  jittered_pixel_ray(p, sampler, x, y, pixel_filter_jitter(p->filter, p->filter_radius, sample_2d(sampler, DIM_PIXEL)),
+                     org, dir);
 }
 
 /* DIM_PIXEL spans the whole image: u in [0,1)^2 is the raster position (u.x * width,

@@ -24,6 +24,8 @@ enum MisHeuristic { MIS_POWER = 0, MIS_BALANCE = 1 };
 enum HemisphereSampling { HEMISPHERE_BSDF = 0, HEMISPHERE_COSINE = 1, HEMISPHERE_UNIFORM = 2 };
 /* --rr */
 enum RussianRoulette { RR_THROUGHPUT = 0, RR_FIXED = 1 };
+/* --filter: the pixel reconstruction filter, by filter importance sampling (camera/pixel_filter.cl) */
+enum PixelFilter { FILTER_BOX = 0, FILTER_TENT = 1, FILTER_GAUSSIAN = 2, FILTER_BLACKMAN_HARRIS = 3 };
 /* --pm-filter: the density-estimation kernel of pm's k-nearest-neighbour estimates */
 enum PhotonFilter { PHOTON_FILTER_BOX = 0, PHOTON_FILTER_CONE = 1, PHOTON_FILTER_EPANECHNIKOV = 2 };
 
@@ -75,7 +77,8 @@ typedef struct RenderParams {
   u32 final_gather;     /* pm: gather rays from the first non-delta vertex; 0: maps directly */
   float sppm_radius;    /* sppm: initial search radius (world units) */
   float sppm_alpha;     /* sppm: fraction of new photons kept per pass (Hachisuka's alpha) */
-  u32 pad;
+  u32 filter;           /* PixelFilter of the camera samples' film positions */
+  float filter_radius;  /* its radius in pixels (box 0.5: one pixel, the plain jitter) */
 } RenderParams;
 
 #define BDPT_ALL_STRATEGIES 0xffffffffu

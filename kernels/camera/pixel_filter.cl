@@ -1,0 +1,119 @@
+/* Pixel reconstruction filters by filter importance sampling (--filter; Ernst, Stamminger and
+ * Greiner, "Filter Importance Sampling", IEEE Symposium on Interactive Ray Tracing 2006):
+ * each camera sample's film position is drawn from the filter around its pixel's centre and
+ * counts with weight 1 for that pixel alone, so a pixel's mean is the image convolved with the
+ * filter, no sample is shared between pixels (samples stay independent, the per-pixel variance
+ * stays a sample variance) and images stay deterministic.
+ *
+ * Every filter here is separable and non-negative: each axis is drawn on its own by inverting
+ * its 1-D CDF on [-r, r], which keeps the sampler's stratification (the map is monotone per
+ * axis). The formulas are in docs/filters.md; tests/pixel_filter_test.cpp checks each
+ * sampler with a chi-square test against the CDF computed on the host. */
+#ifndef CLPT_CAMERA_PIXEL_FILTER_CL
+#define CLPT_CAMERA_PIXEL_FILTER_CL
+
+#include "shared/render_types.h"
+
+/* erfinv(x) for x in (-1, 1): Giles, "Approximating the erfinv function" (GPU Computing Gems,
+ * 2011), the single-precision polynomials. */
+static inline float filter_erfinv(float x) {
+  float w = -log((1.0f - x) * (1.0f + x));
+  float p;
+  if (w < 5.0f) {
+    w = w - 2.5f;
+    p = 2.81022636e-08f;
+    p = 3.43273939e-07f + p * w;
+    p = -3.5233877e-06f + p * w;
+    p = -4.39150654e-06f + p * w;
+    p = 0.00021858087f + p * w;
+    p = -0.00125372503f + p * w;
+    p = -0.00417768164f + p * w;
+    p = 0.246640727f + p * w;
+    p = 1.50140941f + p * w;
+  } else {
+    w = sqrt(w) - 3.0f;
+    p = -0.000200214257f;
+    p = 0.000100950558f + p * w;
+    p = 0.00134934322f + p * w;
+    p = -0.00367342844f + p * w;
+    p = 0.00573950773f + p * w;
+    p = -0.0076224613f + p * w;
+    p = 0.00943887047f + p * w;
+    p = 1.00167406f + p * w;
+    p = 2.83297682f + p * w;
+  }
+  return p * x;
+}
+
+/* Blackman-Harris window on t in [0, 1] (four terms, Harris 1978), normalised to a density:
+ * its integral over [0, 1] is a0. */
+#define BH_A0 0.35875f
+#define BH_A1 0.48829f
+#define BH_A2 0.14128f
+#define BH_A3 0.01168f
+
+static inline float filter_bh_cdf(float t) {
+  const float tau = 6.28318530718f;
+  return (BH_A0 * t - BH_A1 * sin(tau * t) / tau + BH_A2 * sin(2.0f * tau * t) / (2.0f * tau) -
+          BH_A3 * sin(3.0f * tau * t) / (3.0f * tau)) /
+         BH_A0;
+}
+
+static inline float filter_bh_pdf(float t) {
+  const float tau = 6.28318530718f;
+  return (BH_A0 - BH_A1 * cos(tau * t) + BH_A2 * cos(2.0f * tau * t) - BH_A3 * cos(3.0f * tau * t)) / BH_A0;
+}
+
+/* t in [0, 1] with filter_bh_cdf(t) = u: Newton's steps kept inside a shrinking bracket
+ * (bisection where a step would leave it; the density is near 0 at the ends). The window is
+ * symmetric, so the lower half is solved for min(u, 1 - u) and mirrored: near t = 1 the CDF
+ * is within float rounding of 1 over a wide range of t, near t = 0 it is small and exact
+ * enough. */
+static inline float filter_bh_invert(float u) {
+  const bool upper = u > 0.5f;
+  const float v = upper ? 1.0f - u : u;
+  float lo = 0.0f, hi = 0.5f, t = v;
+  for (int i = 0; i < 32; ++i) {
+    const float f = filter_bh_cdf(t) - v;
+    if (f > 0.0f) hi = t; else lo = t;
+    const float pdf = filter_bh_pdf(t);
+    float next = pdf > 1e-6f ? t - f / pdf : 0.5f * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5f * (lo + hi);
+    const bool done = fabs(next - t) < 1e-7f;
+    t = next;
+    if (done) break;
+  }
+  return upper ? 1.0f - t : t;
+}
+
+/* One axis: the offset from the pixel's centre, in pixels, for u in [0, 1). */
+static inline float filter_sample_1d(u32 filter, float r, float u) {
+  float x;
+  switch (filter) {
+    case FILTER_TENT:
+      x = u < 0.5f ? r * (sqrt(2.0f * u) - 1.0f) : r * (1.0f - sqrt(2.0f - 2.0f * u));
+      break;
+    case FILTER_GAUSSIAN: {
+      /* sigma = r / 3, truncated at r: x = sigma sqrt(2) erfinv((2u - 1) erf(3 / sqrt(2))). */
+      const float sigma = r / 3.0f;
+      x = sigma * 1.41421356f * filter_erfinv((2.0f * u - 1.0f) * 0.99730020f);
+      break;
+    }
+    case FILTER_BLACKMAN_HARRIS:
+      x = r * (2.0f * filter_bh_invert(u) - 1.0f);
+      break;
+    default: /* FILTER_BOX */
+      x = r * (2.0f * u - 1.0f);
+  }
+  return clamp(x, -r, r);
+}
+
+/* The film offset of a sample inside the pixel's [0, 1)^2 frame (0.5 is the centre; a wide
+ * filter reaches past 0 and 1), from the sample's pixel dimensions u. The box of radius 0.5,
+ * the default, is u itself: images without --filter are as they always were. */
+static inline float2 pixel_filter_jitter(u32 filter, float radius, float2 u) {
+  if (filter == FILTER_BOX && radius == 0.5f) return u;
+  return (float2)(0.5f + filter_sample_1d(filter, radius, u.x), 0.5f + filter_sample_1d(filter, radius, u.y));
+}
+
+#endif

@@ -1,0 +1,225 @@
+// Pixel reconstruction filters (camera/pixel_filter.cl, --filter; issue 24).
+//
+// PixelFilter.*: the default box of half a pixel hands the sampler's u through unchanged
+// (images without --filter are bit for bit what they were), and every filter's map from u
+// to the film offset is monotone (so a stratified sampler stays stratified).
+// PixelFilterChi2.*: each filter's film offsets, drawn on the device from uniform u, follow
+// the filter's density: Pearson's chi-square over 64 bins on [-r, r] against the filter's CDF
+// computed here in double (box, tent and Blackman-Harris in closed form, the truncated
+// Gaussian through std::erf), so an error in the kernel's inversion (Giles' erfinv, the
+// Newton solve) shows.
+// PixelFilterEdge.*: a measured edge. An emitting half-plane whose edge falls on a pixel
+// boundary, rendered with --max-depth 0: a pixel whose centre lies d pixels inside the lit
+// side must read CDF(d) (the share of its filter on the light), each column averaged over
+// rows and samples, within a Sidak-corrected binomial bound; pixels farther than the radius
+// from the edge read exactly 0 or 1, and the image's mean stays the box filter's.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <ostream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "cl/buffer.h"
+#include "cl/program.h"
+#include "shared/render_types.h"
+#include "support/chi2.h"
+#include "support/device.h"
+#include "support/render.h"
+#include "support/scenes.h"
+
+namespace clpt {
+namespace {
+
+struct FilterCase {
+  const char* name;
+  uint32_t filter;
+  float radius;
+};
+
+void PrintTo(const FilterCase& c, std::ostream* os) { *os << c.name << " r " << c.radius; }
+
+const FilterCase kCases[] = {
+    {"box", dev::FILTER_BOX, 0.5f},       {"box_wide", dev::FILTER_BOX, 1.5f},
+    {"tent", dev::FILTER_TENT, 1.0f},     {"tent_wide", dev::FILTER_TENT, 2.5f},
+    {"gaussian", dev::FILTER_GAUSSIAN, 1.5f}, {"gaussian_narrow", dev::FILTER_GAUSSIAN, 0.6f},
+    {"blackman_harris", dev::FILTER_BLACKMAN_HARRIS, 2.0f},
+    {"blackman_harris_wide", dev::FILTER_BLACKMAN_HARRIS, 3.0f},
+};
+
+// P(offset < x) for the filter of radius r, in double, written from the definitions.
+double filter_cdf(uint32_t filter, double r, double x) {
+  if (x <= -r) return 0.0;
+  if (x >= r) return 1.0;
+  switch (filter) {
+    case dev::FILTER_TENT:
+      return x < 0.0 ? (x + r) * (x + r) / (2.0 * r * r) : 1.0 - (r - x) * (r - x) / (2.0 * r * r);
+    case dev::FILTER_GAUSSIAN: {
+      const double sigma = r / 3.0, e = std::erf(r / (sigma * std::sqrt(2.0)));
+      return 0.5 * (1.0 + std::erf(x / (sigma * std::sqrt(2.0))) / e);
+    }
+    case dev::FILTER_BLACKMAN_HARRIS: {
+      const double a0 = 0.35875, a1 = 0.48829, a2 = 0.14128, a3 = 0.01168, tau = 2.0 * M_PI;
+      const double t = (x + r) / (2.0 * r);
+      return (a0 * t - a1 * std::sin(tau * t) / tau + a2 * std::sin(2 * tau * t) / (2 * tau) -
+              a3 * std::sin(3 * tau * t) / (3 * tau)) /
+             a0;
+    }
+    default:
+      return (x + r) / (2.0 * r);
+  }
+}
+
+std::vector<glm::vec2> jitters(const FilterCase& c, const std::vector<glm::vec2>& u) {
+  cl::Context& ctx = test::device_context();
+  const cl_uint n = cl_uint(u.size());
+  cl::Buffer in = cl::Buffer::from_vector(ctx, u);
+  cl::Buffer out(ctx, n * sizeof(glm::vec2), CL_MEM_WRITE_ONLY, nullptr, "filter jitter");
+  cl::Kernel kernel(test::test_program("kernels/pixel_filter_test.cl"), "filter_jitter");
+  kernel.args(0, cl_uint(c.filter), c.radius, in, out, n);
+  kernel.launch(ctx, n);
+  return out.read_vector<glm::vec2>(n);
+}
+
+TEST(PixelFilter, BoxOfHalfAPixelIsTheJitterItself) {
+  std::vector<glm::vec2> u;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  for (int i = 0; i < 4096; ++i) u.push_back({uni(rng), uni(rng)});
+  u.push_back({0.0f, 0.99999994f});
+  const std::vector<glm::vec2> j = jitters(kCases[0], u);
+  for (size_t i = 0; i < u.size(); ++i) {
+    ASSERT_EQ(j[i].x, u[i].x) << i;
+    ASSERT_EQ(j[i].y, u[i].y) << i;
+  }
+}
+
+TEST(PixelFilter, EveryFilterIsMonotoneAndInsideItsRadius) {
+  std::vector<glm::vec2> u;
+  for (int i = 0; i <= 20000; ++i) {
+    const float v = std::min(float(i) / 20000.0f, 0.99999994f);
+    u.push_back({v, 1.0f - v});
+  }
+  for (const FilterCase& c : kCases) {
+    SCOPED_TRACE(c.name);
+    const std::vector<glm::vec2> j = jitters(c, u);
+    for (size_t i = 0; i < j.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(j[i].x) && std::isfinite(j[i].y)) << i;
+      ASSERT_GE(j[i].x, 0.5f - c.radius - 1e-5f) << i;
+      ASSERT_LE(j[i].x, 0.5f + c.radius + 1e-5f) << i;
+      if (i) {
+        ASSERT_GE(j[i].x, j[i - 1].x - 1e-5f) << "u " << u[i].x;  // x rises with u.x (float: 1e-5 px)
+        ASSERT_LE(j[i].y, j[i - 1].y + 1e-5f) << "u " << u[i].y;  // y falls as u.y falls
+      }
+    }
+  }
+}
+
+class PixelFilterChi2 : public ::testing::TestWithParam<FilterCase> {};
+
+TEST_P(PixelFilterChi2, OffsetsFollowTheFilter) {
+  const FilterCase c = GetParam();
+  constexpr int kBins = 64;
+  constexpr uint32_t kSamples = 200000;
+  std::vector<glm::vec2> u(kSamples);
+  std::mt19937 rng(7 + c.filter);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  for (glm::vec2& v : u) v = {uni(rng), uni(rng)};
+  const std::vector<glm::vec2> j = jitters(c, u);
+  const double r = c.radius;
+  for (int axis = 0; axis < 2; ++axis) {
+    SCOPED_TRACE(axis ? "y" : "x");
+    std::vector<double> observed(kBins, 0.0), expected(kBins, 0.0);
+    for (const glm::vec2& v : j) {
+      const double x = double(axis ? v.y : v.x) - 0.5;
+      const int b = std::clamp(int(std::floor((x + r) / (2.0 * r) * kBins)), 0, kBins - 1);
+      observed[size_t(b)] += 1.0;
+    }
+    for (int b = 0; b < kBins; ++b) {
+      const double lo = -r + 2.0 * r * b / kBins, hi = -r + 2.0 * r * (b + 1) / kBins;
+      expected[size_t(b)] = kSamples * (filter_cdf(c.filter, r, hi) - filter_cdf(c.filter, r, lo));
+    }
+    // Bins expecting fewer than 5 samples (Blackman-Harris' ends) are pooled into one.
+    double stat = 0.0, pooled_o = 0.0, pooled_e = 0.0;
+    int cells = 0;
+    for (int b = 0; b < kBins; ++b) {
+      if (expected[size_t(b)] < 5.0) {
+        pooled_o += observed[size_t(b)];
+        pooled_e += expected[size_t(b)];
+        continue;
+      }
+      const double d = observed[size_t(b)] - expected[size_t(b)];
+      stat += d * d / expected[size_t(b)];
+      ++cells;
+    }
+    if (pooled_e > 0.0) {
+      stat += (pooled_o - pooled_e) * (pooled_o - pooled_e) / pooled_e;
+      ++cells;
+    }
+    const double p = test::chi2_p_value(stat, cells - 1);
+    // 8 cases x 2 axes.
+    EXPECT_GE(p, test::sidak_alpha(0.01, 16)) << c.name << ": chi2 " << stat << " over " << cells << " cells";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Filters, PixelFilterChi2, ::testing::ValuesIn(kCases),
+                         [](const ::testing::TestParamInfo<FilterCase>& i) { return std::string(i.param.name); });
+
+// An emitting half-plane x < 0 at z = 0 (radiance 1), a square camera on the z axis: the edge
+// is the film's vertical centre line, a pixel boundary for an even width.
+Scene half_plane_scene() {
+  Scene scene;
+  test::Mesh quad;
+  quad.positions = {{-40.0f, -40.0f, 0.0f}, {0.0f, -40.0f, 0.0f}, {0.0f, 40.0f, 0.0f}, {-40.0f, 40.0f, 0.0f}};
+  quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+  Material light;
+  light.base_color = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  light.metallic = 0.0f;
+  light.emission = glm::vec3(1.0f);
+  test::add_mesh(scene, quad, light);
+  test::add_camera_on_z(scene, 4.0f, 0.5f);
+  return scene;
+}
+
+class PixelFilterEdge : public ::testing::TestWithParam<FilterCase> {};
+
+TEST_P(PixelFilterEdge, EdgeProfileIsTheFiltersCdf) {
+  const FilterCase c = GetParam();
+  constexpr uint32_t kSize = 32, kSpp = 256;
+  RenderSettings s = test::render_settings("pt", kSpp, kSize);
+  s.max_depth = 0;
+  s.filter = c.filter;
+  s.filter_radius = c.radius;
+  const FilmResult film = test::render(half_plane_scene(), s, 3);
+
+  // Per column: the mean over rows and channels, and the samples behind it.
+  const double n = double(kSize) * kSpp;
+  const double z = 4.5;  // two-sided 1e-5 per column: Sidak over the 8 cases' ~60 graded columns
+  double mean_all = 0.0;
+  for (uint32_t x = 0; x < kSize; ++x) {
+    double sum = 0.0;
+    for (uint32_t y = 0; y < kSize; ++y)
+      for (int ch = 0; ch < 3; ++ch) sum += film.mean.rgb[(size_t(y) * kSize + x) * 3 + size_t(ch)];
+    const double value = sum / (3.0 * kSize);
+    mean_all += value / kSize;
+    const double d = kSize / 2.0 - (x + 0.5);  // pixel centre's distance into the lit side
+    const double expected = filter_cdf(c.filter, c.radius, d);
+    if (expected == 0.0 || expected == 1.0) {
+      EXPECT_EQ(value, expected) << c.name << " column " << x << " lies beyond the filter's reach";
+      continue;
+    }
+    const double sigma = std::sqrt(expected * (1.0 - expected) / n);
+    EXPECT_NEAR(value, expected, z * sigma + 1e-6) << c.name << " column " << x << " (d = " << d << ")";
+  }
+  // Every filter here is symmetric: the image's mean (half the columns lit) is one half.
+  EXPECT_NEAR(mean_all, 0.5, z * std::sqrt(0.25 / (n * kSize / 4)) + 1e-6) << c.name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Filters, PixelFilterEdge, ::testing::ValuesIn(kCases),
+                         [](const ::testing::TestParamInfo<FilterCase>& i) { return std::string(i.param.name); });
+
+}  // namespace
+}  // namespace clpt
