@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -294,6 +295,14 @@ struct Parser {
                     ->type_name("[FILE]");
     app.add_flag("--variance", o.variance,
                  "Add a 'variance' layer to the EXR: the variance of each pixel's estimate");
+    app.add_option("--aov", o.aovs,
+                   "First-hit layers for the EXR: albedo,normal,depth,position,material-id,variance "
+                   "(averaged over each pixel's first 64 samples)")
+        ->type_name("LIST")
+        ->delimiter(',');
+    app.add_flag("--aov-pfm", o.aov_pfm,
+                 "Also write OUTPUT.color.pfm, .albedo.pfm and .normal.pfm for Intel Open Image "
+                 "Denoise (oidnDenoise --hdr, --alb, --nrm)");
     app.add_option("--reference", o.reference,
                    "Print relMSE against this image as the render goes, and put it in --stats")
         ->type_name("FILE");
@@ -448,6 +457,12 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
   };
   one_of("--sampler", o.sampler, {"independent", "stratified", "lhs", "sobol"});
   one_of("--filter", o.filter, {"box", "tent", "gaussian", "blackman-harris"});
+  for (const std::string& a : o.aovs) {
+    one_of("--aov", a, {"albedo", "normal", "depth", "position", "material-id", "variance"});
+    if (std::count(o.aovs.begin(), o.aovs.end(), a) > 1)
+      throw Error(ExitCode::Usage, "--aov " + a + ": named twice");
+    if (a == "variance") o.variance = true;
+  }
   if (o.filter_radius == 0.0f) o.filter_radius = filter_default_radius(o.filter);
   one_of("--direct", o.direct, {"mis", "light", "bsdf"});
   one_of("--mis", o.mis, {"power", "balance"});

@@ -88,6 +88,8 @@ struct Options {
   bool vcm_set = false;
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR
+  std::vector<std::string> aovs;  // --aov: albedo, normal, depth, position, material-id, variance
+  bool aov_pfm = false;           // --aov-pfm: colour, albedo and normal as PFM for oidnDenoise
   std::string reference;          // image to compare with (relMSE), empty: none
   std::string checkpoint;         // film state written every checkpoint_interval s and at the end
   double checkpoint_interval = 60.0;

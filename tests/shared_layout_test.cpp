@@ -12,6 +12,7 @@
 #include "shared/photon_types.h"
 #include "shared/render_types.h"
 #include "shared/scene_types.h"
+#include "shared/aov_types.h"
 #include "shared/vcm_types.h"
 #include "support/device.h"
 

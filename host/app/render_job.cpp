@@ -10,6 +10,8 @@
 #include "app/stats_document.h"
 #include "integrators/integrator.h"
 #include "io/output_path.h"
+#include "io/pfm.h"
+#include "render/aov.h"
 #include "render/checkpoint.h"
 #include "render/light_table.h"
 #include "scene/gltf_loader.h"
@@ -83,6 +85,10 @@ RenderSettings render_settings(const Options& opt) {
                     : opt.filter == "blackman-harris" ? dev::FILTER_BLACKMAN_HARRIS
                                                       : dev::FILTER_BOX;
   settings.filter_radius = opt.filter_radius > 0.0f ? opt.filter_radius : filter_default_radius(opt.filter);
+  for (const std::string& a : opt.aovs)
+    settings.aovs |= a == "albedo" ? AOV_ALBEDO : a == "normal" ? AOV_NORMAL : a == "depth" ? AOV_DEPTH
+                     : a == "position" ? AOV_POSITION : a == "material-id" ? AOV_MATERIAL_ID : 0u;
+  if (opt.aov_pfm) settings.aovs |= AOV_ALBEDO | AOV_NORMAL;
   settings.direct = opt.direct == "light" ? dev::DIRECT_LIGHT
                     : opt.direct == "bsdf" ? dev::DIRECT_BSDF
                                            : dev::DIRECT_MIS;
@@ -140,9 +146,13 @@ RenderSettings render_settings(const Options& opt) {
 RenderJob::RenderJob(const Options& opt, bool writes_image) : opt_(opt), writes_image_(writes_image) {
   if (!writes_image_ && opt_.save_every > 0.0)
     throw Error(ExitCode::Usage, "--save-every rewrites the output: it needs one");
+  if (!writes_image_ && opt_.aov_pfm)
+    throw Error(ExitCode::Usage, "--aov-pfm writes its files beside the output: it needs one");
   {
     std::vector<NamedPath> outputs, inputs = {{"the scene", opt_.scene}};
     if (writes_image_) outputs.push_back({"output", opt_.output});
+    if (opt_.aov_pfm)
+      for (const std::string& pfm : aov_pfm_paths(opt_.output)) outputs.push_back({"--aov-pfm", pfm});
     if (opt_.stats && *opt_.stats != "-") outputs.push_back({"--stats", *opt_.stats});
     if (!opt_.checkpoint.empty()) outputs.push_back({"--checkpoint", opt_.checkpoint});
     if (!opt_.env.empty()) inputs.push_back({"--env", opt_.env});
@@ -151,6 +161,8 @@ RenderJob::RenderJob(const Options& opt, bool writes_image) : opt_(opt), writes_
     check_outputs_apart(outputs, inputs, {{"--checkpoint", "--resume"}});
   }
   if (writes_image_) check_output_path(opt_.output);
+  if (opt_.aov_pfm)
+    for (const std::string& pfm : aov_pfm_paths(opt_.output)) check_writable_path(pfm, "--aov-pfm");
   if (opt_.stats && *opt_.stats != "-") check_writable_path(*opt_.stats, "--stats");
   if (!opt_.checkpoint.empty()) check_writable_path(opt_.checkpoint, "--checkpoint");
 
@@ -294,6 +306,15 @@ JobResult RenderJob::run(const std::atomic<bool>* stop, const Progress& progress
   if (opt_.vcm_merged)
     for (const NamedChannel& l : out.layers)
       if (l.name == "merged") r.layers.push_back(l);
+  // --aov's layers in the order named (variance is above); --aov-pfm's albedo and normal ride
+  // along in r.aovs without becoming layers unless named.
+  r.aovs = out.aovs;
+  for (const std::string& a : opt_.aovs) {
+    const char* name = a == "albedo" ? "Albedo" : a == "normal" ? "Normal" : a == "depth" ? "Depth"
+                       : a == "position" ? "Position" : a == "material-id" ? "IndexMA" : nullptr;
+    for (const NamedChannel& l : out.aovs)
+      if (name && l.name == name) r.layers.push_back(l);
+  }
   r.stats = stats_document(opt_, device_, out, renderer.width(), renderer.height(), load_seconds_,
                            reference_ ? &*reference_ : nullptr);
 
@@ -335,6 +356,12 @@ JobResult RenderJob::run_mosaic(const std::atomic<bool>* stop, const Progress& p
   return r;
 }
 
+std::vector<std::string> aov_pfm_paths(const std::string& output) {
+  const std::filesystem::path p(output);
+  const std::string stem = (p.parent_path() / p.stem()).string();
+  return {stem + ".color.pfm", stem + ".albedo.pfm", stem + ".normal.pfm"};
+}
+
 void write_job_image(const Options& opt, const JobResult& result) {
   if (result.samples_per_pixel == 0) {
     log::warn("no sample was taken; " + opt.output + " was not written");
@@ -342,6 +369,16 @@ void write_job_image(const Options& opt, const JobResult& result) {
   }
   write_image(opt.output, result.image, result.metadata, result.layers, result.display);
   log::info("wrote " + opt.output);
+  if (opt.aov_pfm) {
+    const std::vector<std::string> pfm = aov_pfm_paths(opt.output);
+    write_pfm(pfm[0], result.image);
+    for (const NamedChannel& l : result.aovs) {
+      if (l.name == "Albedo") write_pfm(pfm[1], l.image);
+      if (l.name == "Normal") write_pfm(pfm[2], l.image);
+    }
+    log::info("wrote " + pfm[0] + ", " + pfm[1] + ", " + pfm[2] + " (oidnDenoise --hdr " + pfm[0] +
+              " --alb " + pfm[1] + " --nrm " + pfm[2] + " -o denoised.pfm)");
+  }
 }
 
 void write_job_stats(const std::string& where, const nlohmann::json& stats) {

@@ -34,7 +34,12 @@ struct JobResult {
   ImageMetadata metadata;            // the image's, --view and --exposure included
   DisplaySettings display;           // how PNG/JPEG show it
   nlohmann::json stats;              // the --stats document; null for --bdpt-mosaic
+  std::vector<NamedChannel> aovs;    // --aov's first-hit layers (and --aov-pfm's albedo, normal)
 };
+
+// --aov-pfm's three files beside the output: OUTPUT's path without its extension, plus
+// ".color.pfm", ".albedo.pfm", ".normal.pfm".
+std::vector<std::string> aov_pfm_paths(const std::string& output);
 
 class RenderJob {
  public:

@@ -11,7 +11,8 @@ namespace fs = std::filesystem;
 const std::vector<cl::ProgramSpec>& all() {
   static const std::vector<cl::ProgramSpec> list = {kPt,   kAo,        kLt,     kBdpt,
                                                    kPhoton, kPm,      kSppm,   kIc,
-                                                   kIndirect1, kPssmlt, kMmlt, kVcm};
+                                                   kIndirect1, kPssmlt, kMmlt, kVcm,
+                                                   kAov};
   return list;
 }
 

@@ -23,6 +23,7 @@ inline constexpr cl::ProgramSpec kIndirect1{"indirect1", "integrators/indirect1.
 inline constexpr cl::ProgramSpec kPssmlt{"pssmlt", "integrators/mlt.cl", ""};
 inline constexpr cl::ProgramSpec kMmlt{"mmlt", "integrators/mlt.cl", "-DCLPT_MLT_MULTIPLEXED=1"};
 inline constexpr cl::ProgramSpec kVcm{"vcm", "integrators/vcm.cl", ""};
+inline constexpr cl::ProgramSpec kAov{"aov", "integrators/aov.cl", ""};  // --aov, beside any integrator
 
 // All of the above, in this order.
 const std::vector<cl::ProgramSpec>& all();

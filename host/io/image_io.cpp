@@ -81,8 +81,10 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
           ", the image " + std::to_string(image.width) + "x" + std::to_string(image.height));
     for (size_t k = 0; k < l; ++k)
       if (layers[k].name == a.name) bad("is given twice");
+    if (a.channels.size() != 1 && a.channels.size() != 3) bad("needs one or three channels");
   }
-  const int nch = int(3 + 3 * layers.size());
+  int nch = 3;
+  for (const NamedChannel& a : layers) nch += int(a.channels.size());
 
   auto out = OIIO::ImageOutput::create(tmp.string());
   if (!out) fail("no image writer for '" + ext + "' (" + OIIO::geterror() + ")");
@@ -91,7 +93,7 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
   if (!layers.empty()) {
     spec.channelnames = {"R", "G", "B"};
     for (const NamedChannel& a : layers)
-      for (const char* c : {".R", ".G", ".B"}) spec.channelnames.push_back(a.name + c);
+      for (const std::string& c : a.channels) spec.channelnames.push_back(a.name + "." + c);
   }
   if (hdr) spec.attribute("compression", "zip");
   else spec.attribute("oiio:ColorSpace", "sRGB");
@@ -105,14 +107,14 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
   if (hdr && layers.empty()) {
     ok = out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
   } else if (hdr) {
-    // Interleave: R G B, then each layer's R G B, per pixel.
+    // Interleave: R G B, then each layer's channels, per pixel.
     const size_t px = size_t(image.width) * image.height;
     std::vector<float> buf(px * size_t(nch));
     for (size_t i = 0; i < px; ++i) {
       float* dst = &buf[i * size_t(nch)];
-      for (int c = 0; c < 3; ++c) dst[c] = image.rgb[i * 3 + c];
-      for (size_t l = 0; l < layers.size(); ++l)
-        for (int c = 0; c < 3; ++c) dst[3 + 3 * l + c] = layers[l].image.rgb[i * 3 + c];
+      for (int c = 0; c < 3; ++c) *dst++ = image.rgb[i * 3 + c];
+      for (const NamedChannel& l : layers)
+        for (size_t c = 0; c < l.channels.size(); ++c) *dst++ = l.image.rgb[i * 3 + c];
     }
     ok = out->write_image(OIIO::TypeDesc::FLOAT, buf.data());
   } else {
@@ -295,14 +297,27 @@ ImageChannels read_image_channels(const fs::path& path, const ImageLimits& limit
     for (int c = 0; c < 3; ++c) rgb[c] = std::min(c, spec.nchannels - 1);
   out.image = gather(rgb, decode);
 
-  // Layers: every prefix L with all of L.R, L.G, L.B, in the file's channel order.
+  // Layers, in the file's channel order: every prefix L with all of L.R, L.G, L.B, or of
+  // L.X, L.Y, L.Z, or with one channel L.c alone (repeated in all three components).
   for (size_t c = 0; c < spec.channelnames.size() && c < nch; ++c) {
     const std::string& n = spec.channelnames[c];
-    if (n.size() < 3 || n.compare(n.size() - 2, 2, ".R") != 0) continue;
-    const std::string name = n.substr(0, n.size() - 2);
-    const std::array<int, 3> ch = {int(c), channel_index(name + ".G"), channel_index(name + ".B")};
-    if (ch[1] < 0 || ch[2] < 0 || out.layer(name)) continue;
-    out.layers.push_back({name, gather(ch, false)});
+    const size_t dot = n.rfind('.');
+    if (dot == std::string::npos || dot == 0 || dot + 1 == n.size()) continue;
+    const std::string name = n.substr(0, dot), suffix = n.substr(dot + 1);
+    if (out.layer(name)) continue;
+    bool three = false;
+    for (const auto& set : {std::array<const char*, 3>{"R", "G", "B"}, std::array<const char*, 3>{"X", "Y", "Z"}}) {
+      if (suffix != set[0]) continue;
+      const std::array<int, 3> ch = {int(c), channel_index(name + "." + set[1]), channel_index(name + "." + set[2])};
+      if (ch[1] < 0 || ch[2] < 0) continue;
+      out.layers.push_back({name, gather(ch, false), {set[0], set[1], set[2]}});
+      three = true;
+    }
+    if (three) continue;
+    size_t with_prefix = 0;
+    for (const std::string& other : spec.channelnames)
+      with_prefix += other.size() > name.size() && other.compare(0, name.size() + 1, name + ".") == 0;
+    if (with_prefix == 1) out.layers.push_back({name, gather({int(c), int(c), int(c)}, false), {suffix}});
   }
 
   for (const OIIO::ParamValue& p : spec.extra_attribs) {

@@ -64,6 +64,10 @@ inline constexpr const char* kVarianceLayer = "variance";
 struct NamedChannel {
   std::string name;  // layer name, e.g. kVarianceLayer; written as name.R, name.G, name.B
   Image image;       // the same size as the main image
+  // The channels' suffixes: R, G, B (colours), X, Y, Z (vectors), or one (Z for depth, X
+  // for an index) written from the image's first component (the reader repeats it in all
+  // three).
+  std::vector<std::string> channels = {"R", "G", "B"};
 };
 
 // As write_image above, plus the layers as extra float channels when the format is EXR;
@@ -79,7 +83,7 @@ void write_image(const std::filesystem::path& path, const Image& image, const Im
 
 struct ImageChannels {
   Image image;                      // RGB, as read_image returns it
-  std::vector<NamedChannel> layers; // every layer L found with all of L.R, L.G, L.B
+  std::vector<NamedChannel> layers; // every layer L with L.R, L.G, L.B or L.X, L.Y, L.Z, or one channel L.c
   ImageMetadata meta;               // the file's int, float and string attributes
 
   // The layer of that name, or nullptr.

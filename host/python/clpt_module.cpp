@@ -113,6 +113,15 @@ py::array_t<float> to_array(const Image& image) {
   return a;
 }
 
+// A layer: (height, width, 3), or (height, width) for a one-channel layer (Depth, IndexMA).
+py::array_t<float> layer_array(const NamedChannel& l) {
+  if (l.channels.size() != 1) return to_array(l.image);
+  py::array_t<float> a({size_t(l.image.height), size_t(l.image.width)});
+  float* dst = a.mutable_data();
+  for (size_t i = 0; i < size_t(l.image.width) * l.image.height; ++i) dst[i] = l.image.rgb[i * 3];
+  return a;
+}
+
 Image from_array(const py::handle& value, const char* what) {
   const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(value);
   if (!a || a.ndim() != 3 || a.shape(2) != 3 || a.shape(0) < 1 || a.shape(1) < 1)
@@ -149,7 +158,7 @@ Render make_render(JobResult&& r) {
   out.image = to_array(r.image);
   out.variance = r.variance ? py::object(to_array(*r.variance)) : py::none();
   py::dict layers;
-  for (const NamedChannel& l : r.layers) layers[py::str(l.name)] = to_array(l.image);
+  for (const NamedChannel& l : r.layers) layers[py::str(l.name)] = layer_array(l);
   out.layers = layers;
   out.stats = json_to_python(r.stats);
   out.metadata = metadata_dict(r.metadata);
@@ -244,7 +253,7 @@ py::dict read_image_file(const py::handle& file) {
     c = read_image_channels(path, film);
   }
   py::dict layers;
-  for (const NamedChannel& l : c.layers) layers[py::str(l.name)] = to_array(l.image);
+  for (const NamedChannel& l : c.layers) layers[py::str(l.name)] = layer_array(l);
   py::dict d;
   d["image"] = to_array(c.image);
   d["layers"] = layers;

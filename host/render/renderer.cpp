@@ -1,5 +1,7 @@
 #include "render/renderer.h"
 
+#include "shared/aov_types.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -138,6 +140,11 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
       IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons,
                        settings_.final_gather_cache, settings_.mlt, ic, vcm, settings_.indirect});
   integrator_->warm_up(params_, *film_);
+  if (settings_.aovs) {
+    aov_ = std::make_unique<AovPass>(ctx_, *scene_buffers_, width_, height_);
+    aov_->warm_up(params_);
+    stats_.film_device_bytes += aov_->device_bytes();
+  }
   ctx_.finish();
   stats_.kernel_seconds = seconds_since(t0);
   stats_.kernel_from_cache = integrator_->build_info().from_cache;
@@ -201,6 +208,14 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   // after it, so that the progress callback knows which pass is the last. The time limit
   // never ends it before the first pass: a render that took no sample has no image to write
   // (--time 1e-300 used to exit 0 without one).
+  // A resumed render's AOVs: the checkpoint holds the image's sums only, so the AOV samples
+  // it covered are taken again first.
+  if (aov_ && start_spp_ > 0) {
+    dev::RenderParams p = params_;
+    p.sample_offset = 0;
+    p.samples_per_pass = static_cast<uint32_t>(std::min<uint64_t>(start_spp_, AOV_MAX_SAMPLES));
+    aov_->add(p);
+  }
   bool last = target != 0 && done >= target;
   while (!last) {
     if (stop && stop->load()) {
@@ -221,6 +236,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
     p.samples_per_pass = static_cast<uint32_t>(n);
     const auto t0 = Clock::now();
     integrator_->render_pass(p, *film_);
+    if (aov_) aov_->add(p);
     ctx_.finish();
     const double dt = seconds_since(t0);
     done += n;
@@ -247,6 +263,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   stats_.ic = integrator_->ic_stats();
   stats_.vcm = integrator_->vcm_stats();
   out.layers = integrator_->layers(done);
+  if (aov_) out.aovs = aov_->layers(settings_.aovs);
   out.stats = stats_;
   return out;
 }

@@ -11,6 +11,7 @@
 #include "integrators/integrator.h"
 #include "io/image_io.h"
 #include "render/checkpoint.h"
+#include "render/aov.h"
 #include "render/film.h"
 #include "render/light_table.h"
 #include "render/scene_buffers.h"
@@ -30,6 +31,7 @@ struct RenderSettings {
   uint32_t sampler = 0;        // dev::SamplerType
   uint32_t filter = 0;         // dev::PixelFilter of camera samples
   float filter_radius = 0.5f;  // pixels
+  uint32_t aovs = 0;           // AovBits (render/aov.h): first-hit AOVs to render beside the image
   uint32_t direct = 0;         // dev::DirectStrategy
   uint32_t mis = 0;            // dev::MisHeuristic
   uint32_t light_samples = 1;  // shadow rays per vertex
@@ -97,6 +99,7 @@ struct RenderOutput {
   RenderStats stats;
   bool interrupted = false;  // stopped by the stop flag before the target was reached
   std::vector<NamedChannel> layers;  // the integrator's extra images (Integrator::layers)
+  std::vector<NamedChannel> aovs;    // RenderSettings::aovs' layers (AovPass::layers)
 };
 
 class Renderer {
@@ -134,6 +137,7 @@ class Renderer {
   std::unique_ptr<SceneBuffers> scene_buffers_;
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<Film> film_;
+  std::unique_ptr<AovPass> aov_;  // with RenderSettings::aovs only
   uint64_t start_spp_ = 0;  // samples already in the film (restored from a checkpoint)
 };
 

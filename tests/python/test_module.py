@@ -64,6 +64,26 @@ class Module(unittest.TestCase):
         bdpt = clpt.render(SCENE, integrator="bdpt", spp=2, resolution=(8, 8), quiet=True)
         self.assertIsNone(bdpt.variance, "bdpt splats light paths: no per-pixel variance")
 
+    def test_aov_layers_and_pfm_files(self):
+        r = clpt.render(SCENE, spp=4, resolution=(16, 12), aov="albedo,normal,depth,material-id", quiet=True,
+                        output=self.path("a.exr"), aov_pfm=True)
+        self.assertEqual(r.layers["Albedo"].shape, (12, 16, 3))
+        self.assertEqual(r.layers["Normal"].shape, (12, 16, 3))
+        self.assertEqual(r.layers["Depth"].shape, (12, 16), "one-channel layers are 2-D")
+        self.assertEqual(r.layers["IndexMA"].shape, (12, 16))
+        self.assertTrue(np.all(r.layers["Depth"] > 0.0))
+        f = clpt.read_image(self.path("a.exr"))
+        self.assertTrue(np.array_equal(f["layers"]["Depth"], r.layers["Depth"]))
+        self.assertTrue(np.array_equal(f["layers"]["Normal"], r.layers["Normal"]))
+        for name in ("color", "albedo", "normal"):
+            self.assertTrue(os.path.isfile(self.path(f"a.{name}.pfm")), name)
+        with open(self.path("a.albedo.pfm"), "rb") as pfm:  # PF, 16 x 12, little-endian, rows bottom up
+            self.assertEqual(pfm.readline(), b"PF\n")
+            self.assertEqual(pfm.readline(), b"16 12\n")
+            self.assertEqual(pfm.readline(), b"-1.0\n")
+            rows = np.frombuffer(pfm.read(), dtype="<f4").reshape(12, 16, 3)
+        self.assertTrue(np.array_equal(rows[::-1], r.layers["Albedo"]))
+
     def test_stats_are_the_clis_document(self):
         cli = run_cli(SCENE, "--spp", "2", "--resolution", "16x16", "--device", "pocl", "-q",
                       "-o", self.path("a.exr"), "--stats", self.path("a.json"))
