@@ -4,7 +4,7 @@ report comparing them against a high-spp reference.
 
     scripts/efficiency_report.py [--scene scenes/cornell_box.gltf] [--time 4]
         [--resolution 128x128] [--reference-spp 4096 | --reference FILE.exr] [--out report/]
-        [--clpt build/clpt] [--clpt-diff build/clpt-diff] [--quick]
+        [--clpt build/clpt] [--clpt-diff build/clpt-diff] [--backend auto|module|process] [--quick]
 
 Steps:
   1. Reference: two independent halves of --reference-spp samples (different seeds),
@@ -29,7 +29,8 @@ failed or interrupted run never leaves a half-written report. Exit status: 0 wri
 1 failure (message on stderr: a tool missing, a render or comparison failed, the check
 failed), 2 bad command line, 130 interrupted (SIGINT or SIGTERM).
 
-Python 3 standard library only.
+Python 3 standard library; renders go through the clpt Python module in-process where it
+imports (with NumPy; docs/python.md), else through a clpt process each (--backend).
 """
 
 from __future__ import annotations
@@ -103,6 +104,39 @@ class Runner:
     workdir: Path
     commands: list[str] = field(default_factory=list)
     last_cpu: float = 0.0
+    module: object = None  # the clpt Python module, when renders run in-process (--backend module)
+
+    def render_in_process(self, scene: str, args: list[str], what: str, cmd: list[str]) -> None:
+        """The render of `cmd` through the Python module (docs/python.md): the same options,
+        files and statistics, without a process per render. CPU seconds are this process's
+        (PoCL's threads included) over the call."""
+        self.commands.append(shlex.join(cmd) + "  # in-process: clpt.render")
+        kwargs: dict = {}
+        i = 0
+        while i < len(args):  # "--name=value", "--name value" and "--flag" to keywords
+            name, eq, value = args[i][2:].partition("=")
+            key = name.replace("-", "_")
+            if eq:
+                kwargs[key] = value
+            elif i + 1 < len(args) and not args[i + 1].startswith("--"):
+                i += 1
+                kwargs[key] = args[i]
+            else:
+                kwargs[key] = True
+            i += 1
+        if self.device:
+            kwargs["device"] = self.device
+        before = resource.getrusage(resource.RUSAGE_SELF)
+        cwd = os.getcwd()
+        os.chdir(self.workdir)
+        try:
+            self.module.render(scene, quiet=True, **kwargs)
+        except self.module.Error as e:
+            raise ReportError(f"render {what} failed (exit {e.exit_code}):\n  {shlex.join(cmd)}\n{e}")
+        finally:
+            os.chdir(cwd)
+        after = resource.getrusage(resource.RUSAGE_SELF)
+        self.last_cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
     def run(self, cmd: list[str], what: str, timeout: float | None = None) -> str:
         """Runs cmd in the work folder; returns stdout, raises ReportError on failure."""
@@ -134,7 +168,11 @@ class Runner:
                timeout: float | None) -> dict:
         # --variance puts each pixel's variance into the EXR, so clpt-diff can z-test it.
         cmd = self.clpt_cmd(scene, args + ["--variance", f"--stats={stats}", "-o", exr])
-        self.run(cmd, f"render {what}", timeout)
+        if self.module is not None:
+            self.render_in_process(scene, args + ["--variance", f"--stats={stats}", f"--output={exr}"],
+                                   what, cmd)
+        else:
+            self.run(cmd, f"render {what}", timeout)
         if not (self.workdir / exr).is_file():
             raise ReportError(f"render {what}: clpt wrote no image (no sample taken?):\n  "
                               f"{shlex.join(cmd)}")
@@ -164,6 +202,25 @@ class Runner:
                       "-o", png], f"PNG conversion of {what}", timeout=120)
         else:
             self.run(self.clpt_cmd(scene, args + ["-o", png]), f"PNG render of {what}")
+
+
+def load_module(backend: str):
+    """The clpt Python module (build/python, or wherever PYTHONPATH finds it), or None for the
+    process backend. 'module' requires it; 'auto' takes it when it and NumPy import."""
+    if backend == "process":
+        return None
+    build_python = REPO / "build" / "python"
+    if build_python.is_dir() and str(build_python) not in sys.path:
+        sys.path.append(str(build_python))
+    try:
+        import numpy  # noqa: F401  (the module's arrays)
+        import clpt as module
+        return module
+    except ImportError as e:
+        if backend == "module":
+            raise ReportError(f"--backend module: cannot import the clpt module ({e}); build it "
+                              "(CMake option CLPT_PYTHON) or set PYTHONPATH")
+        return None
 
 
 def oiiotool_usable(oiiotool: str) -> bool:
@@ -738,6 +795,9 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
                    "plot, or 'none' [" + ",".join(DEFAULT_CONVERGENCE) + "]")
     p.add_argument("--quick", action="store_true", help="tiny resolution and time, five "
                    "configurations (smoke test, well under a minute)")
+    p.add_argument("--backend", choices=["auto", "module", "process"], default="auto",
+                   help="render through the clpt Python module (in-process) or a clpt process per "
+                        "render [auto: the module when it imports]")
     p.add_argument("--keep-temp", action="store_true", help="keep the temporary folder on failure")
     a = p.parse_args(argv)
     q = QUICK if a.quick else {}
@@ -1020,6 +1080,8 @@ def main(argv: list[str]) -> int:
         prepare_out(out)
         tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
         run = Runner(clpt, clpt_diff, oiiotool, a.device, tmp)
+        run.module = load_module(a.backend)
+        log(f"efficiency_report: renders run {'in-process (clpt module)' if run.module else 'as clpt processes'}")
         t0 = time.monotonic()
         ctx = build_report(a, run, tmp)
         (tmp / "commands.txt").write_text("\n".join(run.commands) + "\n")
