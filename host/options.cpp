@@ -120,8 +120,8 @@ struct Parser {
                    "[independent]")
         ->type_name("NAME");
     app.add_option("--filter", o.filter,
-                   "Pixel filter: box|tent|gaussian|blackman-harris, by filter importance "
-                   "sampling; integrators that splat take box [box]")
+                   "Pixel filter: box|tent|gaussian|blackman-harris (filter importance sampling; "
+                   "lt, bdpt, vcm, mlt filter their splats) [box]")
         ->type_name("NAME");
     app.add_option("--filter-radius", o.filter_radius,
                    "Filter radius in pixels [box 0.5, tent 1, gaussian 1.5, blackman-harris 2]")
@@ -493,12 +493,6 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
       throw Error(ExitCode::Usage, "--checkpoint and --resume are not supported with "
                                    "--integrator " + o.integrator + " (its pixel statistics are not saved)");
   }
-  if (row.film == FilmKind::Splats && (o.filter != "box" || o.filter_radius != 0.5f))
-    // Their light-path strategies splat onto the pixel a point projects to; a filter there
-    // would have to spread each splat over the filter's pixels, which they do not yet.
-    throw Error(ExitCode::Usage, "--filter and --filter-radius are not available with --integrator " +
-                                     o.integrator + ": it splats light paths onto pixels, with the box "
-                                     "filter only (pt, pm, sppm, ic, ao, direct and indirect1 take any)");
   if (row.film == FilmKind::Splats) {
     // Splatted films: no per-pixel sample variance, and float atomics in no fixed order, so a
     // resumed render could not equal an uninterrupted one bit for bit.

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <ostream>
 #include <random>
 #include <string>
@@ -168,12 +169,15 @@ TEST_P(PixelFilterChi2, OffsetsFollowTheFilter) {
 INSTANTIATE_TEST_SUITE_P(Filters, PixelFilterChi2, ::testing::ValuesIn(kCases),
                          [](const ::testing::TestParamInfo<FilterCase>& i) { return std::string(i.param.name); });
 
-// An emitting half-plane x < 0 at z = 0 (radiance 1), a square camera on the z axis: the edge
+// An emitting half-plane x < 0 at z = 0 (radiance 1; a 1.5 x 3 rectangle, beyond the view),
+// a square camera on the z axis: the edge
 // is the film's vertical centre line, a pixel boundary for an even width.
 Scene half_plane_scene() {
   Scene scene;
   test::Mesh quad;
-  quad.positions = {{-40.0f, -40.0f, 0.0f}, {0.0f, -40.0f, 0.0f}, {0.0f, 40.0f, 0.0f}, {-40.0f, 40.0f, 0.0f}};
+  // Just past the view (half a width of 4 tan(0.25) = 1.02 at z = 0): light tracing's
+  // points on it then mostly land on the film.
+  quad.positions = {{-1.5f, -1.5f, 0.0f}, {0.0f, -1.5f, 0.0f}, {0.0f, 1.5f, 0.0f}, {-1.5f, 1.5f, 0.0f}};
   quad.triangles = {{0, 1, 2}, {0, 2, 3}};
   Material light;
   light.base_color = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
@@ -184,11 +188,13 @@ Scene half_plane_scene() {
   return scene;
 }
 
+constexpr uint32_t kEdgeSize = 32;
+
 class PixelFilterEdge : public ::testing::TestWithParam<FilterCase> {};
 
 TEST_P(PixelFilterEdge, EdgeProfileIsTheFiltersCdf) {
   const FilterCase c = GetParam();
-  constexpr uint32_t kSize = 32, kSpp = 256;
+  constexpr uint32_t kSize = kEdgeSize, kSpp = 256;
   RenderSettings s = test::render_settings("pt", kSpp, kSize);
   s.max_depth = 0;
   s.filter = c.filter;
@@ -220,6 +226,80 @@ TEST_P(PixelFilterEdge, EdgeProfileIsTheFiltersCdf) {
 
 INSTANTIATE_TEST_SUITE_P(Filters, PixelFilterEdge, ::testing::ValuesIn(kCases),
                          [](const ::testing::TestParamInfo<FilterCase>& i) { return std::string(i.param.name); });
+
+// The filter where integrators splat (film/splat_filter.cl): lt, bdpt, vcm and mlt must give
+// the half-plane's edge the same profile, CDF(d), and a film filled by an emitter must stay
+// 1 to its edges (each pixel's filter cut at the film's edge and renormalised; pt, by filter
+// importance sampling, gives exactly 1 there). Splatted pixels have no per-pixel variance,
+// so each column's mean is judged over 8 independent renders (Student-t, 7 degrees of
+// freedom, Sidak-corrected over the columns and cases).
+struct SplatCase {
+  const char* integrator;
+  FilterCase filter;
+};
+
+void PrintTo(const SplatCase& c, std::ostream* os) { *os << c.integrator << " " << c.filter.name; }
+
+class PixelFilterSplat : public ::testing::TestWithParam<SplatCase> {};
+
+// Column means (over rows and channels) of `batches` renders of `scene`.
+std::vector<std::vector<double>> column_means(const Scene& scene, const SplatCase& c, uint64_t spp, int batches) {
+  std::vector<std::vector<double>> out;
+  for (int b = 0; b < batches; ++b) {
+    RenderSettings s = test::render_settings(c.integrator, spp, kEdgeSize);
+    s.max_depth = 0;
+    s.filter = c.filter.filter;
+    s.filter_radius = c.filter.radius;
+    const FilmResult film = test::render(scene, s, 101 + uint32_t(b));
+    std::vector<double> cols(kEdgeSize, 0.0);
+    for (uint32_t y = 0; y < kEdgeSize; ++y)
+      for (uint32_t x = 0; x < kEdgeSize; ++x)
+        for (int ch = 0; ch < 3; ++ch) cols[x] += film.mean.rgb[(size_t(y) * kEdgeSize + x) * 3 + size_t(ch)];
+    for (double& v : cols) v /= 3.0 * kEdgeSize;
+    out.push_back(cols);
+  }
+  return out;
+}
+
+// |mean - expected| within the t-bound of the batches' spread (plus float slack).
+void expect_columns(const std::vector<std::vector<double>>& batches, const std::function<double(uint32_t)>& expected,
+                    const std::string& what) {
+  const double t = 6.0;  // two-sided ~1e-4 at 7 dof: Sidak over ~20 cases x ~12 columns at 0.05 overall
+  for (uint32_t x = 0; x < kEdgeSize; ++x) {
+    double mean = 0.0, var = 0.0;
+    for (const auto& b : batches) mean += b[x] / double(batches.size());
+    for (const auto& b : batches) var += (b[x] - mean) * (b[x] - mean) / double(batches.size() - 1);
+    const double se = std::sqrt(var / double(batches.size()));
+    EXPECT_NEAR(mean, expected(x), t * se + 2e-3 * std::fabs(expected(x)) + 1e-6)
+        << what << " column " << x << " (standard error " << se << ")";
+  }
+}
+
+TEST_P(PixelFilterSplat, EdgeProfileIsTheFiltersCdf) {
+  const SplatCase c = GetParam();
+  const auto batches = column_means(half_plane_scene(), c, 32, 8);
+  expect_columns(batches, [&](uint32_t x) {
+    return filter_cdf(c.filter.filter, c.filter.radius, kEdgeSize / 2.0 - (x + 0.5));
+  }, c.integrator);
+}
+
+TEST_P(PixelFilterSplat, AFilmFilledByLightStaysOneToItsEdges) {
+  const SplatCase c = GetParam();
+  Scene scene = half_plane_scene();
+  for (glm::vec3& p : scene.positions) p.x = p.x < -1.0f ? p.x : 1.5f;  // the plane fills the view
+  const auto batches = column_means(scene, c, 16, 8);
+  expect_columns(batches, [](uint32_t) { return 1.0; }, c.integrator);
+}
+
+const SplatCase kSplatCases[] = {
+    {"pt", kCases[4]},   {"pt", kCases[7]},   {"lt", kCases[4]},  {"lt", kCases[7]},
+    {"bdpt", kCases[2]}, {"bdpt", kCases[4]}, {"vcm", kCases[6]}, {"mlt", kCases[4]},
+};
+
+INSTANTIATE_TEST_SUITE_P(Integrators, PixelFilterSplat, ::testing::ValuesIn(kSplatCases),
+                         [](const ::testing::TestParamInfo<SplatCase>& i) {
+                           return std::string(i.param.integrator) + "_" + i.param.filter.name;
+                         });
 
 }  // namespace
 }  // namespace clpt

@@ -66,7 +66,7 @@ void BidirectionalPathTracer::warm_up(const dev::RenderParams& params, Film& fil
                      pool_count_, film.splat(), film.ray_counts(), connection_counts_);
   light_kernel_.launch(ctx_, 1);
   camera_kernel_.args(camera_arg_, params_, none, none, none, vertices_, vertex_counts_,
-                      pool_count_, film.sum(), film.sum_sq(), film.ray_counts(),
+                      pool_count_, film.sum(), film.sum_sq(), film.splat(), film.ray_counts(),
                       connection_counts_);
   camera_kernel_.launch(ctx_, 1);
 }
@@ -84,7 +84,7 @@ void BidirectionalPathTracer::render_pass(const dev::RenderParams& params, Film&
                          pool_count_, film.splat(), film.ray_counts(), connection_counts_);
       light_kernel_.launch(ctx_, count);
       camera_kernel_.args(camera_arg_, params_, sample, first, count, vertices_, vertex_counts_,
-                          pool_count_, film.sum(), film.sum_sq(), film.ray_counts(),
+                          pool_count_, film.sum(), film.sum_sq(), film.splat(), film.ray_counts(),
                           connection_counts_);
       camera_kernel_.launch(ctx_, count);
     }

@@ -111,7 +111,7 @@ void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& fil
                       cache_, cache_count_);
   insert_kernel_.launch(ctx_, 1);
   camera_kernel_.args(camera_arg_, params_, vcm_params_, none, none, none, vertices_,
-                      vertex_counts_, cache_, cache_count_, heads_, next_, film.sum(), film.sum_sq(), merge_sum_,
+                      vertex_counts_, cache_, cache_count_, heads_, next_, film.sum(), film.sum_sq(), film.splat(), merge_sum_,
                       film.ray_counts(), connection_counts_, merge_counts_);
   camera_kernel_.launch(ctx_, 1);
 }
@@ -144,7 +144,7 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
     if (merging) ++stats_.grids;
   }
   camera_kernel_.args(camera_arg_, params_, vcm_params_, sample, first, count, vertices_,
-                      vertex_counts_, cache_, cache_count_, heads_, next_, film.sum(), film.sum_sq(), merge_sum_,
+                      vertex_counts_, cache_, cache_count_, heads_, next_, film.sum(), film.sum_sq(), film.splat(), merge_sum_,
                       film.ray_counts(), connection_counts_, merge_counts_);
   camera_kernel_.launch(ctx_, count);
 }

@@ -362,4 +362,11 @@ bool without_icc_profiles(const unsigned char* p, size_t size, ImageFormat forma
   return false;
 }
 
+std::string image_size_refusal(uint64_t width, uint64_t height, uint64_t max_dimension, uint64_t max_pixels,
+                               const std::string& raise) {
+  if (width <= max_dimension && height <= max_dimension && width * height <= max_pixels) return {};
+  return "the image is " + std::to_string(width) + "x" + std::to_string(height) + ", larger than the limit of " +
+         std::to_string(max_dimension) + " per side and " + std::to_string(max_pixels) + " pixels (" + raise + ")";
+}
+
 }  // namespace clpt

@@ -26,6 +26,12 @@ const char* oiio_format_name(ImageFormat format);
 // these or the header is cut off.
 bool image_header_size(const unsigned char* data, size_t size, uint64_t* width, uint64_t* height);
 
+// Empty when a width x height image is within max_dimension per side and max_pixels in all;
+// else the one message every reader gives ("the image is WxH, larger than the limit of ...
+// (RAISE)"), `raise` saying how to raise the limits.
+std::string image_size_refusal(uint64_t width, uint64_t height, uint64_t max_dimension, uint64_t max_pixels,
+                               const std::string& raise);
+
 // A PNG's chunk structure (after its signature): every chunk within the data, with a correct
 // CRC-32, IHDR first, IEND present. False with a reason naming the chunk otherwise.
 bool check_png_chunks(const unsigned char* data, size_t size, std::string* why);

@@ -160,10 +160,8 @@ OpenImage open_image(const fs::path& path, const ImageLimits& limits) {
   check_regular_input(path, "");
   auto fail = [&](const std::string& why) { throw Error(ExitCode::BadInput, path.string() + ": " + why); };
   auto check_size = [&](uint64_t w, uint64_t h) {
-    if (w > limits.max_dimension || h > limits.max_dimension || w * h > limits.max_pixels)
-      fail("the image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than the limit of " +
-           std::to_string(limits.max_dimension) + " per side and " + std::to_string(limits.max_pixels) + " pixels (" +
-           limits.raise + ")");
+    const std::string why = image_size_refusal(w, h, limits.max_dimension, limits.max_pixels, limits.raise);
+    if (!why.empty()) fail(why);
   };
   std::ifstream file(path, std::ios::binary);
   if (!file) fail("cannot open the file");

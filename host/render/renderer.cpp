@@ -83,6 +83,9 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   params_.sampler = settings_.sampler;
   params_.filter = settings_.filter;
   params_.filter_radius = settings_.filter_radius;
+  // Integrators that splat apply the filter where they add (film/splat_filter.cl), the others
+  // by drawing their camera samples from it (camera/pixel_filter.cl).
+  params_.filter_splat = row.film == FilmKind::Splats ? 1u : 0u;
   params_.direct = settings_.direct;
   params_.mis = settings_.mis;
   params_.light_samples = std::max<uint32_t>(1, settings_.light_samples);

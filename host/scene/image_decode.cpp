@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <memory>
+#include <utility>
 
 #include "io/image_bytes.h"
 #include "util/text.h"
@@ -35,10 +36,9 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
     return false;
   }
   auto too_large = [&](uint64_t w, uint64_t h) {
-    if (w <= max_dimension && h <= max_dimension && w * h <= max_pixels) return false;
-    *why = "the image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than the limit of " +
-           std::to_string(max_dimension) + " per side and " + std::to_string(max_pixels) +
-           " pixels (--limit image-dimension=N, image-pixels=N)";
+    std::string refusal = image_size_refusal(w, h, max_dimension, max_pixels, "--limit image-dimension=N, image-pixels=N");
+    if (refusal.empty()) return false;
+    *why = std::move(refusal);
     return true;
   };
   // The size from the header first: a decoder may allocate the whole image when it opens it.

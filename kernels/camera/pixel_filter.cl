@@ -108,12 +108,71 @@ static inline float filter_sample_1d(u32 filter, float r, float u) {
   return clamp(x, -r, r);
 }
 
+/* P(offset < x) for the filter of radius r; x is clamped to [-r, r]. */
+static inline float filter_cdf_1d(u32 filter, float r, float x) {
+  x = clamp(x, -r, r);
+  switch (filter) {
+    case FILTER_TENT: {
+      const float a = (x + r) / r; /* in [0, 2] */
+      return x < 0.0f ? 0.5f * a * a : 1.0f - 0.5f * (2.0f - a) * (2.0f - a);
+    }
+    case FILTER_GAUSSIAN:
+      return 0.5f * (1.0f + erf(x * 3.0f / (r * 1.41421356f)) / 0.99730020f);
+    case FILTER_BLACKMAN_HARRIS:
+      return filter_bh_cdf((x + r) / (2.0f * r));
+    default: /* FILTER_BOX */
+      return (x + r) / (2.0f * r);
+  }
+}
+
+/* The filter's density at offset x (per pixel), normalised over [-r, r]; 0 outside. */
+static inline float filter_density_1d(u32 filter, float r, float x) {
+  if (!(fabs(x) < r)) return 0.0f;
+  switch (filter) {
+    case FILTER_TENT:
+      return (1.0f - fabs(x) / r) / r;
+    case FILTER_GAUSSIAN: {
+      const float sigma = r / 3.0f;
+      return exp(-0.5f * x * x / (sigma * sigma)) / (sigma * 2.50662827f * 0.99730020f);
+    }
+    case FILTER_BLACKMAN_HARRIS:
+      return filter_bh_pdf((x + r) / (2.0f * r)) / (2.0f * r);
+    default: /* FILTER_BOX */
+      return 0.5f / r;
+  }
+}
+
+/* An offset drawn from the filter restricted to [lo, hi] (a pixel near the film's edge: its
+ * filter is cut at the edge and renormalised), by inverting the CDF over that interval. */
+static inline float filter_sample_1d_in(u32 filter, float r, float lo, float hi, float u) {
+  if (lo <= -r && hi >= r) return filter_sample_1d(filter, r, u);
+  const float c0 = filter_cdf_1d(filter, r, lo), c1 = filter_cdf_1d(filter, r, hi);
+  return clamp(filter_sample_1d(filter, r, c0 + u * (c1 - c0)), lo, hi);
+}
+
+/* The share of the filter of the pixel whose centre is c (in [0, n) pixels along an axis)
+ * that lies on the film [0, n]: what its cut filter is renormalised by. */
+static inline float filter_mass_on_film(u32 filter, float r, float c, float n) {
+  return filter_cdf_1d(filter, r, n - c) - filter_cdf_1d(filter, r, -c);
+}
+
 /* The film offset of a sample inside the pixel's [0, 1)^2 frame (0.5 is the centre; a wide
  * filter reaches past 0 and 1), from the sample's pixel dimensions u. The box of radius 0.5,
  * the default, is u itself: images without --filter are as they always were. */
 static inline float2 pixel_filter_jitter(u32 filter, float radius, float2 u) {
   if (filter == FILTER_BOX && radius == 0.5f) return u;
   return (float2)(0.5f + filter_sample_1d(filter, radius, u.x), 0.5f + filter_sample_1d(filter, radius, u.y));
+}
+
+/* As pixel_filter_jitter for pixel (x, y) of a width x height film, with the filter cut at the
+ * film's edges: every sample lands on the film, and a pixel's mean is the image under its
+ * filter renormalised over the film (what a splatted filter gives too, film/splat_filter.cl). */
+static inline float2 pixel_filter_jitter_on_film(u32 filter, float radius, u32 x, u32 y, u32 width,
+                                                 u32 height, float2 u) {
+  if (filter == FILTER_BOX && radius == 0.5f) return u;
+  const float cx = (float)x + 0.5f, cy = (float)y + 0.5f;
+  return (float2)(0.5f + filter_sample_1d_in(filter, radius, -cx, (float)width - cx, u.x),
+                  0.5f + filter_sample_1d_in(filter, radius, -cy, (float)height - cy, u.y));
 }
 
 #endif

@@ -22,18 +22,23 @@ static inline void jittered_pixel_ray(__constant const RenderParams* p, const Sa
 
 static inline void pixel_ray(__constant const RenderParams* p, const Sampler* sampler, u32 x, u32 y,
                              float3* org, float3* dir) {
-  jittered_pixel_ray(p, sampler, x, y, pixel_filter_jitter(p->filter, p->filter_radius, sample_2d(sampler, DIM_PIXEL)),
+  const float2 u = sample_2d(sampler, DIM_PIXEL);
+  jittered_pixel_ray(p, sampler, x, y,
+                     p->filter_splat ? u
+                                     : pixel_filter_jitter_on_film(p->filter, p->filter_radius, x, y, p->width,
+                                                                   p->height, u),
                      org, dir);
 }
 
 /* DIM_PIXEL spans the whole image: u in [0,1)^2 is the raster position (u.x * width,
  * u.y * height), so a uniform u is the same film density as pixel_ray over uniform pixels.
- * Returns the pixel it falls in. */
+ * Returns the pixel it falls in, and the raster position in *raster. */
 static inline u32 film_sample_ray(__constant const RenderParams* p, const Sampler* sampler,
                                   float3* org,
-                                  float3* dir) {
+                                  float3* dir, float2* raster) {
   const float2 u = sample_2d(sampler, DIM_PIXEL);
   const float fx = u.x * (float)p->width, fy = u.y * (float)p->height;
+  *raster = (float2)(fx, fy);
   const u32 x = min((u32)fx, p->width - 1u), y = min((u32)fy, p->height - 1u);
   jittered_pixel_ray(p, sampler, x, y, (float2)(fx - (float)x, fy - (float)y), org, dir);
   return y * p->width + x;

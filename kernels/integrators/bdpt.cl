@@ -11,6 +11,7 @@
 #include "integrators/bdpt/camera_path.cl"
 #include "integrators/bdpt/light_path.cl"
 #include "film/film.cl"
+#include "film/splat_filter.cl"
 
 __kernel void bdpt_light(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 sample_index,
                          u32 path_offset, u32 path_count, __global PathVertex* vertices,
@@ -34,7 +35,7 @@ __kernel void bdpt_camera(SCENE_KERNEL_ARGS __constant const RenderParams* param
                           u32 path_offset, u32 path_count, __global const PathVertex* vertices,
                           __global const u32* vertex_counts, __global const u32* pool_count,
                           __global float4* film_sum,
-                          __global float4* film_sum_sq, __global u32* ray_counts,
+                          __global float4* film_sum_sq, __global float4* splat, __global u32* ray_counts,
                           __global u32* connection_counts) {
   const u32 i = get_global_id(0);
   if (i >= path_count) return;
@@ -45,11 +46,12 @@ __kernel void bdpt_camera(SCENE_KERNEL_ARGS __constant const RenderParams* param
   FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
   /* With light vertex caching the whole tile's cache, else this pixel's own light subpath. */
   const bool lvc = params->bdpt_lvc != 0u;
-  film_add(&film, bdpt_camera_path(params, &scene, &sampler, pixel % params->width,
+  const float3 L = bdpt_camera_path(params, &scene, &sampler, pixel % params->width,
                                    pixel / params->width,
                                    lvc ? vertices : vertices + (size_t)i * params->light_vertex_capacity,
                                    lvc ? pool_count[0] : vertex_counts[i], path_count, &rays,
-                                   &connections));
+                                   &connections);
+  if (!film_camera_splat(params, splat, &sampler, pixel, L)) film_add(&film, L);
   film_store(film_sum, film_sum_sq, pixel, &film);
   ray_counts[pixel] += rays;
   connection_counts[pixel] += connections;

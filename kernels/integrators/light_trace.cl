@@ -37,7 +37,7 @@ static inline void lt_connect_surface(__constant const RenderParams* p, const Sc
   ++*rays;
   const float3 org = offset_ray_origin_towards(sh->p, sh->ng, wi);
   if (intersect_any(s, org, wi, c.dist * (1.0f - 1e-4f))) return;
-  film_splat(splat, splat_pixel(p, &c), beta * f * c.weight);
+  film_splat_at(p, splat, c.raster, beta * f * c.weight);
 }
 
 /* One light path. */
@@ -64,7 +64,7 @@ static inline void lt_trace(__constant const RenderParams* p, const SceneView* s
       ++*rays;
       if (!intersect_any(s, offset_ray_origin_towards(e.p, ng, to_cam), to_cam,
                          c.dist * (1.0f - 1e-4f)))
-        film_splat(splat, splat_pixel(p, &c),
+        film_splat_at(p, splat, c.raster,
                    e.Le * (fabs(dot(ng, to_cam)) * c.weight / (e.pdf_select * e.pdf_a)));
     }
     org = offset_ray_origin_towards(e.p, ng, e.dir);

@@ -43,7 +43,7 @@ __kernel void mlt_start(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   ch.weight = 0.0f;
   ch.large_proposed = ch.large_accepted = ch.small_proposed = ch.small_accepted = 0u;
   ch.depth = start[c] % mlt->depths;
-  ch.pad = 0u;
+  ch.frac = 0u;
   const u32 dims = mlt_chain_dims(mlt, ch.depth);
   pss_chain_start(&ch, vector, mlt->dim_stride, dims, mlt_bootstrap_key(mlt->seed, start[c]));
   const Sampler sampler = pss_current(&ch, vector, mlt->dim_stride, dims);
@@ -52,6 +52,7 @@ __kernel void mlt_start(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   vstore3(x.L, 0, ch.color);
   ch.target = x.target;
   ch.pixel = x.pixel;
+  ch.frac = mlt_pack_frac(params, x);
   chains[c] = ch;
   atomic_add(ray_counts + c % (params->width * params->height), rays);
 }
@@ -70,7 +71,7 @@ __kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params
   const MltDepth n = depths[ch.depth];
   u32 rays = 0;
   for (u32 i = 0; i < mlt->mutations; ++i) mlt_step(&scene, params, mlt, n, &ch, vector, key, importance, splat, &rays);
-  mlt_flush(mlt, n, &ch, splat);
+  mlt_flush(params, mlt, n, &ch, splat);
   chains[c] = ch;
   atomic_add(ray_counts + c % (params->width * params->height), rays);
 }

@@ -12,6 +12,7 @@
  * Ray counts, strategy shadow rays (connection_counts), stored light vertices and merges are
  * counted per pixel index for --stats. */
 #include "film/film.cl"
+#include "film/splat_filter.cl"
 #include "integrators/vcm/vcm_path.cl"
 
 __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
@@ -54,7 +55,7 @@ __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params
                          __global const u32* vertex_counts, __global const u32* cache,
                          __global const u32* cache_count, __global const u32* heads,
                          __global const u32* next, __global float4* film_sum,
-                         __global float4* film_sum_sq, __global float4* merge_sum,
+                         __global float4* film_sum_sq, __global float4* splat, __global float4* merge_sum,
                          __global u32* ray_counts, __global u32* connection_counts,
                          __global u32* merge_counts) {
   const u32 i = get_global_id(0);
@@ -71,7 +72,7 @@ __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params
       vcm_mode_connects(vcm->mode) ? vertex_counts[i] : 0u, vertices,
       cache, params->bdpt_lvc ? cache_count[0] : 0u, heads, next, &merged, &rays, &connections,
       &merges);
-  film_add(&film, L);
+  if (!film_camera_splat(params, splat, &sampler, pixel, L)) film_add(&film, L);
   film_store(film_sum, film_sum_sq, pixel, &film);
   if (is_finite3(merged)) merge_sum[pixel].xyz += merged;
   ray_counts[pixel] += rays;

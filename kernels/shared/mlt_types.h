@@ -68,7 +68,8 @@ typedef struct MltChain {
   u32 small_proposed;
   u32 small_accepted;
   u32 depth;          /* mmlt: the bounces of every path of this chain (pssmlt: 0) */
-  u32 pad;
+  u32 frac;           /* its film position within the pixel, two unorm16 (x low, y high), for a
+                         splat through the pixel filter */
 } MltChain;
 
 CLPT_END_SHARED

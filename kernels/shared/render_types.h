@@ -79,6 +79,11 @@ typedef struct RenderParams {
   float sppm_alpha;     /* sppm: fraction of new photons kept per pass (Hachisuka's alpha) */
   u32 filter;           /* PixelFilter of the camera samples' film positions */
   float filter_radius;  /* its radius in pixels (box 0.5: one pixel, the plain jitter) */
+  u32 filter_splat;     /* 1: the filter is applied where contributions are added (integrators
+                         * that splat: camera samples jitter in their pixel and every
+                         * contribution is spread over the pixels whose filters reach it);
+                         * 0: camera samples are drawn from it (filter importance sampling) */
+  u32 pad;
 } RenderParams;
 
 #define BDPT_ALL_STRATEGIES 0xffffffffu

@@ -31,12 +31,12 @@ static inline float2 bdpt_light_sample_2d(const Sampler* sampler, u32 dim) {
 
 /* t = 1: light vertex sh (oriented to wo, towards the light, at bounce `depth`) connected
  * to the camera through lens point u_lens. Returns its weighted contribution to the film and
- * sets *pixel to where it lands; 0 when the strategy is off, the camera cannot see the vertex
+ * sets *raster to its film position; 0 when the strategy is off, the camera cannot see the vertex
  * or the shadow ray is blocked. */
 static inline float3 bdpt_camera_connection(__constant const RenderParams* p, const MisMerge* m,
                                             const SceneView* s, const SurfaceHit* sh, float3 wo,
                                             const SubpathState* st, u32 depth, float2 u_lens,
-                                            u32* pixel,
+                                            float2* raster,
                                             u32* rays, u32* connections) {
   const float strategy = bdpt_strategy_weight(p, depth + 1u, 1u, 1.0f);
   if (strategy == 0.0f) return (float3)(0.0f);
@@ -51,7 +51,7 @@ static inline float3 bdpt_camera_connection(__constant const RenderParams* p, co
   ++*connections;
   const float3 org = offset_ray_origin_towards(sh->p, sh->ng, c.wi);
   if (intersect_any(s, org, c.wi, c.dist * (1.0f - 1e-4f))) return (float3)(0.0f);
-  *pixel = splat_pixel(p, &c);
+  *raster = c.raster;
   return st->beta * f * (c.weight * w);
 }
 
@@ -60,11 +60,11 @@ static inline void bdpt_connect_camera(__constant const RenderParams* p, const S
                                        const SurfaceHit* sh, float3 wo, const SubpathState* st,
                                        u32 depth, float2 u_lens, __global float4* splat, u32* rays,
                                        u32* connections) {
-  u32 pixel = 0u;
+  float2 raster = (float2)(0.0f);
   const MisMerge none = mis_no_merging();
   const float3 L =
-      bdpt_camera_connection(p, &none, s, sh, wo, st, depth, u_lens, &pixel, rays, connections);
-  if (!is_black(L)) film_splat(splat, pixel, L);
+      bdpt_camera_connection(p, &none, s, sh, wo, st, depth, u_lens, &raster, rays, connections);
+  if (!is_black(L)) film_splat_at(p, splat, raster, L);
 }
 
 /* The start of a light subpath: a light, a point on it and a direction from the light stream's

@@ -18,6 +18,7 @@
 #define CLPT_INTEGRATORS_MLT_CHAIN_CL
 
 #include "film/splat.cl"
+#include "film/splat_filter.cl"
 #include "integrators/mlt/mmlt_path.cl"
 #include "integrators/mlt/pss_path.cl"
 
@@ -55,12 +56,31 @@ static inline float3 mlt_splat_value(__constant const MltParams* m, MltDepth n, 
   return density > 0.0f ? L * (w * m->splat_scale * n.chain_scale / density) : (float3)(0.0f);
 }
 
+/* A path's film position within its pixel, as two unorm16 (MltChain.frac: x low, y high). */
+static inline u32 mlt_pack_frac(__constant const RenderParams* p, PssPath x) {
+  const float fx = x.raster.x - (float)(x.pixel % p->width), fy = x.raster.y - (float)(x.pixel / p->width);
+  return (u32)clamp(fx * 65536.0f, 0.0f, 65535.0f) | ((u32)clamp(fy * 65536.0f, 0.0f, 65535.0f) << 16);
+}
+
+/* A splat into `pixel`, or with a pixel filter (film/splat_filter.cl) around the film position
+ * `frac` places in it. */
+static inline void mlt_splat(__constant const RenderParams* p, __global float4* splat, u32 pixel, u32 frac,
+                             float3 L) {
+  if (!p->filter_splat || (p->filter == FILTER_BOX && p->filter_radius == 0.5f)) {
+    film_splat(splat, pixel, L);
+    return;
+  }
+  const float2 raster = (float2)((float)(pixel % p->width) + (float)(frac & 0xffffu) * (1.0f / 65536.0f),
+                                 (float)(pixel / p->width) + (float)(frac >> 16) * (1.0f / 65536.0f));
+  film_splat_at(p, splat, raster, L);
+}
+
 /* Splats the current state's gathered weight. */
-static inline void mlt_flush(__constant const MltParams* m, MltDepth n, MltChain* ch,
-                             __global float4* splat) {
+static inline void mlt_flush(__constant const RenderParams* p, __constant const MltParams* m, MltDepth n,
+                             MltChain* ch, __global float4* splat) {
   if (ch->weight > 0.0f && ch->target > 0.0f)
-    film_splat(splat, ch->pixel,
-               mlt_splat_value(m, n, vload3(0, ch->color), ch->target, ch->weight));
+    mlt_splat(p, splat, ch->pixel, ch->frac,
+              mlt_splat_value(m, n, vload3(0, ch->color), ch->target, ch->weight));
   ch->weight = 0.0f;
 }
 
@@ -75,8 +95,8 @@ static inline void mlt_step(const SceneView* s, __constant const RenderParams* p
   const PssPath y = mlt_path(s, p, &proposal, ch->depth, importance, rays);
   const float a = pss_acceptance(y.target, ch->target);
   if (y.target > 0.0f)
-    film_splat(splat, y.pixel,
-               mlt_splat_value(m, n, y.L, y.target, a + (proposal.large_step ? 1.0f : 0.0f)));
+    mlt_splat(p, splat, y.pixel, mlt_pack_frac(p, y),
+              mlt_splat_value(m, n, y.L, y.target, a + (proposal.large_step ? 1.0f : 0.0f)));
   ch->weight += 1.0f - a;
   const bool accepted = pss_accept_u(&proposal) < a;
   if (proposal.large_step) {
@@ -87,10 +107,11 @@ static inline void mlt_step(const SceneView* s, __constant const RenderParams* p
     ch->small_accepted += accepted ? 1u : 0u;
   }
   if (accepted) {
-    mlt_flush(m, n, ch, splat);
+    mlt_flush(p, m, n, ch, splat);
     vstore3(y.L, 0, ch->color);
     ch->target = y.target;
     ch->pixel = y.pixel;
+    ch->frac = mlt_pack_frac(p, y);
     pss_accept(ch, &proposal);
   } else {
     pss_reject(ch, &proposal);

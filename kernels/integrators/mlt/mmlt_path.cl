@@ -66,14 +66,15 @@ static inline u32 mmlt_light_vertices(const Sampler* sampler, u32 depth) {
 
 /* The camera subpath, traced to its vertex t - 1 and closed there by strategy (s, t) with the
  * light vertex y (s >= 2). Returns the weighted contribution f_st w_st; *pixel is the
- * film position's pixel. */
+ * film position's pixel, *raster the film position. */
 static inline float3 mmlt_camera_strategy(__constant const RenderParams* p, const SceneView* s,
                                           const Sampler* sampler, u32 s_count, u32 t_count,
-                                          const MmltLightVertex* y, u32* pixel, u32* rays) {
+                                          const MmltLightVertex* y, u32* pixel, float2* raster,
+                                          u32* rays) {
   u32 connections = 0u;
   const MisMerge none = mis_no_merging();
   float3 org, dir;
-  *pixel = film_sample_ray(p, sampler, &org, &dir);
+  *pixel = film_sample_ray(p, sampler, &org, &dir, raster);
   SubpathState st = bdpt_camera_start(p, dir);
   PathWalk w = walk_from_camera(org, dir, 0u, 0u);
   w.roulette = WALK_RR_NONE;
@@ -110,6 +111,7 @@ static inline PssPath mmlt_path(const SceneView* s, __constant const RenderParam
   path.L = (float3)(0.0f);
   path.target = 0.0f;
   path.pixel = 0u;
+  path.raster = (float2)(0.0f);
   const u32 n = depth == 0u ? 1u : depth + 2u;
   const u32 s_count = mmlt_light_vertices(sampler, depth);
   const u32 t_count = depth + 2u - s_count;
@@ -121,9 +123,10 @@ static inline PssPath mmlt_path(const SceneView* s, __constant const RenderParam
     path.L = bdpt_camera_connection(p, &none, s, &y.sh, y.wo, &y.st, s_count - 1u,
                                     bdpt_light_sample_2d(sampler, bounce_dim(s_count - 1u,
                                     DIM_LT_LENS)),
-                                    &path.pixel, rays, &connections);
+                                    &path.raster, rays, &connections);
+    path.pixel = film_pixel_of(p, path.raster);
   } else {
-    path.L = mmlt_camera_strategy(p, s, sampler, s_count, t_count, &y, &path.pixel, rays);
+    path.L = mmlt_camera_strategy(p, s, sampler, s_count, t_count, &y, &path.pixel, &path.raster, rays);
   }
   path.L *= (float)n;
   const float v = luminance(path.L);

@@ -12,13 +12,14 @@ typedef struct PssPath {
   float3 L;        /* the path's contribution C (radiance, pt's estimate for one sample) */
   float target;    /* I = luminance(C); 0 for a black or non-finite C */
   u32 pixel;       /* where its film position falls */
+  float2 raster;   /* its film position (pixels), for a splat through the pixel filter */
 } PssPath;
 
 static inline PssPath pss_path(const SceneView* s, __constant const RenderParams* p,
                                const Sampler* sampler, u32* rays) {
   PssPath path;
   float3 org, dir;
-  path.pixel = film_sample_ray(p, sampler, &org, &dir);
+  path.pixel = film_sample_ray(p, sampler, &org, &dir, &path.raster);
   path.L = pt_radiance(s, p, sampler, org, dir, rays);
   const float y = luminance(path.L);
   path.target = is_finite3(path.L) && y > 0.0f ? y : 0.0f;

@@ -62,11 +62,11 @@ static inline u32 vcm_light_path(__constant const RenderParams* p, __constant co
       if (store && stored < p->light_vertex_capacity)
         path_vertex_store(out + stored++, &w.sh, w.wo, &st, depth);
       if (connect) {
-        u32 pixel = 0u;
+        float2 raster = (float2)(0.0f);
         const float3 L = bdpt_camera_connection(p, &m, s, &w.sh, w.wo, &st, depth,
                                                 sample_2d(sampler, walk_dim(&w, DIM_LT_LENS)),
-                                                &pixel, rays, connections);
-        if (!is_black(L)) film_splat(splat, pixel, L);
+                                                &raster, rays, connections);
+        if (!is_black(L)) film_splat_at(p, splat, raster, L);
       }
     }
     if (depth >= p->max_depth) break;
