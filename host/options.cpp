@@ -595,9 +595,9 @@ std::optional<Options> parse_options(int argc, const char* const* argv) {
     throw Error(ExitCode::Usage, "--bdpt-unweighted needs --bdpt-strategy S,T or --bdpt-mosaic");
   if (o.bdpt_mosaic && !o.bdpt_strategy.empty())
     throw Error(ExitCode::Usage, "--bdpt-mosaic renders every strategy: leave out --bdpt-strategy");
-  if (o.bdpt_mosaic && (o.reference.size() || o.stats || o.save_every > 0.0))
-    throw Error(ExitCode::Usage, "--bdpt-mosaic writes a mosaic image: --reference, --stats and "
-                                 "--save-every do not apply");
+  if (o.bdpt_mosaic && (o.reference.size() || o.stats || o.save_every > 0.0 || !o.aovs.empty() || o.aov_pfm))
+    throw Error(ExitCode::Usage, "--bdpt-mosaic writes a mosaic image: --reference, --stats, "
+                                 "--save-every, --aov and --aov-pfm do not apply");
   if (!o.bdpt_strategy.empty()) {
     uint32_t s = 0, t = 0;
     if (!parse_strategy(o.bdpt_strategy, &s, &t))

@@ -173,6 +173,7 @@ TEST(AovOptions, NamesAreChecked) {
   // variance in --aov is --variance, with its limits.
   EXPECT_EQ(test::parse_error({"s.gltf", "--integrator", "bdpt", "--aov", "variance"}), ExitCode::Usage);
   EXPECT_EQ(test::parse_error({"s.gltf", "--integrator", "bdpt", "--aov", "albedo,normal"}), ExitCode::Ok);
+  EXPECT_EQ(test::parse_error({"s.gltf", "--integrator", "bdpt", "--bdpt-mosaic", "--aov", "albedo"}), ExitCode::Usage);
 }
 
 }  // namespace
