@@ -2,9 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
-#include <unistd.h>
 
 #include "app/bdpt_mosaic.h"
 #include "app/stats_document.h"
@@ -19,6 +17,7 @@
 #include "shared/photon_types.h"
 #include "shared/vcm_types.h"
 #include "stats/image_stats.h"
+#include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/log.h"
 
@@ -49,11 +48,10 @@ ImageMetadata image_metadata(const Options& opt, const std::string& device, uint
   meta.strings = {{"Software", std::string("clpt ") + CLPT_VERSION},
                   {"clpt:integrator", opt.integrator},
                   {"clpt:device", device},
-                  {"clpt:scene", opt.scene}};
+                  {"clpt:scene", opt.scene},
+                  {"clpt:filter", opt.filter}};
   meta.ints = {{"clpt:spp", int(spp)}, {"clpt:seed", int(opt.seed)}, {"clpt:max_depth", int(opt.max_depth)}};
-  meta.floats = {{"clpt:render_seconds", float(seconds)}};
-  meta.strings.emplace_back("clpt:filter", opt.filter);
-  meta.floats.emplace_back("clpt:filter_radius", opt.filter_radius);
+  meta.floats = {{"clpt:render_seconds", float(seconds)}, {"clpt:filter_radius", opt.filter_radius}};
   return meta;
 }
 
@@ -85,9 +83,7 @@ RenderSettings render_settings(const Options& opt) {
                     : opt.filter == "blackman-harris" ? dev::FILTER_BLACKMAN_HARRIS
                                                       : dev::FILTER_BOX;
   settings.filter_radius = opt.filter_radius > 0.0f ? opt.filter_radius : filter_default_radius(opt.filter);
-  for (const std::string& a : opt.aovs)
-    settings.aovs |= a == "albedo" ? AOV_ALBEDO : a == "normal" ? AOV_NORMAL : a == "depth" ? AOV_DEPTH
-                     : a == "position" ? AOV_POSITION : a == "material-id" ? AOV_MATERIAL_ID : 0u;
+  for (const std::string& a : opt.aovs) settings.aovs |= aov_bit(a);
   if (opt.aov_pfm) settings.aovs |= AOV_ALBEDO | AOV_NORMAL;
   settings.direct = opt.direct == "light" ? dev::DIRECT_LIGHT
                     : opt.direct == "bsdf" ? dev::DIRECT_BSDF
@@ -170,12 +166,8 @@ RenderJob::RenderJob(const Options& opt, bool writes_image) : opt_(opt), writes_
   // once the render's size is known and the header matches it (no allocation sized by an
   // unchecked header).
   if (!opt_.reference.empty()) {
-    ImageLimits any_film;  // a reference is compared with the film: no larger than the largest
-    any_film.max_dimension = kMaxFilmSide;
-    any_film.max_pixels = uint64_t{kMaxFilmSide} * kMaxFilmSide;
-    any_film.raise = "no film is larger";
     try {
-      reference_size_ = read_image_size(opt_.reference, any_film);
+      reference_size_ = read_image_size(opt_.reference, film_image_limits("no film is larger"));
     } catch (const Error& e) {
       throw Error(e.code(), std::string("--reference ") + e.what());
     }
@@ -310,10 +302,9 @@ JobResult RenderJob::run(const std::atomic<bool>* stop, const Progress& progress
   // along in r.aovs without becoming layers unless named.
   r.aovs = out.aovs;
   for (const std::string& a : opt_.aovs) {
-    const char* name = a == "albedo" ? "Albedo" : a == "normal" ? "Normal" : a == "depth" ? "Depth"
-                       : a == "position" ? "Position" : a == "material-id" ? "IndexMA" : nullptr;
+    const uint32_t bit = aov_bit(a);  // 0 for variance, added above
     for (const NamedChannel& l : out.aovs)
-      if (name && l.name == name) r.layers.push_back(l);
+      if (bit && l.name == aov_layer_name(bit)) r.layers.push_back(l);
   }
   r.stats = stats_document(opt_, device_, out, renderer.width(), renderer.height(), load_seconds_,
                            reference_ ? &*reference_ : nullptr);
@@ -373,8 +364,8 @@ void write_job_image(const Options& opt, const JobResult& result) {
     const std::vector<std::string> pfm = aov_pfm_paths(opt.output);
     write_pfm(pfm[0], result.image);
     for (const NamedChannel& l : result.aovs) {
-      if (l.name == "Albedo") write_pfm(pfm[1], l.image);
-      if (l.name == "Normal") write_pfm(pfm[2], l.image);
+      if (l.name == aov_layer_name(AOV_ALBEDO)) write_pfm(pfm[1], l.image);
+      if (l.name == aov_layer_name(AOV_NORMAL)) write_pfm(pfm[2], l.image);
     }
     log::info("wrote " + pfm[0] + ", " + pfm[1] + ", " + pfm[2] + " (oidnDenoise --hdr " + pfm[0] +
               " --alb " + pfm[1] + " --nrm " + pfm[2] + " -o denoised.pfm)");
@@ -387,18 +378,9 @@ void write_job_stats(const std::string& where, const nlohmann::json& stats) {
     std::cout << text << std::flush;
     return;
   }
-  const std::string tmp = where + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::trunc);
-    if (!(f << text) || !f.flush()) {
-      std::remove(tmp.c_str());
-      throw Error(ExitCode::Output, "cannot write statistics to " + where);
-    }
-  }
-  if (std::rename(tmp.c_str(), where.c_str()) != 0) {
-    std::remove(tmp.c_str());
+  std::string why;
+  if (!write_file_atomically(where, [&](std::ostream& out) { out << text; }, &why))
     throw Error(ExitCode::Output, "cannot write statistics to " + where);
-  }
 }
 
 }  // namespace clpt

@@ -46,6 +46,14 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
   write_image(path, image, meta, {});
 }
 
+ImageLimits film_image_limits(const std::string& raise) {
+  ImageLimits limits;
+  limits.max_dimension = kMaxFilmSide;
+  limits.max_pixels = uint64_t{kMaxFilmSide} * kMaxFilmSide;
+  limits.raise = raise;
+  return limits;
+}
+
 void write_image(const fs::path& path, const Image& image, const ImageMetadata& meta,
                  const std::vector<NamedChannel>& aovs) {
   write_image(path, image, meta, aovs, DisplaySettings{});

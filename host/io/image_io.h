@@ -37,6 +37,10 @@ struct ImageLimits {
   std::string raise = "--limit image-dimension=N, image-pixels=N";  // how to raise them
 };
 
+// The limits of an image compared with a film (--reference, clpt-diff, clpt.diff): no larger
+// than the largest film (kMaxFilmSide per side); `raise` says why.
+ImageLimits film_image_limits(const std::string& raise);
+
 // A file's size from its header alone (nothing else is read). Throws Error(BadInput) naming
 // the file when it is not a regular file, no image, an empty one or one past `limits`.
 struct ImageSize {

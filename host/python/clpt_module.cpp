@@ -40,10 +40,15 @@ namespace {
 // The exception type clpt.Error; set in PYBIND11_MODULE.
 PyObject* g_error_type = nullptr;
 
-[[noreturn]] void raise_error(const std::string& message, int exit_code) {
+// Sets the Python error clpt.Error(message) with its exit_code.
+void set_error(const std::string& message, int exit_code) {
   py::object e = py::reinterpret_borrow<py::object>(g_error_type)(message);
   e.attr("exit_code") = exit_code;
   PyErr_SetObject(g_error_type, e.ptr());
+}
+
+[[noreturn]] void raise_error(const std::string& message, int exit_code) {
+  set_error(message, exit_code);
   throw py::error_already_set();
 }
 
@@ -228,12 +233,8 @@ DiffInput diff_input(const py::handle& value, const char* what) {
   }
   if (py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__")) {
     const std::string path = py::module_::import("os").attr("fspath")(value).cast<std::string>();
-    ImageLimits film;
-    film.max_dimension = kMaxFilmSide;
-    film.max_pixels = uint64_t{kMaxFilmSide} * kMaxFilmSide;
-    film.raise = "clpt.diff compares images of at most that size";
     py::gil_scoped_release no_gil;
-    return DiffInput{path, read_image_channels(path, film)};
+    return DiffInput{path, read_image_channels(path, film_image_limits("clpt.diff compares images of at most that size"))};
   }
   DiffInput in{std::string("<array>"), {}};
   in.file.image = from_array(value, what);
@@ -243,14 +244,10 @@ DiffInput diff_input(const py::handle& value, const char* what) {
 // clpt.read_image: an image file as clpt-diff reads it, with its layers and metadata.
 py::dict read_image_file(const py::handle& file) {
   const std::string path = py::module_::import("os").attr("fspath")(file).cast<std::string>();
-  ImageLimits film;
-  film.max_dimension = kMaxFilmSide;
-  film.max_pixels = uint64_t{kMaxFilmSide} * kMaxFilmSide;
-  film.raise = "no film is larger";
   ImageChannels c;
   {
     py::gil_scoped_release no_gil;
-    c = read_image_channels(path, film);
+    c = read_image_channels(path, film_image_limits("no film is larger"));
   }
   py::dict layers;
   for (const NamedChannel& l : c.layers) layers[py::str(l.name)] = layer_array(l);
@@ -286,13 +283,9 @@ PYBIND11_MODULE(clpt, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const Error& e) {
-      py::object x = py::reinterpret_borrow<py::object>(g_error_type)(e.what());
-      x.attr("exit_code") = int(e.code());
-      PyErr_SetObject(g_error_type, x.ptr());
+      set_error(e.what(), int(e.code()));
     } catch (const std::bad_alloc&) {
-      py::object x = py::reinterpret_borrow<py::object>(g_error_type)("out of host memory");
-      x.attr("exit_code") = int(ExitCode::Device);
-      PyErr_SetObject(g_error_type, x.ptr());
+      set_error("out of host memory", int(ExitCode::Device));
     }
   });
 

@@ -10,6 +10,33 @@ namespace clpt {
 
 static_assert(sizeof(dev::AovSums) == 64, "AovSums should stay 64 bytes");
 
+namespace {
+
+struct AovName {
+  const char* option;  // as --aov names it
+  uint32_t bit;
+  const char* layer;   // as Blender names the pass
+};
+constexpr AovName kAovNames[] = {{"albedo", AOV_ALBEDO, "Albedo"},
+                                 {"normal", AOV_NORMAL, "Normal"},
+                                 {"depth", AOV_DEPTH, "Depth"},
+                                 {"position", AOV_POSITION, "Position"},
+                                 {"material-id", AOV_MATERIAL_ID, "IndexMA"}};
+
+}  // namespace
+
+uint32_t aov_bit(const std::string& name) {
+  for (const AovName& a : kAovNames)
+    if (name == a.option) return a.bit;
+  return 0;
+}
+
+const char* aov_layer_name(uint32_t bit) {
+  for (const AovName& a : kAovNames)
+    if (bit == a.bit) return a.layer;
+  return "";
+}
+
 AovPass::AovPass(const cl::Context& ctx, const SceneBuffers& scene, uint32_t width, uint32_t height)
     : ctx_(ctx),
       width_(width),
@@ -58,11 +85,11 @@ std::vector<NamedChannel> AovPass::layers(uint32_t bits) const {
     }
   }
   std::vector<NamedChannel> out;
-  if (bits & AOV_ALBEDO) out.push_back({"Albedo", std::move(albedo)});
-  if (bits & AOV_NORMAL) out.push_back({"Normal", std::move(normal), {"X", "Y", "Z"}});
-  if (bits & AOV_DEPTH) out.push_back({"Depth", std::move(depth), {"Z"}});
-  if (bits & AOV_POSITION) out.push_back({"Position", std::move(position), {"X", "Y", "Z"}});
-  if (bits & AOV_MATERIAL_ID) out.push_back({"IndexMA", std::move(material), {"X"}});
+  if (bits & AOV_ALBEDO) out.push_back({aov_layer_name(AOV_ALBEDO), std::move(albedo)});
+  if (bits & AOV_NORMAL) out.push_back({aov_layer_name(AOV_NORMAL), std::move(normal), {"X", "Y", "Z"}});
+  if (bits & AOV_DEPTH) out.push_back({aov_layer_name(AOV_DEPTH), std::move(depth), {"Z"}});
+  if (bits & AOV_POSITION) out.push_back({aov_layer_name(AOV_POSITION), std::move(position), {"X", "Y", "Z"}});
+  if (bits & AOV_MATERIAL_ID) out.push_back({aov_layer_name(AOV_MATERIAL_ID), std::move(material), {"X"}});
   return out;
 }
 

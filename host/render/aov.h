@@ -27,6 +27,13 @@ enum AovBits : uint32_t {
   AOV_MATERIAL_ID = 1u << 4,
 };
 
+// --aov's name of each AOV ("albedo", ..., "material-id") to its bit; 0 for any other name
+// (variance is the film's, not an AovPass layer).
+uint32_t aov_bit(const std::string& name);
+// The EXR layer of one bit (layers() names them so): "Albedo", "Normal", "Depth", "Position",
+// "IndexMA".
+const char* aov_layer_name(uint32_t bit);
+
 class AovPass {
  public:
   AovPass(const cl::Context& ctx, const SceneBuffers& scene, uint32_t width, uint32_t height);

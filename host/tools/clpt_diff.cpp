@@ -185,10 +185,8 @@ int run(int argc, char** argv) {
                                      ": needs 0 < MIN < MAX");
   if (!o.error_map.empty()) check_output_path(o.error_map);
 
-  ImageLimits film;  // any image clpt renders; the pixels are read as the file holds them
-  film.max_dimension = kMaxFilmSide;
-  film.max_pixels = uint64_t{kMaxFilmSide} * kMaxFilmSide;
-  film.raise = "clpt-diff compares images of at most that size";
+  // Any image clpt renders; the pixels are read as the file holds them.
+  const ImageLimits film = film_image_limits("clpt-diff compares images of at most that size");
   const DiffInput img{o.image, read_image_channels(o.image, film)};
   const DiffInput ref{o.reference, read_image_channels(o.reference, film)};
   DiffSettings settings;

@@ -86,6 +86,10 @@ static inline float filter_bh_invert(float u) {
   return upper ? 1.0f - t : t;
 }
 
+/* The default: a box of half a pixel, the plain jitter inside the pixel (and a splat into the
+ * pixel a position falls in). Every use of a filter keeps this case as it always was. */
+static inline bool filter_is_pixel_box(u32 filter, float r) { return filter == FILTER_BOX && r == 0.5f; }
+
 /* One axis: the offset from the pixel's centre, in pixels, for u in [0, 1). */
 static inline float filter_sample_1d(u32 filter, float r, float u) {
   float x;
@@ -160,7 +164,7 @@ static inline float filter_mass_on_film(u32 filter, float r, float c, float n) {
  * filter reaches past 0 and 1), from the sample's pixel dimensions u. The box of radius 0.5,
  * the default, is u itself: images without --filter are as they always were. */
 static inline float2 pixel_filter_jitter(u32 filter, float radius, float2 u) {
-  if (filter == FILTER_BOX && radius == 0.5f) return u;
+  if (filter_is_pixel_box(filter, radius)) return u;
   return (float2)(0.5f + filter_sample_1d(filter, radius, u.x), 0.5f + filter_sample_1d(filter, radius, u.y));
 }
 
@@ -169,7 +173,7 @@ static inline float2 pixel_filter_jitter(u32 filter, float radius, float2 u) {
  * filter renormalised over the film (what a splatted filter gives too, film/splat_filter.cl). */
 static inline float2 pixel_filter_jitter_on_film(u32 filter, float radius, u32 x, u32 y, u32 width,
                                                  u32 height, float2 u) {
-  if (filter == FILTER_BOX && radius == 0.5f) return u;
+  if (filter_is_pixel_box(filter, radius)) return u;
   const float cx = (float)x + 0.5f, cy = (float)y + 0.5f;
   return (float2)(0.5f + filter_sample_1d_in(filter, radius, -cx, (float)width - cx, u.x),
                   0.5f + filter_sample_1d_in(filter, radius, -cy, (float)height - cy, u.y));

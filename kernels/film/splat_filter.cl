@@ -21,11 +21,17 @@ static inline u32 film_pixel_of(__constant const RenderParams* p, float2 raster)
   return y * p->width + x;
 }
 
+/* True when contributions are spread through the filter: an integrator that splats, with a
+ * filter other than the default box. */
+static inline bool film_splats_through_filter(__constant const RenderParams* p) {
+  return p->filter_splat && !filter_is_pixel_box(p->filter, p->filter_radius);
+}
+
 static inline void film_splat_at(__constant const RenderParams* p, __global float4* splat, float2 raster,
                                  float3 L) {
   const u32 filter = p->filter;
   const float r = p->filter_radius;
-  if ((filter == FILTER_BOX && r == 0.5f) || !is_finite3(L)) {
+  if (filter_is_pixel_box(filter, r) || !is_finite3(L)) {
     film_splat(splat, film_pixel_of(p, raster), L);
     return;
   }
@@ -51,7 +57,7 @@ static inline void film_splat_at(__constant const RenderParams* p, __global floa
  * caller adds L to its own pixel as always. */
 static inline bool film_camera_splat(__constant const RenderParams* p, __global float4* splat,
                                      const Sampler* sampler, u32 pixel, float3 L) {
-  if (!p->filter_splat || (p->filter == FILTER_BOX && p->filter_radius == 0.5f)) return false;
+  if (!film_splats_through_filter(p)) return false;
   const float2 u = sample_2d(sampler, DIM_PIXEL);
   film_splat_at(p, splat, (float2)((float)(pixel % p->width) + u.x, (float)(pixel / p->width) + u.y), L);
   return true;

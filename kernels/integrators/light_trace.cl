@@ -20,7 +20,7 @@
 #define CLPT_INTEGRATORS_LIGHT_TRACE_CL
 
 #include "camera/camera_importance.cl"
-#include "integrators/stages/camera_splat.cl"
+#include "film/splat_filter.cl"
 #include "integrators/stages/walk.cl"
 #include "light/light.cl"
 

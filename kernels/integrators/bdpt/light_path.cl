@@ -16,7 +16,7 @@
 #define CLPT_INTEGRATORS_BDPT_LIGHT_PATH_CL
 
 #include "camera/camera_importance.cl"
-#include "integrators/stages/camera_splat.cl"
+#include "film/splat_filter.cl"
 #include "integrators/stages/path_vertex.cl"
 #include "integrators/stages/vertex_mis.cl"
 #include "integrators/stages/walk.cl"

@@ -66,7 +66,7 @@ static inline u32 mlt_pack_frac(__constant const RenderParams* p, PssPath x) {
  * `frac` places in it. */
 static inline void mlt_splat(__constant const RenderParams* p, __global float4* splat, u32 pixel, u32 frac,
                              float3 L) {
-  if (!p->filter_splat || (p->filter == FILTER_BOX && p->filter_radius == 0.5f)) {
+  if (!film_splats_through_filter(p)) {
     film_splat(splat, pixel, L);
     return;
   }
