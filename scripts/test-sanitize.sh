@@ -51,12 +51,26 @@ ctest --test-dir build-asan --output-on-failure -j "$jobs" -R "$tests" "$@" || s
 if [ $status -ne 0 ]; then
   # LeakSanitizer's stop-the-world tracer now and then crashes at the exit of a process whose
   # PoCL worker threads are shutting down ("Tracer caught signal 11 ... LeakSanitizer has
-  # encountered a fatal error": seen once in about 300 device-test processes, after the
-  # test itself passed). That is not a finding, so failed tests run once more; a real ASan,
-  # UBSan or leak report is deterministic and fails again.
+  # encountered a fatal error": seen once in about 300 device-test processes here, after the
+  # test itself passed; in CI, twice in a row on KernelCache.BuildFailureCarriesTheLog, never
+  # reproduced on this machine). That is not a finding, so failed tests run once more; a real
+  # ASan, UBSan or leak report is deterministic and fails again.
   echo "test-sanitize: re-running the failed tests once"
   status=0
-  ctest --test-dir build-asan --output-on-failure --rerun-failed || status=$?
+  log=build-asan/Testing/rerun.log
+  ctest --test-dir build-asan --output-on-failure --rerun-failed --output-log "$PWD/$log" || status=$?
+  # A test that failed twice only because the leak checker itself crashed was never checked
+  # for leaks at all. Run it once more with leak detection off, so that its ASan and UBSan
+  # checks still count, and say so. A leak report ("detected memory leaks") never gets here.
+  if [ $status -ne 0 ] && grep -q 'LeakSanitizer has encountered a fatal error' "$log" &&
+    ! grep -q 'LeakSanitizer: detected memory leaks' "$log"; then
+    echo "test-sanitize: LeakSanitizer's tracer crashed again; these tests run once more" \
+      "with ASan and UBSan but WITHOUT leak detection:"
+    ctest --test-dir build-asan -N --rerun-failed | grep 'Test *#' || true
+    status=0
+    ASAN_OPTIONS="${ASAN_OPTIONS/detect_leaks=1/detect_leaks=0}" \
+      ctest --test-dir build-asan --output-on-failure --rerun-failed || status=$?
+  fi
 fi
 end=$(date +%s)
 echo "test-sanitize: build $((built - start)) s, tests $((end - built)) s, total $((end - start)) s"
