@@ -62,7 +62,8 @@ struct Parser {
         ->check(kFinite);
     app.add_option("--device", o.device,
                    "OpenCL device: pocl, gpu, cpu, PLATFORM:DEVICE, or a name substring "
-                   "[first GPU, else PoCL]")
+                   "[first GPU, else PoCL]; several, comma-separated, or all (every GPU, else "
+                   "every device) share the samples")
         ->type_name("SPEC");
     app.add_flag("--list-devices", o.list_devices, "List OpenCL devices and exit");
     spp_opt = app.add_option("--spp", o.spp, "Samples per pixel [64; unlimited with --time alone]")
@@ -375,15 +376,15 @@ std::string usage_text() {
   return p.app.help();
 }
 
-std::optional<Options> parse_options(int argc, const char* const* argv) {
+std::optional<Options> parse_options(int argc, const char* const* argv, std::ostream& out) {
   Parser p;
   try {
     p.app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
-    std::cout << p.app.help();
+    out << p.app.help();
     return std::nullopt;
   } catch (const CLI::CallForVersion&) {
-    std::cout << p.app.version() << "\n";
+    out << p.app.version() << "\n";
     return std::nullopt;
   } catch (const CLI::ParseError& e) {
     throw Error(ExitCode::Usage, std::string(e.what()) + "\nRun 'clpt --help' for the options.");

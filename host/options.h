@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <iostream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -101,8 +102,8 @@ struct Options {
 };
 
 // Parses argv. Returns nullopt when the program should exit 0 after printing (--help,
-// --version); throws Error(ExitCode::Usage) with a message for a bad command line.
-std::optional<Options> parse_options(int argc, const char* const* argv);
+// --version) to `out`; throws Error(ExitCode::Usage) with a message for a bad command line.
+std::optional<Options> parse_options(int argc, const char* const* argv, std::ostream& out = std::cout);
 
 // The radius --filter NAME has without --filter-radius: box 0.5 (one pixel), tent 1,
 // gaussian 1.5 (sigma 0.5, pbrt-v4's default), blackman-harris 2; 0 for an unknown name.

@@ -17,6 +17,9 @@ packages=(
   python3 clang-15 libclc-15 intel-opencl-icd
   # The Python module (host/python, docs/python.md): pybind11 and NumPy for Debian's python3.
   python3-dev python3-numpy python3-pybind11
+  # Open MPI: mpirun -n K clpt ... splits a render across processes and machines
+  # (host/app/mpi_cluster.cpp, docs/scaling.md); clpt builds without it too (CLPT_MPI).
+  openmpi-bin libopenmpi-dev
   # Oclgrind: a simulated OpenCL device with memory checks (scripts/oclgrind-check.sh).
   oclgrind bc
 )

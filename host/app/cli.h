@@ -3,7 +3,11 @@
 
 namespace clpt {
 
-// Runs the command line; returns the process exit code (see util/error.h).
-int run_cli(int argc, const char* const* argv);
+class Cluster;
+
+// Runs the command line; returns the process exit code (see util/error.h). cluster: the MPI
+// ranks this process renders with (render/cluster.h), every rank running the same command
+// line; only rank 0 prints and writes. Null: this process alone.
+int run_cli(int argc, const char* const* argv, const Cluster* cluster = nullptr);
 
 }  // namespace clpt

@@ -139,7 +139,8 @@ RenderSettings render_settings(const Options& opt) {
   return settings;
 }
 
-RenderJob::RenderJob(const Options& opt, bool writes_image) : opt_(opt), writes_image_(writes_image) {
+RenderJob::RenderJob(const Options& opt, bool writes_image, const Cluster* cluster)
+    : opt_(opt), writes_image_(writes_image), cluster_(cluster ? cluster : &alone_) {
   if (!writes_image_ && opt_.save_every > 0.0)
     throw Error(ExitCode::Usage, "--save-every rewrites the output: it needs one");
   if (!writes_image_ && opt_.aov_pfm)
@@ -195,15 +196,23 @@ RenderJob::RenderJob(const Options& opt, bool writes_image) : opt_(opt), writes_
                std::to_string(scene_.cameras.size()) + " cameras, loaded in " +
                std::to_string(load_seconds_) + " s");
 
-  device_ = cl::select_device(opt_.device);
-  log::verbose("device: " + device_.label() + ", " + device_.version + ", driver " + device_.driver_version);
-  ctx_ = std::make_unique<cl::Context>(device_);
+  devices_ = cl::select_devices(opt_.device);
+  if ((devices_.size() > 1 || cluster_->size() > 1) && opt_.bdpt_mosaic)
+    throw Error(ExitCode::Usage, "--bdpt-mosaic renders on one device; name one --device "
+                                 "(and run one process)");
+  std::vector<const cl::Context*> contexts;
+  for (const cl::DeviceInfo& d : devices_) {
+    log::verbose("device: " + d.label() + ", " + d.version + ", driver " + d.driver_version);
+    contexts_.push_back(std::make_unique<cl::Context>(d));
+    contexts.push_back(contexts_.back().get());
+    device_names_ += (device_names_.empty() ? "" : ", ") + d.name;
+  }
   if (opt_.bdpt_mosaic) return;  // each cell has its own renderer (app/bdpt_mosaic.h)
 
   // Problems of the scene the renderer finds (no triangles, a camera whose default image no
   // film holds) name the scene's file, as the loader's do.
   try {
-    renderer_ = std::make_unique<Renderer>(*ctx_, scene_, settings_);
+    renderer_ = std::make_unique<Renderer>(contexts, scene_, settings_, cluster_);
   } catch (const Error& e) {
     if (e.code() != ExitCode::BadInput) throw;
     throw Error(ExitCode::BadInput, opt_.scene + ": " + e.what());
@@ -251,46 +260,56 @@ RenderJob::~RenderJob() = default;
 JobResult RenderJob::run(const std::atomic<bool>* stop, const Progress& progress) {
   if (opt_.bdpt_mosaic) return run_mosaic(stop, progress);
   Renderer& renderer = *renderer_;
+  const bool root = cluster_->root();  // rank 0 writes the files; the others only render
+  const std::string processes =
+      cluster_->size() > 1 ? " (rank 0 of " + std::to_string(cluster_->size()) + " processes)" : "";
   log::info("rendering " + opt_.scene + " at " + std::to_string(renderer.width()) + "x" +
-            std::to_string(renderer.height()) + " with " + opt_.integrator + " on " + device_.name);
+            std::to_string(renderer.height()) + " with " + opt_.integrator + " on " + device_names_ +
+            processes);
   double last_checkpoint = 0.0, last_save = 0.0, last_report = 0.0;
   const RenderOutput out = renderer.render(stop, [&](uint64_t done, uint64_t target, double t, bool last) {
     // With --reference, the relMSE so far, at most once a second (it reads the film back).
     std::string note;
     if (reference_ && t - last_report >= 1.0) {
       last_report = t;
-      const double rel_mse = compare_images(renderer.snapshot(done).mean, *reference_).rel_mse;
-      char buf[64];
-      std::snprintf(buf, sizeof buf, "relMSE %.4g", rel_mse);
-      note = buf;
+      const FilmResult so_far = renderer.snapshot(done);  // collective: every rank reads its films
+      if (root) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "relMSE %.4g", compare_images(so_far.mean, *reference_).rel_mse);
+        note = buf;
+      }
     }
     if (progress) progress(done, target, t, note);
     if (!opt_.checkpoint.empty() && !last && t - last_checkpoint >= opt_.checkpoint_interval) {
       last_checkpoint = t;
-      write_checkpoint(opt_.checkpoint, signature_, renderer.film_state(done));
+      const FilmState state = renderer.film_state(done);
+      if (root) write_checkpoint(opt_.checkpoint, signature_, state);
     }
     // --save-every: the image so far, written as the final one is (temporary file, rename), so a
     // viewer that reloads never sees half a file; not after the last pass, which the final
     // write follows at once.
     if (opt_.save_every > 0.0 && !last && done > 0 && t - last_save >= opt_.save_every) {
       last_save = t;
-      ImageMetadata meta = image_metadata(opt_, device_.name, done, t);
+      ImageMetadata meta = image_metadata(opt_, device_names_, done, t);
       const DisplaySettings display = display_settings(opt_, &meta);
-      write_image(opt_.output, renderer.snapshot(done).mean, meta, {}, display);
+      const FilmResult so_far = renderer.snapshot(done);
+      if (root) write_image(opt_.output, so_far.mean, meta, {}, display);
       log::verbose("saved " + std::to_string(done) + " spp to " + opt_.output);
     }
   });
 
   const FilmResult& film = out.film;
   const RenderStats& st = out.stats;
-  if (!opt_.checkpoint.empty() && film.samples_per_pixel > 0)
-    write_checkpoint(opt_.checkpoint, signature_, renderer.film_state(film.samples_per_pixel));
+  if (!opt_.checkpoint.empty() && film.samples_per_pixel > 0) {
+    const FilmState state = renderer.film_state(film.samples_per_pixel);
+    if (root) write_checkpoint(opt_.checkpoint, signature_, state);
+  }
 
   JobResult r;
   r.image = film.mean;
   r.samples_per_pixel = film.samples_per_pixel;
   r.interrupted = out.interrupted;
-  r.metadata = image_metadata(opt_, device_.name, film.samples_per_pixel, st.render_seconds);
+  r.metadata = image_metadata(opt_, device_names_, film.samples_per_pixel, st.render_seconds);
   r.display = display_settings(opt_, &r.metadata);
   if (film.variance_available && film.samples_per_pixel > 0)
     r.variance = variance_of_mean(film.variance, film.samples_per_pixel);
@@ -306,7 +325,7 @@ JobResult RenderJob::run(const std::atomic<bool>* stop, const Progress& progress
     for (const NamedChannel& l : out.aovs)
       if (bit && l.name == aov_layer_name(bit)) r.layers.push_back(l);
   }
-  r.stats = stats_document(opt_, device_, out, renderer.width(), renderer.height(), load_seconds_,
+  r.stats = stats_document(opt_, devices_.front(), out, renderer.width(), renderer.height(), load_seconds_,
                            reference_ ? &*reference_ : nullptr);
 
   const double paths = double(film.samples_per_pixel) * renderer.width() * renderer.height();
@@ -324,10 +343,10 @@ JobResult RenderJob::run(const std::atomic<bool>* stop, const Progress& progress
 
 // --bdpt-mosaic: the strategies of bdpt as one image (app/bdpt_mosaic.h).
 JobResult RenderJob::run_mosaic(const std::atomic<bool>* stop, const Progress& progress) {
-  log::info("rendering the bdpt strategy mosaic of " + opt_.scene + " on " + device_.name);
+  log::info("rendering the bdpt strategy mosaic of " + opt_.scene + " on " + device_names_);
   const auto start = Clock::now();
   const MosaicResult m = render_bdpt_mosaic(
-      *ctx_, scene_, settings_, opt_.bdpt_unweighted, stop, [&](uint32_t done, uint32_t total) {
+      *contexts_.front(), scene_, settings_, opt_.bdpt_unweighted, stop, [&](uint32_t done, uint32_t total) {
         if (progress) progress(done, total, seconds_since(start), "strategies");
       });
   JobResult r;
@@ -337,7 +356,7 @@ JobResult RenderJob::run_mosaic(const std::atomic<bool>* stop, const Progress& p
   r.metadata.strings = {{"Software", std::string("clpt ") + CLPT_VERSION},
                         {"clpt:integrator", "bdpt"},
                         {"clpt:bdpt_mosaic", opt_.bdpt_unweighted ? "unweighted" : "weighted"},
-                        {"clpt:device", device_.name},
+                        {"clpt:device", device_names_},
                         {"clpt:scene", opt_.scene}};
   r.metadata.ints = {{"clpt:spp", int(m.samples_per_pixel)}, {"clpt:seed", int(opt_.seed)}};
   r.display = display_settings(opt_, &r.metadata);

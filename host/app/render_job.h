@@ -20,6 +20,7 @@
 #include "cl/device.h"
 #include "io/image_io.h"
 #include "options.h"
+#include "render/cluster.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
@@ -51,7 +52,10 @@ class RenderJob {
   // Everything up to the first pass. writes_image: the caller writes opt.output (the CLI
   // does; Python only when given an output), so its path is checked here, before any work;
   // without it, --save-every is refused. Throws Error as the CLI reports it.
-  RenderJob(const Options& opt, bool writes_image);
+  // cluster: the MPI ranks that render this job together (render/cluster.h), each with a
+  // RenderJob of the same options; rank 0 writes checkpoints and --save-every images, and its
+  // JobResult holds the whole image. Null: this process alone.
+  RenderJob(const Options& opt, bool writes_image, const Cluster* cluster = nullptr);
   ~RenderJob();
   RenderJob(const RenderJob&) = delete;
   RenderJob& operator=(const RenderJob&) = delete;
@@ -59,19 +63,24 @@ class RenderJob {
   // Renders to the sample target or time limit, or until *stop (checked between passes).
   JobResult run(const std::atomic<bool>* stop, const Progress& progress = {});
 
-  const cl::DeviceInfo& device() const { return device_; }
+  // The first device --device names (and all of them).
+  const cl::DeviceInfo& device() const { return devices_.front(); }
+  const std::vector<cl::DeviceInfo>& devices() const { return devices_; }
 
  private:
   JobResult run_mosaic(const std::atomic<bool>* stop, const Progress& progress);
 
   Options opt_;
   bool writes_image_;
+  Cluster alone_;
+  const Cluster* cluster_;
   double load_seconds_ = 0.0;
   std::optional<ImageSize> reference_size_;
   std::optional<Image> reference_;
   Scene scene_;
-  cl::DeviceInfo device_;
-  std::unique_ptr<cl::Context> ctx_;
+  std::vector<cl::DeviceInfo> devices_;
+  std::vector<std::unique_ptr<cl::Context>> contexts_;
+  std::string device_names_;  // "A" or "A, B": for the log and the image's metadata
   RenderSettings settings_;
   std::unique_ptr<Renderer> renderer_;
   std::string signature_;  // what a checkpoint's sums depend on

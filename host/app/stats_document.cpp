@@ -32,6 +32,18 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
   j["device"] = {{"name", device.name},           {"platform", device.platform_name},
                  {"version", device.version},     {"driver", device.driver_version},
                  {"compute_units", device.compute_units}};
+  // Every device's share (one entry with one device): samples per pixel and the paths per
+  // second of its own passes (launch to finish).
+  j["devices"] = nlohmann::json::array();
+  for (const DeviceShare& d : st.devices)
+    j["devices"].push_back({{"name", d.name},
+                            {"device", d.label},
+                            {"samples_per_pixel", d.samples},
+                            {"passes", d.passes},
+                            {"busy_seconds", d.busy_seconds},
+                            {"paths_per_second", d.busy_seconds > 0.0
+                                                     ? double(d.samples) * width * height / d.busy_seconds
+                                                     : 0.0}});
   j["resolution"] = {width, height};
   j["triangles"] = st.triangles;
   j["emitters"] = st.emitters;
@@ -42,6 +54,7 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
               {"depth", st.bvh_depth}};
   j["kernel"] = {{"seconds", st.kernel_seconds}, {"from_cache", st.kernel_from_cache}};
   j["render_seconds"] = st.render_seconds;
+  j["film_gather_seconds"] = st.film_gather_seconds;
   j["passes"] = st.passes;
   j["spp"] = film.samples_per_pixel;
   j["max_depth"] = opt.max_depth;

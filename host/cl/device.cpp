@@ -153,4 +153,35 @@ DeviceInfo select_device(const std::string& spec_in) {
   return *found;
 }
 
+std::vector<DeviceInfo> select_devices(const std::string& spec) {
+  std::vector<DeviceInfo> chosen;
+  if (lower(spec) == "all") {
+    const std::vector<DeviceInfo> devices = list_devices();
+    for (const DeviceInfo& d : devices)
+      if (d.is_gpu()) chosen.push_back(d);
+    if (chosen.empty()) chosen = devices;
+    if (chosen.empty())
+      throw Error(ExitCode::Device, "--device=all: no OpenCL device found\nOpenCL devices found:\n" +
+                                        describe_devices(devices));
+    return chosen;
+  }
+  size_t start = 0;
+  while (true) {
+    const size_t comma = spec.find(',', start);
+    const std::string one = spec.substr(start, comma == std::string::npos ? std::string::npos
+                                                                           : comma - start);
+    if (one.empty() && spec.find(',') != std::string::npos)
+      throw Error(ExitCode::Usage, "--device=" + spec + ": an empty entry in the list");
+    const DeviceInfo d = select_device(one);
+    for (const DeviceInfo& c : chosen)
+      if (c.id == d.id)
+        throw Error(ExitCode::Usage, "--device=" + spec + ": " + d.label() +
+                                         " is named twice (each device renders once)");
+    chosen.push_back(d);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return chosen;
+}
+
 }  // namespace clpt::cl

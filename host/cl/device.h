@@ -32,6 +32,12 @@ std::vector<DeviceInfo> list_devices();
 // platform name. Throws Error(ExitCode::Device) listing what was found when nothing matches.
 DeviceInfo select_device(const std::string& spec);
 
+// One or several devices: "all" (every GPU; without a GPU, every device), or a comma-separated
+// list of select_device specs ("0:0,0:1"; a name substring holding a comma cannot be listed).
+// Throws Error(ExitCode::Device) as select_device does, and Error(ExitCode::Usage) for a device
+// named twice.
+std::vector<DeviceInfo> select_devices(const std::string& spec);
+
 // A human-readable table of devices for --list-devices and error messages.
 std::string describe_devices(const std::vector<DeviceInfo>& devices);
 

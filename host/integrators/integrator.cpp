@@ -58,19 +58,19 @@ std::unique_ptr<Integrator> make_sppm(const cl::Context& ctx, const SceneBuffers
 
 const std::vector<IntegratorInfo>& integrator_table() {
   using F = FilmKind;
-  // name      impl   film            options                          lights persp cap  light  make
+  // name      impl   film            options                          lights persp cap  light  multi  make
   static const std::vector<IntegratorInfo> table = {
-      {"pt",     true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 0, false, make_pt},
-      {"lt",     true,  F::Splats,      OPTIONS_NONE,                    true,  true,  0, true,  make_lt},
-      {"bdpt",   true,  F::Splats,      OPTIONS_BDPT | OPTIONS_LVC,      true,  true,  0, false, make_bdpt},
-      {"pm",     true,  F::SampleSums,  OPTIONS_PHOTONS | OPTIONS_PM,    true,  false, 0, false, make_pm},
-      {"sppm",   true,  F::Progressive, OPTIONS_PHOTONS | OPTIONS_SPPM,  true,  false, 0, false, make_sppm},
-      {"vcm",    true,  F::Splats,      OPTIONS_VCM | OPTIONS_LVC,       true,  true,  0, false, make_vcm},
-      {"mlt",    true,  F::Splats,      OPTIONS_MLT,                     true,  false, 0, false, make_mlt},
-      {"ic",     true,  F::SampleSums,  OPTIONS_IC,                      true,  false, 0, false, make_ic},
-      {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, make_ao},
-      {"direct", true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 1, false, make_direct},
-      {"indirect1", true, F::SampleSums, OPTIONS_INDIRECT,               true,  false, 2, false, make_indirect1},
+      {"pt",     true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 0, false, true,  make_pt},
+      {"lt",     true,  F::Splats,      OPTIONS_NONE,                    true,  true,  0, true,  true,  make_lt},
+      {"bdpt",   true,  F::Splats,      OPTIONS_BDPT | OPTIONS_LVC,      true,  true,  0, false, true,  make_bdpt},
+      {"pm",     true,  F::SampleSums,  OPTIONS_PHOTONS | OPTIONS_PM,    true,  false, 0, false, true,  make_pm},
+      {"sppm",   true,  F::Progressive, OPTIONS_PHOTONS | OPTIONS_SPPM,  true,  false, 0, false, false, make_sppm},
+      {"vcm",    true,  F::Splats,      OPTIONS_VCM | OPTIONS_LVC,       true,  true,  0, false, false, make_vcm},
+      {"mlt",    true,  F::Splats,      OPTIONS_MLT,                     true,  false, 0, false, false, make_mlt},
+      {"ic",     true,  F::SampleSums,  OPTIONS_IC,                      true,  false, 0, false, false, make_ic},
+      {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, true,  make_ao},
+      {"direct", true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 1, false, true,  make_direct},
+      {"indirect1", true, F::SampleSums, OPTIONS_INDIRECT,               true,  false, 2, false, true,  make_indirect1},
   };
   return table;
 }

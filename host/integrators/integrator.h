@@ -208,6 +208,10 @@ struct IntegratorInfo {
   bool needs_perspective_camera; // light paths cannot reach an orthographic camera
   uint32_t max_depth_cap;        // 0: none; direct: 1; indirect1: 2
   bool traces_light_paths;       // its paths per second count light paths (lt), not camera paths
+  // Renders disjoint sample ranges on several devices (--device A,B): each sample a function of
+  // its index alone, no state carried from pass to pass (sppm's radii, vcm's, mlt's chains and
+  // ic's cache are; pm's maps are rebuilt alike from the seed on each device).
+  bool multi_device;
   std::unique_ptr<Integrator> (*make)(const cl::Context&, const SceneBuffers&,
                                       const IntegratorConfig&);  // null: not implemented
 };

@@ -65,9 +65,29 @@ void AovPass::warm_up(const dev::RenderParams& p) {
   kernel_.launch(ctx_, size_t(width_) * height_);
 }
 
-std::vector<NamedChannel> AovPass::layers(uint32_t bits) const {
+std::vector<dev::AovSums> AovPass::sums() const {
+  return sums_.read_vector<dev::AovSums>(size_t(width_) * height_);
+}
+
+void AovPass::add(std::vector<dev::AovSums>& to, const std::vector<dev::AovSums>& other) {
+  for (size_t i = 0; i < to.size() && i < other.size(); ++i) {
+    dev::AovSums& a = to[i];
+    const dev::AovSums& b = other[i];
+    for (int c = 0; c < 3; ++c) {
+      a.albedo[c] += b.albedo[c];
+      a.normal[c] += b.normal[c];
+      a.position[c] += b.position[c];
+    }
+    a.depth += b.depth;
+    a.samples += b.samples;
+    a.hits += b.hits;
+    // The material index is sample 0's, which only the device that took it wrote.
+  }
+}
+
+std::vector<NamedChannel> AovPass::aov_layers(const std::vector<dev::AovSums>& sums, uint32_t width_,
+                                              uint32_t height_, uint32_t bits) {
   const size_t n = size_t(width_) * height_;
-  const std::vector<dev::AovSums> sums = sums_.read_vector<dev::AovSums>(n);
   Image albedo(width_, height_), normal(width_, height_), depth(width_, height_), position(width_, height_),
       material(width_, height_);
   for (size_t i = 0; i < n; ++i) {

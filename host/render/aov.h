@@ -14,6 +14,7 @@
 #include "cl/program.h"
 #include "io/image_io.h"
 #include "render/scene_buffers.h"
+#include "shared/aov_types.h"
 #include "shared/render_types.h"
 
 namespace clpt {
@@ -48,7 +49,14 @@ class AovPass {
   // "Normal" (X, Y, Z), "Depth" (Z), "Position" (X, Y, Z), "IndexMA" (X; -1 where the first
   // sample hit nothing). Depth and position average over the samples that hit (+inf and 0
   // where none did), albedo and normal over all.
-  std::vector<NamedChannel> layers(uint32_t bits) const;
+  std::vector<NamedChannel> layers(uint32_t bits) const { return aov_layers(sums(), width_, height_, bits); }
+
+  // The per-pixel sums read back, and another device's added to them; the material index stays
+  // `to`'s: the sums of the device that took the render's sample 0 must come first.
+  std::vector<dev::AovSums> sums() const;
+  static void add(std::vector<dev::AovSums>& to, const std::vector<dev::AovSums>& other);
+  static std::vector<NamedChannel> aov_layers(const std::vector<dev::AovSums>& sums, uint32_t width,
+                                              uint32_t height, uint32_t bits);
 
   size_t device_bytes() const { return sums_.size(); }
 

@@ -1,6 +1,8 @@
 #include "render/film.h"
 
 #include <array>
+#include <cstring>
+#include <stdexcept>
 
 namespace clpt {
 
@@ -24,18 +26,78 @@ Film::Film(const cl::Context& ctx, uint32_t width, uint32_t height, bool splats,
   }
 }
 
-FilmResult Film::resolve(uint64_t spp) const {
+FilmSums Film::read() const {
   const size_t n = pixels();
-  const auto sum = sum_.read_vector<std::array<float, 4>>(n);
-  const auto sq = sum_sq_.read_vector<std::array<float, 4>>(n);
-  const auto rays = ray_counts_.read_vector<uint32_t>(n);
-  std::vector<std::array<float, 4>> splat;
-  if (splats_) splat = splat_.read_vector<std::array<float, 4>>(n);
+  FilmSums f;
+  f.width = width_;
+  f.height = height_;
+  f.splats = splats_;
+  f.sums_samples = sums_samples();
+  f.sum = sum_.read_vector<std::array<float, 4>>(n);
+  f.sum_sq = sum_sq_.read_vector<std::array<float, 4>>(n);
+  f.rays = ray_counts_.read_vector<uint32_t>(n);
+  if (splats_) f.splat = splat_.read_vector<std::array<float, 4>>(n);
+  return f;
+}
+
+void FilmSums::add(const FilmSums& o) {
+  if (o.width != width || o.height != height || o.splats != splats || o.sum.size() != sum.size())
+    throw std::logic_error("films of different sizes or kinds cannot be added");
+  for (size_t i = 0; i < sum.size(); ++i)
+    for (int c = 0; c < 4; ++c) {
+      sum[i][c] += o.sum[i][c];
+      sum_sq[i][c] += o.sum_sq[i][c];
+      if (splats) splat[i][c] += o.splat[i][c];
+    }
+  for (size_t i = 0; i < rays.size(); ++i) rays[i] += o.rays[i];
+}
+
+namespace {
+template <typename T>
+void append(std::string& out, const std::vector<T>& v) {
+  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+template <typename T>
+void take(const std::string& in, size_t& at, std::vector<T>& v) {
+  std::memcpy(v.data(), in.data() + at, v.size() * sizeof(T));
+  at += v.size() * sizeof(T);
+}
+}  // namespace
+
+std::string FilmSums::bytes() const {
+  std::string out;
+  append(out, sum);
+  append(out, sum_sq);
+  append(out, splat);
+  append(out, rays);
+  return out;
+}
+
+void FilmSums::add_bytes(const std::string& in) {
+  FilmSums other = *this;  // the same size and kind, its values replaced
+  const size_t expected = (sum.size() + sum_sq.size() + splat.size()) * sizeof(sum[0]) +
+                          rays.size() * sizeof(uint32_t);
+  if (in.size() != expected) throw std::logic_error("film bytes of another size");
+  size_t at = 0;
+  take(in, at, other.sum);
+  take(in, at, other.sum_sq);
+  take(in, at, other.splat);
+  take(in, at, other.rays);
+  add(other);
+}
+
+FilmResult resolve_film(const FilmSums& f, uint64_t spp) {
+  const size_t n = size_t(f.width) * f.height;
+  const auto& sum = f.sum;
+  const auto& sq = f.sum_sq;
+  const auto& rays = f.rays;
+  const auto& splat = f.splat;
+  const bool splats_ = f.splats;
   FilmResult r;
-  r.mean = Image(width_, height_);
-  r.variance = Image(width_, height_);
+  r.mean = Image(f.width, f.height);
+  r.variance = Image(f.width, f.height);
   r.samples_per_pixel = spp;
-  r.variance_available = sums_samples();
+  r.variance_available = f.sums_samples;
   for (size_t i = 0; i < n; ++i) {
     if (splats_) {
       // N = spp * pixels light paths; each splat already carries the 1 / A_pixel of the

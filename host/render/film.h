@@ -2,7 +2,10 @@
 // and for splatting integrators (lt) a splat film that any work-item adds to atomically.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "cl/buffer.h"
 #include "io/image.h"
@@ -19,6 +22,24 @@ struct FilmResult {
   uint64_t dropped_samples = 0;  // NaN/Inf samples discarded by the kernels
   uint64_t rays = 0;             // rays traced (closest hit and shadow)
 };
+
+// A film's sums read back to the host. Several devices' films (and MPI ranks') add up to one
+// in a fixed order (add), and that sum resolves as one device's film would.
+struct FilmSums {
+  uint32_t width = 0, height = 0;
+  bool splats = false, sums_samples = true;  // as the Film's
+  std::vector<std::array<float, 4>> sum, sum_sq, splat;  // splat: only with splats
+  std::vector<uint32_t> rays;
+  // Adds another film of the same size and kind, pixel by pixel, in float as the device does.
+  void add(const FilmSums& other);
+  // The sums as bytes (to send to another process), and such bytes of a film of the same size
+  // and kind added as add() does.
+  std::string bytes() const;
+  void add_bytes(const std::string& bytes);
+};
+
+// The mean, variance and counts of `sums` after `samples_per_pixel` samples.
+FilmResult resolve_film(const FilmSums& sums, uint64_t samples_per_pixel);
 
 class Film {
  public:
@@ -43,8 +64,10 @@ class Film {
     return sum_.size() + sum_sq_.size() + ray_counts_.size() + (splats_ ? splat_.size() : 0);
   }
 
+  // Reads the film back.
+  FilmSums read() const;
   // Reads the film back and divides by the samples taken.
-  FilmResult resolve(uint64_t samples_per_pixel) const;
+  FilmResult resolve(uint64_t samples_per_pixel) const { return resolve_film(read(), samples_per_pixel); }
 
  private:
   uint32_t width_, height_;

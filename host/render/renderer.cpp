@@ -4,6 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <exception>
+#include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "bvh/bvh.h"
 #include "render/camera_setup.h"
@@ -14,8 +20,27 @@
 
 namespace clpt {
 
+struct Renderer::Lane {
+  const cl::Context* ctx = nullptr;
+  std::unique_ptr<SceneBuffers> scene;
+  std::unique_ptr<Integrator> integrator;
+  std::unique_ptr<Film> film;
+  std::unique_ptr<AovPass> aov;  // with RenderSettings::aovs only
+  // Its pass schedule: the samples of its next pass and the time one sample took in its last.
+  uint64_t pass_spp = 1;
+  double seconds_per_spp = 0.0;
+  double last_seconds = 0.0;  // of the round just run
+  bool watchdog_warned = false;
+  DeviceShare share;
+};
+
 Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSettings& settings)
-    : ctx_(ctx), settings_(settings) {
+    : Renderer(std::vector<const cl::Context*>{&ctx}, scene, settings) {}
+
+Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene& scene,
+                   const RenderSettings& settings, const Cluster* cluster)
+    : cluster_(cluster ? cluster : &alone_), settings_(settings) {
+  if (contexts.empty()) throw std::logic_error("a renderer needs a device");
   if (settings_.spp == 0 && !(settings_.time_limit > 0.0))
     throw Error(ExitCode::Usage, "a render needs a sample count or a time limit");
   if (settings_.spp == 0 &&
@@ -56,16 +81,18 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
   stats_.emitters = flat.emissive_triangles;
   stats_.lights = static_cast<uint32_t>(flat.lights.size());
   const IntegratorInfo& row = integrator_info(settings_.integrator);
+  const bool split = contexts.size() > 1 || cluster_->size() > 1;
+  if (split && !row.multi_device)
+    throw Error(ExitCode::Usage,
+                "--integrator " + settings_.integrator + " renders on one device: its passes "
+                "depend on the passes before them, so they cannot be split into sample ranges; "
+                "name one --device (and run one process)");
+  if (split && settings_.final_gather_cache)
+    throw Error(ExitCode::Usage, "--final-gather-cache renders on one device; name one --device "
+                                 "(and run one process)");
   if (flat.lights.empty() && row.needs_lights)
     log::warn("the scene has no lights (emissive surfaces, punctual lights or environment): "
               "the image will be black");
-  scene_buffers_ = std::make_unique<SceneBuffers>(ctx_, flat);
-  film_ = std::make_unique<Film>(ctx_, width_, height_, row.film == FilmKind::Splats,
-                                 row.film == FilmKind::SampleSums);
-  stats_.scene_device_bytes = scene_buffers_->device_bytes();
-  stats_.film_device_bytes = film_->device_bytes();
-  stats_.texture_device_bytes = scene_buffers_->texture_bytes();
-
   params_.camera = camera_data(camera, width_, height_);
   // A light path reaches a camera only through a non-delta direction: not an orthographic one.
   if (row.needs_perspective_camera && params_.camera.type == dev::CAMERA_ORTHOGRAPHIC)
@@ -138,59 +165,166 @@ Renderer::Renderer(const cl::Context& ctx, const Scene& scene, const RenderSetti
                                        " is outside [1e-6, 0.1] times the scene's diagonal (" +
                                        std::to_string(diagonal) + ")");
   }
-  integrator_ = make_integrator(
-      settings_.integrator, ctx_, *scene_buffers_,
-      IntegratorConfig{settings_.bdpt_memory_bytes, settings_.photons, settings_.caustic_photons,
-                       settings_.final_gather_cache, settings_.mlt, ic, vcm, settings_.indirect});
-  integrator_->warm_up(params_, *film_);
-  if (settings_.aovs) {
-    aov_ = std::make_unique<AovPass>(ctx_, *scene_buffers_, width_, height_);
-    aov_->warm_up(params_);
-    stats_.film_device_bytes += aov_->device_bytes();
+  const IntegratorConfig config{settings_.bdpt_memory_bytes, settings_.photons,
+                                settings_.caustic_photons,  settings_.final_gather_cache,
+                                settings_.mlt,              ic,
+                                vcm,                        settings_.indirect};
+  for (const cl::Context* ctx : contexts) {
+    for (const auto& other : lanes_)
+      if (other->ctx->device().id == ctx->device().id)
+        throw Error(ExitCode::Usage, ctx->device().label() + " is named twice");
+    auto lane = std::make_unique<Lane>();
+    lane->ctx = ctx;
+    lane->scene = std::make_unique<SceneBuffers>(*ctx, flat);
+    lane->film = std::make_unique<Film>(*ctx, width_, height_, row.film == FilmKind::Splats,
+                                        row.film == FilmKind::SampleSums);
+    const auto t_kernel = Clock::now();
+    lane->integrator = make_integrator(settings_.integrator, *ctx, *lane->scene, config);
+    lane->integrator->warm_up(params_, *lane->film);
+    if (settings_.aovs) {
+      lane->aov = std::make_unique<AovPass>(*ctx, *lane->scene, width_, height_);
+      lane->aov->warm_up(params_);
+    }
+    ctx->finish();
+    stats_.kernel_seconds += seconds_since(t_kernel);
+    lane->share.name = ctx->device().name;
+    lane->share.label = ctx->device().label();
+    lanes_.push_back(std::move(lane));
   }
-  ctx_.finish();
-  stats_.kernel_seconds = seconds_since(t0);
-  stats_.kernel_from_cache = integrator_->build_info().from_cache;
+  // Memory figures are one device's: every device holds the same.
+  const Lane& first = *lanes_.front();
+  stats_.scene_device_bytes = first.scene->device_bytes();
+  stats_.film_device_bytes = first.film->device_bytes() + (first.aov ? first.aov->device_bytes() : 0);
+  stats_.texture_device_bytes = first.scene->texture_bytes();
+  stats_.kernel_from_cache = first.integrator->build_info().from_cache;
 }
 
 Renderer::~Renderer() = default;
 
+const cl::DeviceInfo& Renderer::lanes_device(size_t i) const { return lanes_[i]->ctx->device(); }
+
+FilmSums Renderer::film_sums() const {
+  FilmSums sums = lanes_.front()->film->read();
+  for (size_t i = 1; i < lanes_.size(); ++i) sums.add(lanes_[i]->film->read());
+  if (cluster_->size() > 1) {
+    if (cluster_->root())
+      cluster_->gather_to_root({}, [&](const std::string& bytes) { sums.add_bytes(bytes); });
+    else
+      cluster_->gather_to_root(sums.bytes(), {});
+  }
+  return sums;
+}
+
 FilmState Renderer::film_state(uint64_t samples_per_pixel) const {
-  if (!film_->sums_samples())
+  if (!lanes_.front()->film->sums_samples())
     throw Error(ExitCode::Usage, "checkpoints are not supported with --integrator " +
                                      settings_.integrator + " (its film is not a sum of samples)");
+  const FilmSums sums = film_sums();
   FilmState s;
   s.width = width_;
   s.height = height_;
   s.samples_per_pixel = samples_per_pixel;
-  s.sum = film_->sum().read_vector<float>(film_->pixels() * 4);
-  s.sum_sq = film_->sum_sq().read_vector<float>(film_->pixels() * 4);
-  s.ray_counts = film_->ray_counts().read_vector<uint32_t>(film_->pixels());
+  for (size_t i = 0; i < sums.sum.size(); ++i)
+    for (int c = 0; c < 4; ++c) {
+      s.sum.push_back(sums.sum[i][c]);
+      s.sum_sq.push_back(sums.sum_sq[i][c]);
+    }
+  s.ray_counts = sums.rays;
   return s;
 }
 
 void Renderer::restore(const FilmState& s) {
-  if (!film_->sums_samples())
+  Film& film = *lanes_.front()->film;  // the others stay empty: the sums are added at the end
+  if (!film.sums_samples())
     throw Error(ExitCode::Usage, "--resume is not supported with --integrator " +
                                      settings_.integrator + " (its film is not a sum of samples)");
   if (s.width != width_ || s.height != height_)
     throw Error(ExitCode::Usage, "checkpoint is " + std::to_string(s.width) + "x" +
                                      std::to_string(s.height) + ", this render " +
                                      std::to_string(width_) + "x" + std::to_string(height_));
-  film_->sum().write(s.sum.data(), s.sum.size() * sizeof(float));
-  film_->sum_sq().write(s.sum_sq.data(), s.sum_sq.size() * sizeof(float));
-  film_->ray_counts().write(s.ray_counts.data(), s.ray_counts.size() * sizeof(uint32_t));
+  // The other ranks start empty: rank 0's film holds the checkpoint's sums.
+  if (cluster_->root()) {
+    film.sum().write(s.sum.data(), s.sum.size() * sizeof(float));
+    film.sum_sq().write(s.sum_sq.data(), s.sum_sq.size() * sizeof(float));
+    film.ray_counts().write(s.ray_counts.data(), s.ray_counts.size() * sizeof(uint32_t));
+  }
   start_spp_ = s.samples_per_pixel;
+}
+
+void Renderer::run_round(const std::vector<uint64_t>& first, const std::vector<uint64_t>& n) {
+  auto run = [&](size_t i) {
+    Lane& lane = *lanes_[i];
+    dev::RenderParams p = params_;
+    p.sample_offset = static_cast<uint32_t>(first[i]);
+    p.samples_per_pass = static_cast<uint32_t>(n[i]);
+    const auto t0 = Clock::now();
+    lane.integrator->render_pass(p, *lane.film);
+    if (lane.aov) lane.aov->add(p);
+    lane.ctx->finish();
+    lane.last_seconds = seconds_since(t0);
+  };
+  // One device runs on this thread; several, one host thread each, since an integrator's pass
+  // may wait on its device in between launches (bdpt's tiles, pm's map build).
+  std::vector<std::thread> threads;
+  std::vector<std::exception_ptr> errors(lanes_.size());
+  for (size_t i = 1; i < lanes_.size(); ++i)
+    if (n[i])
+      threads.emplace_back([&, i] {
+        try {
+          run(i);
+        } catch (...) {
+          errors[i] = std::current_exception();
+        }
+      });
+  try {
+    if (n[0]) run(0);
+  } catch (...) {
+    errors[0] = std::current_exception();
+  }
+  for (std::thread& t : threads) t.join();
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+void Renderer::gather_shares() {
+  stats_.devices.clear();
+  stats_.connections = 0;
+  for (const auto& lane : lanes_) {
+    stats_.connections += lane->integrator->connections();
+    stats_.devices.push_back(lane->share);
+  }
+  if (cluster_->size() == 1) return;
+  // Other ranks' devices, labelled with their rank, as JSON text.
+  if (!cluster_->root()) {
+    nlohmann::json j = {{"connections", stats_.connections}, {"devices", nlohmann::json::array()}};
+    for (const DeviceShare& d : stats_.devices)
+      j["devices"].push_back({d.name, d.label, d.samples, d.passes, d.busy_seconds});
+    cluster_->gather_to_root(j.dump(), {});
+    return;
+  }
+  for (DeviceShare& d : stats_.devices) d.label = "rank 0: " + d.label;
+  int rank = 0;
+  cluster_->gather_to_root({}, [&](const std::string& text) {
+    ++rank;
+    const nlohmann::json j = nlohmann::json::parse(text);
+    stats_.connections += j["connections"].get<uint64_t>();
+    for (const auto& d : j["devices"])
+      stats_.devices.push_back({d[0].get<std::string>(),
+                                "rank " + std::to_string(rank) + ": " + d[1].get<std::string>(),
+                                d[2].get<uint64_t>(), d[3].get<uint64_t>(), d[4].get<double>()});
+  });
 }
 
 RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& progress) {
   RenderOutput out;
+  const Cluster& cluster = *cluster_;
   const uint64_t target = settings_.spp;  // 0: until the time limit
   const double limit = settings_.time_limit;
+  Lane& lane0 = *lanes_.front();
   const double pass_seconds = settings_.target_pass_seconds > 0.0 ? settings_.target_pass_seconds
-                             : ctx_.device().is_gpu()              ? 0.03
+                             : lane0.ctx->device().is_gpu()        ? 0.03
                                                                    : 0.1;
-  integrator_->set_stop(stop);
+  for (auto& lane : lanes_) lane->integrator->set_stop(stop);
   // Pass sizes follow the clock (each pass aims at pass_seconds), except for integrators
   // whose image depends on the split (pass_invariant) in a render with a sample count: they
   // double from 1 spp up to kFixedPassSamples samples a pass, so that the same seed gives
@@ -199,74 +333,152 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   constexpr uint64_t kFixedPassSamples = uint64_t(1) << 20;
   PassSchedule schedule;
   schedule.pass_seconds = pass_seconds;
-  schedule.by_clock = target == 0 || integrator_->pass_invariant();
+  schedule.by_clock = target == 0 || lane0.integrator->pass_invariant();
   schedule.fixed_cap = std::max<uint64_t>(1, kFixedPassSamples / (uint64_t(width_) * height_));
-  bool watchdog_warned = false;
   const auto start = Clock::now();
   uint64_t done = start_spp_;
-  uint64_t pass_spp = 1;
-  double seconds_per_spp = 0.0;
+  const size_t k = lanes_.size();
 
+  // Every rank's devices, in rank order, are the pass's "all devices": how many each rank has,
+  // and where this rank's come in that order.
+  const std::vector<double> counts = cluster.all_gather({double(k)});
+  size_t all = 0, mine = 0;
+  for (int r = 0; r < int(counts.size()); ++r) {
+    if (r == cluster.rank()) mine = all;
+    all += size_t(counts[r]);
+  }
+
+  // A resumed render's AOVs: the checkpoint holds the image's sums only, so the AOV samples
+  // it covered are taken again first (on rank 0's first device, which holds sample 0).
+  if (lane0.aov && start_spp_ > 0 && cluster.root()) {
+    dev::RenderParams p = params_;
+    p.sample_offset = 0;
+    p.samples_per_pass = static_cast<uint32_t>(std::min<uint64_t>(start_spp_, AOV_MAX_SAMPLES));
+    lane0.aov->add(p);
+  }
   // The sample target or the time limit ends the render after a pass, decided once, right
   // after it, so that the progress callback knows which pass is the last. The time limit
   // never ends it before the first pass: a render that took no sample has no image to write
   // (--time 1e-300 used to exit 0 without one).
-  // A resumed render's AOVs: the checkpoint holds the image's sums only, so the AOV samples
-  // it covered are taken again first.
-  if (aov_ && start_spp_ > 0) {
-    dev::RenderParams p = params_;
-    p.sample_offset = 0;
-    p.samples_per_pass = static_cast<uint32_t>(std::min<uint64_t>(start_spp_, AOV_MAX_SAMPLES));
-    aov_->add(p);
-  }
   bool last = target != 0 && done >= target;
+  double now = 0.0;
+  std::vector<uint64_t> n(all), first(all);
   while (!last) {
-    if (stop && stop->load()) {
+    const double elapsed = seconds_since(start);
+
+    // Each device's share of this pass: what its own schedule asks for, held to the time left
+    // at its own speed. Every rank sends its devices' (after its stop flag) to all.
+    std::vector<double> proposal = {stop && stop->load() ? 1.0 : 0.0};
+    for (size_t i = 0; i < k; ++i) {
+      const Lane& lane = *lanes_[i];
+      uint64_t m = lane.pass_spp;
+      if (limit > 0.0 && lane.seconds_per_spp > 0.0)
+        m = std::min<uint64_t>(m, std::max<uint64_t>(1, uint64_t((limit - elapsed) / lane.seconds_per_spp)));
+      if (settings_.max_samples_per_pass) m = std::min<uint64_t>(m, settings_.max_samples_per_pass);
+      proposal.push_back(double(m));
+    }
+    const std::vector<double> proposals = cluster.all_gather(proposal);
+    bool stopped = false;
+    uint64_t want = 0;
+    for (size_t r = 0, at = 0, lane = 0; r < counts.size(); ++r) {
+      stopped |= proposals[at++] != 0.0;
+      for (size_t i = 0; i < size_t(counts[r]); ++i, ++lane) want += n[lane] = uint64_t(proposals[at++]);
+    }
+    if (stopped) {
       out.interrupted = true;
       break;
     }
-    const double elapsed = seconds_since(start);
+    // Near the sample target, all shares scaled down to what is left, the first devices taking
+    // the remainder (so rank 0's first device always works: it takes the render's sample 0).
+    if (target && want > target - done) {
+      const uint64_t left = target - done;
+      uint64_t given = 0;
+      for (size_t i = 0; i < all; ++i) given += n[i] = n[i] * left / want;
+      for (size_t i = 0; given < left; i = (i + 1) % all, ++given) ++n[i];
+      want = left;
+    }
+    if (done + want > 0xffffffffull) throw Error(ExitCode::Usage, "more than 2^32 samples per pixel");
+    for (size_t i = 0, at = done; i < all; at += n[i], ++i) first[i] = at;
 
-    uint64_t n = pass_spp;
-    if (target) n = std::min(n, target - done);
-    if (limit > 0.0 && seconds_per_spp > 0.0)
-      n = std::min<uint64_t>(n, std::max<uint64_t>(1, uint64_t((limit - elapsed) / seconds_per_spp)));
-    if (settings_.max_samples_per_pass) n = std::min<uint64_t>(n, settings_.max_samples_per_pass);
-    if (done + n > 0xffffffffull) throw Error(ExitCode::Usage, "more than 2^32 samples per pixel");
-
-    dev::RenderParams p = params_;
-    p.sample_offset = static_cast<uint32_t>(done);
-    p.samples_per_pass = static_cast<uint32_t>(n);
-    const auto t0 = Clock::now();
-    integrator_->render_pass(p, *film_);
-    if (aov_) aov_->add(p);
-    ctx_.finish();
-    const double dt = seconds_since(t0);
-    done += n;
+    const std::vector<uint64_t> my_first(first.begin() + mine, first.begin() + mine + k);
+    const std::vector<uint64_t> my_n(n.begin() + mine, n.begin() + mine + k);
+    cluster.agree(capture([&] { run_round(my_first, my_n); }));
+    done += want;
     ++stats_.passes;
 
-    seconds_per_spp = dt / double(n);
-    pass_spp = next_pass_samples(schedule, pass_spp, n, dt);
-    if (n == 1 && dt > kWatchdogWarningSeconds && ctx_.device().is_gpu() && !watchdog_warned) {
-      watchdog_warned = true;
-      log::warn("one sample per pixel took " + std::to_string(dt) + " s on '" +
-                ctx_.device().name + "', and no pass is smaller: a display driver's watchdog "
-                "(about 2 s on Windows) may stop such kernels; a smaller --resolution or "
-                "--max-depth shortens every pass");
+    // Several devices share a pass, which ends when the slowest share does; shares are whole
+    // samples per pixel, so a pass of one sample each would leave a fast device idle for most
+    // of it. Their passes are long enough for the slowest device to take kMinShareSamples, so
+    // shares in proportion to speed round off by little.
+    constexpr double kMinShareSamples = 8.0;
+    std::vector<double> my_seconds;
+    for (size_t i = 0; i < k; ++i) my_seconds.push_back(lanes_[i]->last_seconds);
+    const std::vector<double> seconds = cluster.all_gather(my_seconds);
+    double slowest = 0.0;
+    for (size_t i = 0; i < all; ++i)
+      if (n[i]) slowest = std::max(slowest, seconds[i] / double(n[i]));
+    schedule.pass_seconds = all > 1 ? std::max(pass_seconds, kMinShareSamples * slowest) : pass_seconds;
+    for (size_t i = 0; i < k; ++i) {
+      const uint64_t m = my_n[i];
+      if (!m) continue;
+      Lane& lane = *lanes_[i];
+      const double dt = lane.last_seconds;
+      lane.seconds_per_spp = dt / double(m);
+      lane.pass_spp = next_pass_samples(schedule, lane.pass_spp, m, dt);
+      lane.share.samples += m;
+      lane.share.passes += 1;
+      lane.share.busy_seconds += dt;
+      const cl::DeviceInfo& device = lane.ctx->device();
+      if (m == 1 && dt > kWatchdogWarningSeconds && device.is_gpu() && !lane.watchdog_warned) {
+        lane.watchdog_warned = true;
+        log::warn("one sample per pixel took " + std::to_string(dt) + " s on '" + device.name +
+                  "', and no pass is smaller: a display driver's watchdog (about 2 s on "
+                  "Windows) may stop such kernels; a smaller --resolution or --max-depth "
+                  "shortens every pass");
+      }
     }
-    const double now = seconds_since(start);
+    // Rank 0's clock decides the time limit for all.
+    std::vector<double> clock = {seconds_since(start)};
+    cluster.broadcast(clock, 0);
+    now = clock[0];
     last = (target != 0 && done >= target) || (limit > 0.0 && now >= limit);
-    if (progress) progress(done, target, now, last);
+    // The callback runs on every rank with the same arguments: what it does collectively
+    // (snapshots, checkpoints) every rank does alike.
+    if (progress) cluster.agree(capture([&] { progress(done, target, now, last); }));
   }
   stats_.render_seconds = seconds_since(start);
-  out.film = film_->resolve(done);
-  stats_.connections = integrator_->connections();
-  stats_.photons = integrator_->photon_stats();
-  stats_.metropolis = integrator_->metropolis_stats();
-  stats_.ic = integrator_->ic_stats();
-  stats_.vcm = integrator_->vcm_stats();
-  out.layers = integrator_->layers(done);
-  if (aov_) out.aovs = aov_->layers(settings_.aovs);
+  const auto gather_start = Clock::now();
+  const FilmSums sums = film_sums();
+  stats_.film_gather_seconds = seconds_since(gather_start);
+  out.film = resolve_film(sums, done);
+  gather_shares();
+  // The photon maps are traced alike on every device (same seed): the first device's figures.
+  // mlt, ic and vcm render on one device.
+  stats_.photons = lane0.integrator->photon_stats();
+  stats_.metropolis = lane0.integrator->metropolis_stats();
+  stats_.ic = lane0.integrator->ic_stats();
+  stats_.vcm = lane0.integrator->vcm_stats();
+  out.layers = lane0.integrator->layers(done);
+  if (lane0.aov) {
+    std::vector<dev::AovSums> sums = lane0.aov->sums();
+    for (size_t i = 1; i < k; ++i) AovPass::add(sums, lanes_[i]->aov->sums());
+    if (cluster.size() > 1) {
+      if (cluster.root()) {
+        cluster.gather_to_root({}, [&](const std::string& bytes) {
+          std::vector<dev::AovSums> other(sums.size());
+          if (bytes.size() != other.size() * sizeof(dev::AovSums))
+            throw std::logic_error("AOV bytes of another size");
+          std::memcpy(other.data(), bytes.data(), bytes.size());
+          AovPass::add(sums, other);
+        });
+      } else {
+        cluster.gather_to_root(std::string(reinterpret_cast<const char*>(sums.data()),
+                                           sums.size() * sizeof(dev::AovSums)),
+                               {});
+      }
+    }
+    out.aovs = AovPass::aov_layers(sums, width_, height_, settings_.aovs);
+  }
   out.stats = stats_;
   return out;
 }

@@ -6,11 +6,13 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cl/context.h"
 #include "integrators/integrator.h"
 #include "io/image_io.h"
 #include "render/checkpoint.h"
+#include "render/cluster.h"
 #include "render/aov.h"
 #include "render/film.h"
 #include "render/light_table.h"
@@ -73,11 +75,21 @@ struct RenderSettings {
   uint32_t max_samples_per_pass = 0; // 0: no cap (tests use 1 to force many passes)
 };
 
+// One device's part of a render (several with --device A,B or --device all).
+struct DeviceShare {
+  std::string name;           // the device's name
+  std::string label;          // "P:D name (platform)"
+  uint64_t samples = 0;       // samples per pixel it rendered
+  uint64_t passes = 0;        // passes it ran
+  double busy_seconds = 0.0;  // its passes' time, first launch to finish
+};
+
 struct RenderStats {
   double bvh_build_seconds = 0.0;
   double kernel_seconds = 0.0;      // program from cache or build, plus the first (compiling) launch
   bool kernel_from_cache = false;
   double render_seconds = 0.0;
+  double film_gather_seconds = 0.0;  // the final film: read back, devices' (and ranks') added
   uint64_t passes = 0;
   int bvh_depth = 0;
   size_t bvh_nodes = 0;
@@ -92,6 +104,7 @@ struct RenderStats {
   MetropolisStats metropolis;    // mlt
   IcStats ic;                    // ic
   VcmStats vcm;                  // vcm
+  std::vector<DeviceShare> devices;  // every device, in --device order
 };
 
 struct RenderOutput {
@@ -102,10 +115,23 @@ struct RenderOutput {
   std::vector<NamedChannel> aovs;    // RenderSettings::aovs' layers (AovPass::layers)
 };
 
+// With several devices, each gets its own copy of the scene, integrator and film, and each pass
+// gives every device a disjoint range of sample indices sized by its measured speed (a round:
+// all aim at the same pass length, so a slow device holds up a fast one by little); the films
+// are added on the host in device order. Every sample is a function of its index, so the image
+// equals one device's up to the rounding of the final sum. Integrators whose passes depend on
+// each other (sppm, vcm, mlt, ic: IntegratorInfo::multi_device) render on one device only.
 class Renderer {
  public:
-  // Builds the BVH, uploads the scene and gets the integrator's kernels ready.
+  // Builds the BVH, uploads the scene and gets the integrator's kernels ready, on one device
+  // or on each of several (non-null, distinct).
   Renderer(const cl::Context& ctx, const Scene& scene, const RenderSettings& settings);
+  // cluster: the processes (MPI ranks) that share the render, each with its own devices and
+  // a renderer made from the same scene and settings; null: this process alone. With several
+  // processes, render(), film_sums(), snapshot(), film_state() and restore() are collective:
+  // every rank calls them in the same order, and rank 0 gets the whole film.
+  Renderer(const std::vector<const cl::Context*>& contexts, const Scene& scene,
+           const RenderSettings& settings, const Cluster* cluster = nullptr);
   ~Renderer();
 
   // progress(samples done, samples target (0 = none), seconds elapsed, last): called after
@@ -122,22 +148,32 @@ class Renderer {
   void restore(const FilmState& state);
 
   // The film as it stands after `samples_per_pixel` samples (for progress reports).
-  FilmResult snapshot(uint64_t samples_per_pixel) const { return film_->resolve(samples_per_pixel); }
+  FilmResult snapshot(uint64_t samples_per_pixel) const {
+    return resolve_film(film_sums(), samples_per_pixel);
+  }
+  // Every device's film read back and added, in device order (and rank order: on rank 0).
+  FilmSums film_sums() const;
 
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
-  const std::string& device_name() const { return ctx_.device().name; }
+  const std::string& device_name() const { return lanes_device(0).name; }
+  size_t device_count() const { return lanes_.size(); }
 
  private:
-  const cl::Context& ctx_;
+  struct Lane;  // one device's context, scene, integrator, film and AOVs (renderer.cpp)
+  const cl::DeviceInfo& lanes_device(size_t i) const;
+  // The devices of every rank: their shares and connections, on rank 0 (collective).
+  void gather_shares();
+  // Runs every lane's range of the round ([first, first + n) each; n = 0: idle) and waits.
+  void run_round(const std::vector<uint64_t>& first, const std::vector<uint64_t>& n);
+
+  Cluster alone_;
+  const Cluster* cluster_ = &alone_;
   RenderSettings settings_;
   uint32_t width_ = 0, height_ = 0;
   dev::RenderParams params_{};
   RenderStats stats_;
-  std::unique_ptr<SceneBuffers> scene_buffers_;
-  std::unique_ptr<Integrator> integrator_;
-  std::unique_ptr<Film> film_;
-  std::unique_ptr<AovPass> aov_;  // with RenderSettings::aovs only
+  std::vector<std::unique_ptr<Lane>> lanes_;
   uint64_t start_spp_ = 0;  // samples already in the film (restored from a checkpoint)
 };
 

@@ -1,0 +1,46 @@
+// The processes one render is split across: MPI ranks under mpirun (app/mpi_cluster.h, in the
+// clpt executable only), or this process alone (Cluster itself, whose calls do nothing).
+// The renderer plans each pass over every rank's devices with these few collective calls, so
+// every rank must make the same calls in the same order; rank 0 keeps the clock and the stop
+// flag and alone writes files. Nothing here knows MPI: the library, the tests and the Python
+// module use the single-process Cluster.
+#pragma once
+
+#include <exception>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace clpt {
+
+class Cluster {
+ public:
+  virtual ~Cluster() = default;
+
+  virtual int rank() const { return 0; }
+  virtual int size() const { return 1; }
+  bool root() const { return rank() == 0; }
+
+  // Every rank's values, concatenated in rank order (ranks may give different counts).
+  virtual std::vector<double> all_gather(const std::vector<double>& mine) const { return mine; }
+  // `root`'s values on every rank (all ranks pass vectors of the same size).
+  virtual void broadcast(std::vector<double>& values, int root) const { (void)values, (void)root; }
+  virtual void broadcast(std::string& text, int root) const { (void)text, (void)root; }
+  // Rank 0 receives every other rank's bytes, one rank at a time in rank order, and hands each
+  // to add(); the other ranks send theirs. A fixed order, so sums add up alike every run, and
+  // one rank's bytes in memory at a time, whatever the number of ranks.
+  virtual void gather_to_root(const std::string& mine,
+                              const std::function<void(const std::string&)>& add) const {
+    (void)mine, (void)add;
+  }
+
+  // Every rank says whether it failed (`mine`: its exception, or null). If any did, every rank
+  // throws the same Error: the failing rank's code and message, from the lowest such rank.
+  // Alone: rethrows `mine`.
+  void agree(std::exception_ptr mine) const;
+};
+
+// Runs `f` and returns what it threw (null if nothing), for Cluster::agree.
+std::exception_ptr capture(const std::function<void()>& f);
+
+}  // namespace clpt

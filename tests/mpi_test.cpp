@@ -1,0 +1,146 @@
+// `mpirun -n 2 clpt ...` (issue 20, host/mpi/mpi_cluster.cpp, render/cluster.h): two ranks split
+// the sample indices of one render and rank 0 adds their films, so the image equals one
+// process's up to the rounding of the sums' order; a rank that fails stops every rank with its
+// error and no output; a checkpoint two ranks wrote resumes to one process's image. Skipped,
+// saying so, where clpt was built without MPI (CLPT_MPI off or no libopenmpi-dev).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "io/image_io.h"
+#include "support/run.h"
+#include "support/split_render.h"
+
+namespace clpt {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kCornell = std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf";
+
+class Mpi : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (std::string(CLPT_MPIEXEC).empty())
+      GTEST_SKIP() << "clpt was built without MPI (CLPT_MPI=OFF, or CMake found no MPI: "
+                      "apt-get install libopenmpi-dev openmpi-bin)";
+    dir_ = fs::temp_directory_path() /
+           ("clpt-mpi-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!dir_.empty() && !HasFailure()) fs::remove_all(dir_);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // mpirun with one program per rank (MPMD: "prog args : prog args"), as CI's container needs
+  // it: as root, more ranks than cores allowed, and shared memory without cross-memory attach
+  // (which containers forbid).
+  test::RunResult mpirun(const std::vector<std::vector<std::string>>& ranks) const {
+    std::vector<std::string> args = {"--oversubscribe", "--allow-run-as-root",
+                                     "--mca", "btl_vader_single_copy_mechanism", "none"};
+    for (size_t r = 0; r < ranks.size(); ++r) {
+      if (r) args.push_back(":");
+      args.insert(args.end(), {"-n", "1", CLPT_BINARY});
+      args.insert(args.end(), ranks[r].begin(), ranks[r].end());
+    }
+    test::RunOptions o;
+    // One PoCL thread per rank: two ranks on two cores.
+    o.env = {{"POCL_MAX_PTHREAD_COUNT", "1"}, {"OMPI_MCA_rmaps_base_oversubscribe", "1"}};
+    return test::run_program(CLPT_MPIEXEC, args, o);
+  }
+  // clpt on the Cornell box with `args`, writing `name`.exr and its --stats, by `ranks` MPI
+  // ranks (0: one process without mpirun); a failed run fails the test.
+  nlohmann::json render(const std::string& name, int ranks, std::vector<std::string> args) const {
+    args.insert(args.begin(), {kCornell, "-q", "--device", "pocl"});
+    args.insert(args.end(), {"-o", path(name + ".exr"), "--stats=" + path(name + ".json")});
+    test::RunResult r;
+    if (ranks == 0) {
+      test::RunOptions o;
+      o.env = {{"POCL_MAX_PTHREAD_COUNT", "1"}};
+      r = test::run_program(CLPT_BINARY, args, o);
+    } else {
+      r = mpirun(std::vector<std::vector<std::string>>(ranks, args));
+    }
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    if (r.exit_code != 0) return nullptr;
+    return nlohmann::json::parse(test::read_file(path(name + ".json")));
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(Mpi, TwoRanksRenderWhatOneProcessRenders) {
+  struct Case {
+    const char* integrator;
+    double max_rel_mse;  // float rounding of the sums' order (splats: a little more)
+  };
+  for (const Case& c : {Case{"pt", 1e-10}, Case{"lt", 1e-8}, Case{"bdpt", 1e-8}}) {
+    SCOPED_TRACE(c.integrator);
+    const std::vector<std::string> args = {"--integrator", c.integrator, "--resolution", "32x32",
+                                           "--spp", "16", "--seed", "5", "--max-depth", "4"};
+    const std::string name = c.integrator;
+    const nlohmann::json one = render(name + "-one", 0, args);
+    const nlohmann::json two = render(name + "-two", 2, args);
+    if (one.is_null() || two.is_null()) continue;
+    test::expect_device_shares(two, 2, 16);
+    EXPECT_EQ(two["devices"][1]["device"].get<std::string>().rfind("rank 1: ", 0), 0u)
+        << two["devices"].dump();
+    const test::Agreement g =
+        test::agreement(read_image(path(name + "-two.exr")), read_image(path(name + "-one.exr")));
+    std::printf("%-4s two ranks against one process: relMSE %.3g, mean ratio 1 %+.3g\n",
+                c.integrator, g.rel_mse, g.mean_ratio - 1.0);
+    EXPECT_LT(g.rel_mse, c.max_rel_mse);
+    EXPECT_NEAR(g.mean_ratio, 1.0, 1e-6);
+  }
+}
+
+// Rank 1 is given a scene that does not exist: both ranks exit 2 with rank 1's error, and
+// nothing is written.
+TEST_F(Mpi, ARankThatFailsStopsEveryRankWithItsError) {
+  const std::vector<std::string> tail = {"-q", "--device", "pocl", "--spp", "4", "--resolution",
+                                         "16x16", "-o", path("never.exr")};
+  std::vector<std::string> good = {kCornell}, bad = {path("missing.gltf")};
+  good.insert(good.end(), tail.begin(), tail.end());
+  bad.insert(bad.end(), tail.begin(), tail.end());
+  const test::RunResult r = mpirun({good, bad});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("rank 1: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("missing.gltf"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("never.exr")));
+
+  // What cannot be split is refused by every rank alike.
+  std::vector<std::string> sppm = good;
+  sppm.insert(sppm.end(), {"--integrator", "sppm"});
+  const test::RunResult s = mpirun({sppm, sppm});
+  EXPECT_EQ(s.exit_code, 1) << s.err;
+  EXPECT_NE(s.err.find("renders on one device"), std::string::npos) << s.err;
+  EXPECT_FALSE(fs::exists(path("never.exr")));
+}
+
+// A checkpoint two ranks wrote holds the first N sample indices, summed: resumed by two ranks
+// to 2N, the image equals one process's 2N.
+TEST_F(Mpi, CheckpointsOfRanksResumeToOneProcesssImage) {
+  const std::vector<std::string> base = {"--resolution", "24x24", "--seed", "9", "--max-depth", "3"};
+  auto with = [&](std::vector<std::string> more) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), more.begin(), more.end());
+    return a;
+  };
+  render("half", 2, with({"--spp", "8", "--checkpoint", path("half.ckpt")}));
+  const nlohmann::json resumed = render("resumed", 2, with({"--spp", "16", "--resume", path("half.ckpt")}));
+  render("whole", 0, with({"--spp", "16"}));
+  if (!resumed.is_null()) test::expect_device_shares(resumed, 2, 8);  // the 8 spp after the resume
+  const test::Agreement g =
+      test::agreement(read_image(path("resumed.exr")), read_image(path("whole.exr")));
+  EXPECT_LT(g.rel_mse, 1e-10);
+  EXPECT_NEAR(g.mean_ratio, 1.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace clpt
