@@ -6,14 +6,12 @@
 #include <climits>
 #include <cstdint>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace clpt {
 namespace {
-
-// Messages go in pieces a count of int can name.
-constexpr size_t kPiece = size_t(1) << 30;
 
 class MpiCluster final : public Cluster {
  public:
@@ -49,35 +47,70 @@ class MpiCluster final : public Cluster {
     uint64_t n = text.size();
     MPI_Bcast(&n, 1, MPI_UINT64_T, root, MPI_COMM_WORLD);
     text.resize(n);
-    for (size_t at = 0; at < n; at += kPiece)
-      MPI_Bcast(text.data() + at, static_cast<int>(std::min(kPiece, n - at)), MPI_CHAR, root,
+    for (size_t at = 0; at < n; at += kChunkBytes)
+      MPI_Bcast(text.data() + at, static_cast<int>(std::min(kChunkBytes, n - at)), MPI_CHAR, root,
                 MPI_COMM_WORLD);
   }
 
-  void gather_to_root(const std::string& mine,
-                      const std::function<void(const std::string&)>& add) const override {
+  void gather_to_root(const std::vector<Piece>& pieces, const AddChunk& add) const override {
+    // The pieces' sizes first, so that a rank whose film differs is an error, not a hang.
+    std::vector<uint64_t> sizes;
+    for (const Piece& p : pieces) sizes.push_back(p.bytes);
+    if (rank_ != 0) {
+      MPI_Send(sizes.data(), static_cast<int>(sizes.size()), MPI_UINT64_T, 0, kTag, MPI_COMM_WORLD);
+      for (const Piece& p : pieces) send(p.data, p.bytes);
+      return;
+    }
+    std::vector<uint64_t> theirs(sizes.size());
+    std::vector<char> chunk;
+    for (int r = 1; r < size_; ++r) {
+      MPI_Recv(theirs.data(), static_cast<int>(theirs.size()), MPI_UINT64_T, r, kTag, MPI_COMM_WORLD,
+               MPI_STATUS_IGNORE);
+      if (theirs != sizes)
+        throw std::logic_error("rank " + std::to_string(r) + " sent a film of another size");
+      for (size_t i = 0; i < pieces.size(); ++i)
+        for (size_t at = 0; at < sizes[i]; at += kChunkBytes) {
+          const size_t n = std::min<size_t>(kChunkBytes, sizes[i] - at);
+          chunk.resize(n);
+          MPI_Recv(chunk.data(), static_cast<int>(n), MPI_BYTE, r, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+          add(i, at, chunk.data(), n);
+        }
+    }
+  }
+
+  void gather_text_to_root(const std::string& mine,
+                           const std::function<void(const std::string&)>& add) const override {
     if (rank_ != 0) {
       const uint64_t n = mine.size();
       MPI_Send(&n, 1, MPI_UINT64_T, 0, kTag, MPI_COMM_WORLD);
-      for (size_t at = 0; at < n; at += kPiece)
-        MPI_Send(mine.data() + at, static_cast<int>(std::min(kPiece, n - at)), MPI_CHAR, 0, kTag,
-                 MPI_COMM_WORLD);
+      send(mine.data(), n);
       return;
     }
-    std::string bytes;
+    std::string text;
     for (int r = 1; r < size_; ++r) {
       uint64_t n = 0;
       MPI_Recv(&n, 1, MPI_UINT64_T, r, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-      bytes.resize(n);
-      for (size_t at = 0; at < n; at += kPiece)
-        MPI_Recv(bytes.data() + at, static_cast<int>(std::min(kPiece, n - at)), MPI_CHAR, r, kTag,
-                 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-      add(bytes);
+      text.resize(n);
+      receive(text.data(), n, r);
+      add(text);
     }
   }
 
  private:
   static constexpr int kTag = 7;
+  // In the chunks rank 0 receives (gather_to_root), which also fit a count of int.
+  static void send(const void* data, size_t bytes) {
+    const char* at = static_cast<const char*>(data);
+    for (size_t done = 0; done < bytes; done += kChunkBytes)
+      MPI_Send(at + done, static_cast<int>(std::min(kChunkBytes, bytes - done)), MPI_BYTE, 0, kTag,
+               MPI_COMM_WORLD);
+  }
+  static void receive(void* data, size_t bytes, int from) {
+    char* at = static_cast<char*>(data);
+    for (size_t done = 0; done < bytes; done += kChunkBytes)
+      MPI_Recv(at + done, static_cast<int>(std::min(kChunkBytes, bytes - done)), MPI_BYTE, from, kTag,
+               MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  }
   int rank_ = 0, size_ = 1;
 };
 

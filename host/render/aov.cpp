@@ -69,8 +69,8 @@ std::vector<dev::AovSums> AovPass::sums() const {
   return sums_.read_vector<dev::AovSums>(size_t(width_) * height_);
 }
 
-void AovPass::add(std::vector<dev::AovSums>& to, const std::vector<dev::AovSums>& other) {
-  for (size_t i = 0; i < to.size() && i < other.size(); ++i) {
+void AovPass::add(dev::AovSums* to, const dev::AovSums* other, size_t count) {
+  for (size_t i = 0; i < count; ++i) {
     dev::AovSums& a = to[i];
     const dev::AovSums& b = other[i];
     for (int c = 0; c < 3; ++c) {

@@ -54,7 +54,7 @@ class AovPass {
   // The per-pixel sums read back, and another device's added to them; the material index stays
   // `to`'s: the sums of the device that took the render's sample 0 must come first.
   std::vector<dev::AovSums> sums() const;
-  static void add(std::vector<dev::AovSums>& to, const std::vector<dev::AovSums>& other);
+  static void add(dev::AovSums* to, const dev::AovSums* other, size_t count);
   static std::vector<NamedChannel> aov_layers(const std::vector<dev::AovSums>& sums, uint32_t width,
                                               uint32_t height, uint32_t bits);
 

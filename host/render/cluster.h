@@ -6,6 +6,7 @@
 // module use the single-process Cluster.
 #pragma once
 
+#include <cstddef>
 #include <exception>
 #include <functional>
 #include <string>
@@ -26,11 +27,26 @@ class Cluster {
   // `root`'s values on every rank (all ranks pass vectors of the same size).
   virtual void broadcast(std::vector<double>& values, int root) const { (void)values, (void)root; }
   virtual void broadcast(std::string& text, int root) const { (void)text, (void)root; }
-  // Rank 0 receives every other rank's bytes, one rank at a time in rank order, and hands each
-  // to add(); the other ranks send theirs. A fixed order, so sums add up alike every run, and
-  // one rank's bytes in memory at a time, whatever the number of ranks.
-  virtual void gather_to_root(const std::string& mine,
-                              const std::function<void(const std::string&)>& add) const {
+  // An array to send (the other ranks), or the size of one to receive (rank 0).
+  struct Piece {
+    const void* data;
+    size_t bytes;
+  };
+  // Rank 0's add(piece, offset, chunk, bytes): `bytes` bytes of one rank's piece `piece`,
+  // from byte `offset` on. Chunks are at most kChunkBytes and start at multiples of it.
+  using AddChunk = std::function<void(size_t, size_t, const void*, size_t)>;
+  static constexpr size_t kChunkBytes = size_t(16) << 20;  // a multiple of every element size
+  // Rank 0 receives every other rank's pieces, one rank at a time in rank order, chunk by
+  // chunk into one scratch buffer, and hands each chunk to add(); the other ranks send their
+  // `pieces` (every rank's pieces have the same sizes). A fixed order, so sums add up alike
+  // every run; a 16 MiB buffer beside the result, whatever the number of ranks or the film.
+  virtual void gather_to_root(const std::vector<Piece>& pieces, const AddChunk& add) const {
+    (void)pieces, (void)add;
+  }
+  // The same for text of any length (small: statistics): rank 0's add() gets each other
+  // rank's, in rank order.
+  virtual void gather_text_to_root(const std::string& mine,
+                                   const std::function<void(const std::string&)>& add) const {
     (void)mine, (void)add;
   }
 

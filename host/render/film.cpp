@@ -1,7 +1,6 @@
 #include "render/film.h"
 
 #include <array>
-#include <cstring>
 #include <stdexcept>
 
 namespace clpt {
@@ -52,38 +51,33 @@ void FilmSums::add(const FilmSums& o) {
   for (size_t i = 0; i < rays.size(); ++i) rays[i] += o.rays[i];
 }
 
+std::vector<Cluster::Piece> FilmSums::pieces() const {
+  std::vector<Cluster::Piece> p = {{sum.data(), sum.size() * sizeof(sum[0])},
+                                   {sum_sq.data(), sum_sq.size() * sizeof(sum_sq[0])},
+                                   {rays.data(), rays.size() * sizeof(rays[0])}};
+  if (splats) p.push_back({splat.data(), splat.size() * sizeof(splat[0])});
+  return p;
+}
+
 namespace {
 template <typename T>
-void append(std::string& out, const std::vector<T>& v) {
-  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-template <typename T>
-void take(const std::string& in, size_t& at, std::vector<T>& v) {
-  std::memcpy(v.data(), in.data() + at, v.size() * sizeof(T));
-  at += v.size() * sizeof(T);
+void add_values(void* to, size_t bytes_to, size_t offset, const void* chunk, size_t bytes) {
+  if (offset + bytes > bytes_to || offset % sizeof(T) || bytes % sizeof(T))
+    throw std::logic_error("a film chunk outside its array");
+  T* dst = reinterpret_cast<T*>(static_cast<char*>(to) + offset);
+  const T* src = static_cast<const T*>(chunk);
+  for (size_t i = 0; i < bytes / sizeof(T); ++i) dst[i] += src[i];
 }
 }  // namespace
 
-std::string FilmSums::bytes() const {
-  std::string out;
-  append(out, sum);
-  append(out, sum_sq);
-  append(out, splat);
-  append(out, rays);
-  return out;
-}
-
-void FilmSums::add_bytes(const std::string& in) {
-  FilmSums other = *this;  // the same size and kind, its values replaced
-  const size_t expected = (sum.size() + sum_sq.size() + splat.size()) * sizeof(sum[0]) +
-                          rays.size() * sizeof(uint32_t);
-  if (in.size() != expected) throw std::logic_error("film bytes of another size");
-  size_t at = 0;
-  take(in, at, other.sum);
-  take(in, at, other.sum_sq);
-  take(in, at, other.splat);
-  take(in, at, other.rays);
-  add(other);
+void FilmSums::add_chunk(size_t piece, size_t offset, const void* chunk, size_t bytes) {
+  switch (piece) {
+    case 0: return add_values<float>(sum.data(), sum.size() * sizeof(sum[0]), offset, chunk, bytes);
+    case 1: return add_values<float>(sum_sq.data(), sum_sq.size() * sizeof(sum_sq[0]), offset, chunk, bytes);
+    case 2: return add_values<uint32_t>(rays.data(), rays.size() * sizeof(rays[0]), offset, chunk, bytes);
+    case 3: return add_values<float>(splat.data(), splat.size() * sizeof(splat[0]), offset, chunk, bytes);
+  }
+  throw std::logic_error("no such film piece");
 }
 
 FilmResult resolve_film(const FilmSums& f, uint64_t spp) {

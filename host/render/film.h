@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cl/buffer.h"
+#include "render/cluster.h"
 #include "io/image.h"
 
 namespace clpt {
@@ -32,10 +33,10 @@ struct FilmSums {
   std::vector<uint32_t> rays;
   // Adds another film of the same size and kind, pixel by pixel, in float as the device does.
   void add(const FilmSums& other);
-  // The sums as bytes (to send to another process), and such bytes of a film of the same size
-  // and kind added as add() does.
-  std::string bytes() const;
-  void add_bytes(const std::string& bytes);
+  // Its arrays as pieces to send (render/cluster.h), and a chunk of another film's piece
+  // added as add() does.
+  std::vector<Cluster::Piece> pieces() const;
+  void add_chunk(size_t piece, size_t offset, const void* chunk, size_t bytes);
 };
 
 // The mean, variance and counts of `sums` after `samples_per_pixel` samples.

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 #include <exception>
 #include <thread>
@@ -207,10 +206,10 @@ FilmSums Renderer::film_sums() const {
   FilmSums sums = lanes_.front()->film->read();
   for (size_t i = 1; i < lanes_.size(); ++i) sums.add(lanes_[i]->film->read());
   if (cluster_->size() > 1) {
-    if (cluster_->root())
-      cluster_->gather_to_root({}, [&](const std::string& bytes) { sums.add_bytes(bytes); });
-    else
-      cluster_->gather_to_root(sums.bytes(), {});
+    cluster_->gather_to_root(sums.pieces(), [&](size_t piece, size_t offset, const void* chunk,
+                                                 size_t bytes) {
+      sums.add_chunk(piece, offset, chunk, bytes);
+    });
   }
   return sums;
 }
@@ -299,12 +298,12 @@ void Renderer::gather_shares() {
     nlohmann::json j = {{"connections", stats_.connections}, {"devices", nlohmann::json::array()}};
     for (const DeviceShare& d : stats_.devices)
       j["devices"].push_back({d.name, d.label, d.samples, d.passes, d.busy_seconds});
-    cluster_->gather_to_root(j.dump(), {});
+    cluster_->gather_text_to_root(j.dump(), {});
     return;
   }
   for (DeviceShare& d : stats_.devices) d.label = "rank 0: " + d.label;
   int rank = 0;
-  cluster_->gather_to_root({}, [&](const std::string& text) {
+  cluster_->gather_text_to_root({}, [&](const std::string& text) {
     ++rank;
     const nlohmann::json j = nlohmann::json::parse(text);
     stats_.connections += j["connections"].get<uint64_t>();
@@ -461,22 +460,17 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   out.layers = lane0.integrator->layers(done);
   if (lane0.aov) {
     std::vector<dev::AovSums> sums = lane0.aov->sums();
-    for (size_t i = 1; i < k; ++i) AovPass::add(sums, lanes_[i]->aov->sums());
-    if (cluster.size() > 1) {
-      if (cluster.root()) {
-        cluster.gather_to_root({}, [&](const std::string& bytes) {
-          std::vector<dev::AovSums> other(sums.size());
-          if (bytes.size() != other.size() * sizeof(dev::AovSums))
-            throw std::logic_error("AOV bytes of another size");
-          std::memcpy(other.data(), bytes.data(), bytes.size());
-          AovPass::add(sums, other);
-        });
-      } else {
-        cluster.gather_to_root(std::string(reinterpret_cast<const char*>(sums.data()),
-                                           sums.size() * sizeof(dev::AovSums)),
-                               {});
-      }
+    for (size_t i = 1; i < k; ++i) {
+      const std::vector<dev::AovSums> other = lanes_[i]->aov->sums();
+      AovPass::add(sums.data(), other.data(), sums.size());
     }
+    if (cluster.size() > 1)
+      cluster.gather_to_root({{sums.data(), sums.size() * sizeof(sums[0])}},
+                             [&](size_t, size_t offset, const void* chunk, size_t bytes) {
+                               AovPass::add(sums.data() + offset / sizeof(dev::AovSums),
+                                            static_cast<const dev::AovSums*>(chunk),
+                                            bytes / sizeof(dev::AovSums));
+                             });
     out.aovs = AovPass::aov_layers(sums, width_, height_, settings_.aovs);
   }
   out.stats = stats_;
