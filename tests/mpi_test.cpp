@@ -81,11 +81,14 @@ TEST_F(Mpi, TwoRanksRenderWhatOneProcessRenders) {
   struct Case {
     const char* integrator;
     double max_rel_mse;  // float rounding of the sums' order (splats: a little more)
+    std::vector<std::string> more;
   };
-  for (const Case& c : {Case{"pt", 1e-10}, Case{"lt", 1e-8}, Case{"bdpt", 1e-8}}) {
+  for (const Case& c : {Case{"pt", 1e-10, {}}, Case{"lt", 1e-8, {}}, Case{"bdpt", 1e-8, {}},
+                        Case{"vcm", 1e-8, {"--vcm-merged"}}}) {
     SCOPED_TRACE(c.integrator);
-    const std::vector<std::string> args = {"--integrator", c.integrator, "--resolution", "32x32",
-                                           "--spp", "16", "--seed", "5", "--max-depth", "4"};
+    std::vector<std::string> args = {"--integrator", c.integrator, "--resolution", "32x32",
+                                     "--spp", "16", "--seed", "5", "--max-depth", "4"};
+    args.insert(args.end(), c.more.begin(), c.more.end());
     const std::string name = c.integrator;
     const nlohmann::json one = render(name + "-one", 0, args);
     const nlohmann::json two = render(name + "-two", 2, args);
@@ -99,6 +102,14 @@ TEST_F(Mpi, TwoRanksRenderWhatOneProcessRenders) {
                 c.integrator, g.rel_mse, g.mean_ratio - 1.0);
     EXPECT_LT(g.rel_mse, c.max_rel_mse);
     EXPECT_NEAR(g.mean_ratio, 1.0, 1e-6);
+    // Extra layers (vcm's merged part) are gathered from the ranks too.
+    const ImageChannels la = read_image_channels(path(name + "-two.exr"));
+    for (const NamedChannel& l : read_image_channels(path(name + "-one.exr")).layers) {
+      SCOPED_TRACE(l.name);
+      const Image* other = la.layer(l.name);
+      ASSERT_NE(other, nullptr);
+      EXPECT_LT(test::agreement(*other, l.image).rel_mse, c.max_rel_mse);
+    }
   }
 }
 

@@ -1,5 +1,7 @@
 #include "integrators/integrator.h"
 
+#include <algorithm>
+
 #include "cl/programs.h"
 #include "integrators/bdpt.h"
 #include "integrators/indirect1.h"
@@ -65,7 +67,7 @@ const std::vector<IntegratorInfo>& integrator_table() {
       {"bdpt",   true,  F::Splats,      OPTIONS_BDPT | OPTIONS_LVC,      true,  true,  0, false, true,  make_bdpt},
       {"pm",     true,  F::SampleSums,  OPTIONS_PHOTONS | OPTIONS_PM,    true,  false, 0, false, true,  make_pm},
       {"sppm",   true,  F::Progressive, OPTIONS_PHOTONS | OPTIONS_SPPM,  true,  false, 0, false, false, make_sppm},
-      {"vcm",    true,  F::Splats,      OPTIONS_VCM | OPTIONS_LVC,       true,  true,  0, false, false, make_vcm},
+      {"vcm",    true,  F::Splats,      OPTIONS_VCM | OPTIONS_LVC,       true,  true,  0, false, true,  make_vcm},
       {"mlt",    true,  F::Splats,      OPTIONS_MLT,                     true,  false, 0, false, false, make_mlt},
       {"ic",     true,  F::SampleSums,  OPTIONS_IC,                      true,  false, 0, false, false, make_ic},
       {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, true,  make_ao},
@@ -85,6 +87,21 @@ const IntegratorInfo& integrator_info(const std::string& name) {
   const IntegratorInfo* row = find_integrator(name);
   if (!row) throw Error(ExitCode::Usage, "--integrator " + name + ": unknown integrator");
   return *row;
+}
+
+void VcmStats::add(const VcmStats& o) {
+  light_vertices += o.light_vertices;
+  connections += o.connections;
+  merges += o.merges;
+  passes += o.passes;
+  grids += o.grids;
+  grid_seconds += o.grid_seconds;
+  device_bytes += o.device_bytes;
+  if (o.passes) {
+    // Radii shrink with the sample index: the largest first, the smallest last.
+    first_radius = passes == o.passes ? o.first_radius : std::max(first_radius, o.first_radius);
+    last_radius = passes == o.passes ? o.last_radius : std::min(last_radius, o.last_radius);
+  }
 }
 
 std::string integrator_names_text(const char* separator, bool implemented_only) {

@@ -59,6 +59,8 @@ struct IcStats {
 
 // Vertex connection and merging figures of vcm for --stats.
 struct VcmStats {
+  // Another device's figures added: counts and times summed, the radii's range widened.
+  void add(const VcmStats& other);
   uint64_t light_vertices = 0;    // stored (all passes)
   uint64_t connections = 0;       // shadow rays of connection strategies (NEE, t = 1, s, t >= 2)
   uint64_t merges = 0;            // light vertices merged at camera vertices
@@ -209,8 +211,9 @@ struct IntegratorInfo {
   uint32_t max_depth_cap;        // 0: none; direct: 1; indirect1: 2
   bool traces_light_paths;       // its paths per second count light paths (lt), not camera paths
   // Renders disjoint sample ranges on several devices (--device A,B): each sample a function of
-  // its index alone, no state carried from pass to pass (sppm's radii, vcm's, mlt's chains and
-  // ic's cache are; pm's maps are rebuilt alike from the seed on each device).
+  // its index alone, no state carried from pass to pass (sppm's per-pixel radii, mlt's chains
+  // and ic's cache are; vcm's radius follows the sample index; pm's maps are rebuilt alike from
+  // the seed on each device).
   bool multi_device;
   std::unique_ptr<Integrator> (*make)(const cl::Context&, const SceneBuffers&,
                                       const IntegratorConfig&);  // null: not implemented

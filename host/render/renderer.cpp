@@ -452,12 +452,32 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   out.film = resolve_film(sums, done);
   gather_shares();
   // The photon maps are traced alike on every device (same seed): the first device's figures.
-  // mlt, ic and vcm render on one device.
+  // mlt and ic render on one device. vcm's figures add up over this process's devices (under
+  // MPI: rank 0's devices).
   stats_.photons = lane0.integrator->photon_stats();
   stats_.metropolis = lane0.integrator->metropolis_stats();
   stats_.ic = lane0.integrator->ic_stats();
   stats_.vcm = lane0.integrator->vcm_stats();
+  for (size_t i = 1; i < k; ++i) stats_.vcm.add(lanes_[i]->integrator->vcm_stats());
+  // Extra layers (vcm's merged part): every device's, each already divided by the render's
+  // samples, added (and every rank's, on rank 0).
   out.layers = lane0.integrator->layers(done);
+  for (size_t i = 1; i < k; ++i) {
+    const std::vector<NamedChannel> more = lanes_[i]->integrator->layers(done);
+    for (size_t l = 0; l < out.layers.size() && l < more.size(); ++l)
+      for (size_t j = 0; j < out.layers[l].image.rgb.size(); ++j)
+        out.layers[l].image.rgb[j] += more[l].image.rgb[j];
+  }
+  if (cluster.size() > 1 && !out.layers.empty()) {
+    std::vector<Cluster::Piece> pieces;
+    for (const NamedChannel& l : out.layers)
+      pieces.push_back({l.image.rgb.data(), l.image.rgb.size() * sizeof(float)});
+    cluster.gather_to_root(pieces, [&](size_t l, size_t offset, const void* chunk, size_t bytes) {
+      float* to = out.layers.at(l).image.rgb.data() + offset / sizeof(float);
+      const float* from = static_cast<const float*>(chunk);
+      for (size_t j = 0; j < bytes / sizeof(float); ++j) to[j] += from[j];
+    });
+  }
   if (lane0.aov) {
     std::vector<dev::AovSums> sums = lane0.aov->sums();
     for (size_t i = 1; i < k; ++i) {
