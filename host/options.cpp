@@ -63,7 +63,8 @@ struct Parser {
     app.add_option("--device", o.device,
                    "OpenCL device: pocl, gpu, cpu, PLATFORM:DEVICE, or a name substring "
                    "[first GPU, else PoCL]; several, comma-separated, or all (every GPU, else "
-                   "every device) share the samples")
+                   "every device) share the samples; under mpirun, rank: one GPU per rank on "
+                   "each node")
         ->type_name("SPEC");
     app.add_flag("--list-devices", o.list_devices, "List OpenCL devices and exit");
     spp_opt = app.add_option("--spp", o.spp, "Samples per pixel [64; unlimited with --time alone]")

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <sstream>
 
 #include "cl/cl_error.h"
@@ -153,8 +154,33 @@ DeviceInfo select_device(const std::string& spec_in) {
   return *found;
 }
 
+int local_rank() {
+  // Open MPI's mpirun, Slurm's srun, MPICH's Hydra; -1 when no launcher set one.
+  for (const char* v : {"OMPI_COMM_WORLD_LOCAL_RANK", "SLURM_LOCALID", "MPI_LOCALRANKID"})
+    if (const char* value = std::getenv(v)) {
+      char* end = nullptr;
+      const long r = std::strtol(value, &end, 10);
+      if (end != value && *end == '\0' && r >= 0 && r < (1L << 20)) return static_cast<int>(r);
+    }
+  return -1;
+}
+
 std::vector<DeviceInfo> select_devices(const std::string& spec) {
   std::vector<DeviceInfo> chosen;
+  if (lower(spec) == "rank") {
+    const std::vector<DeviceInfo> devices = list_devices();
+    for (const DeviceInfo& d : devices)
+      if (d.is_gpu()) chosen.push_back(d);
+    if (chosen.empty()) chosen = devices;
+    const int r = local_rank();
+    if (r < 0)
+      throw Error(ExitCode::Usage, "--device=rank: no MPI launcher set a local rank "
+                                   "(OMPI_COMM_WORLD_LOCAL_RANK, SLURM_LOCALID or MPI_LOCALRANKID)");
+    if (chosen.empty())
+      throw Error(ExitCode::Device, "--device=rank: no OpenCL device found\nOpenCL devices found:\n" +
+                                        describe_devices(devices));
+    return {chosen[size_t(r) % chosen.size()]};
+  }
   if (lower(spec) == "all") {
     const std::vector<DeviceInfo> devices = list_devices();
     for (const DeviceInfo& d : devices)

@@ -32,8 +32,10 @@ std::vector<DeviceInfo> list_devices();
 // platform name. Throws Error(ExitCode::Device) listing what was found when nothing matches.
 DeviceInfo select_device(const std::string& spec);
 
-// One or several devices: "all" (every GPU; without a GPU, every device), or a comma-separated
-// list of select_device specs ("0:0,0:1"; a name substring holding a comma cannot be listed).
+// One or several devices: "all" (every GPU; without a GPU, every device), "rank" (under an MPI
+// launcher, the GPU — else the device — numbered by this process's rank on its node, modulo
+// their count: one GPU per rank), or a comma-separated list of select_device specs ("0:0,0:1";
+// a name substring holding a comma cannot be listed).
 // Throws Error(ExitCode::Device) as select_device does, and Error(ExitCode::Usage) for a device
 // named twice.
 std::vector<DeviceInfo> select_devices(const std::string& spec);
