@@ -50,6 +50,21 @@ TEST(PassSchedule, SlowDeviceStaysWithinThePassTime) {
   EXPECT_EQ(next_pass_samples(s, 64, 2, 0.02), 3u);
 }
 
+// Several devices' shares (render/pass_schedule.h): unchanged below what is left; above it,
+// in proportion and adding up to it exactly, the first device always working.
+TEST(PassSchedule, SharesAddUpToWhatIsLeft) {
+  using V = std::vector<uint64_t>;
+  EXPECT_EQ(share_samples({3, 5}, 100), (V{3, 5}));
+  EXPECT_EQ(share_samples({3, 5}, 0), (V{3, 5}));  // no target
+  EXPECT_EQ(share_samples({30, 10}, 8), (V{6, 2}));
+  EXPECT_EQ(share_samples({1, 1, 1}, 1), (V{1, 0, 0}));
+  EXPECT_EQ(share_samples({1, 1, 1}, 2), (V{1, 1, 0}));
+  EXPECT_EQ(share_samples({1, 100}, 10), (V{1, 9}));  // floor(0.099) = 0, then the remainder
+  const V big = share_samples({uint64_t(1) << 33, uint64_t(1) << 33}, (uint64_t(1) << 32) + 1);
+  EXPECT_EQ(big[0] + big[1], (uint64_t(1) << 32) + 1);
+  EXPECT_GE(big[0], big[1]);
+}
+
 TEST(PassSchedule, FixedScheduleDoublesToItsCap) {
   PassSchedule s;
   s.by_clock = false;

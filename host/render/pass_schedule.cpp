@@ -12,4 +12,16 @@ uint64_t next_pass_samples(const PassSchedule& schedule, uint64_t planned, uint6
   return std::clamp<uint64_t>(uint64_t(fit), 1, 2 * n);
 }
 
+std::vector<uint64_t> share_samples(std::vector<uint64_t> wanted, uint64_t left) {
+  uint64_t want = 0;
+  for (uint64_t w : wanted) want += w;
+  if (left == 0 || want <= left || wanted.empty()) return wanted;
+  uint64_t given = 0;
+  // 128 bits: a share and what is left may each pass 2^32.
+  for (uint64_t& w : wanted)
+    given += w = static_cast<uint64_t>(static_cast<unsigned __int128>(w) * left / want);
+  for (size_t i = 0; given < left; i = (i + 1) % wanted.size(), ++given) ++wanted[i];
+  return wanted;
+}
+
 }  // namespace clpt

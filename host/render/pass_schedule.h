@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 namespace clpt {
 
@@ -22,6 +23,13 @@ struct PassSchedule {
 // speed just seen, at least 1 and at most twice n; otherwise twice `planned`, up to fixed_cap.
 uint64_t next_pass_samples(const PassSchedule& schedule, uint64_t planned, uint64_t n,
                            double seconds);
+
+// A pass's shares over several devices: each device's own next_pass_samples (`wanted`), and
+// when they add up to more than `left` (the samples per pixel the target leaves; 0: no target),
+// scaled down in proportion, the first devices taking the remainder one sample each, so that
+// the shares add up to `left` and the first device always works (it takes the render's sample
+// 0). Device i then renders the indices after those of devices 0 to i - 1.
+std::vector<uint64_t> share_samples(std::vector<uint64_t> wanted, uint64_t left);
 
 // One pass of a single sample per pixel that runs this long on a GPU is worth a warning: no
 // smaller pass exists, and a display's watchdog may stop the kernel.

@@ -387,14 +387,11 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
       out.interrupted = true;
       break;
     }
-    // Near the sample target, all shares scaled down to what is left, the first devices taking
-    // the remainder (so rank 0's first device always works: it takes the render's sample 0).
+    // Near the sample target, all shares scaled down to what is left (so rank 0's first device
+    // always works: it takes the render's sample 0).
     if (target && want > target - done) {
-      const uint64_t left = target - done;
-      uint64_t given = 0;
-      for (size_t i = 0; i < all; ++i) given += n[i] = n[i] * left / want;
-      for (size_t i = 0; given < left; i = (i + 1) % all, ++given) ++n[i];
-      want = left;
+      n = share_samples(n, target - done);
+      want = target - done;
     }
     if (done + want > 0xffffffffull) throw Error(ExitCode::Usage, "more than 2^32 samples per pixel");
     for (size_t i = 0, at = done; i < all; at += n[i], ++i) first[i] = at;
