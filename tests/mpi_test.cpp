@@ -5,6 +5,7 @@
 // saying so, where clpt was built without MPI (CLPT_MPI off or no libopenmpi-dev).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -52,7 +53,8 @@ class Mpi : public ::testing::Test {
   // it: as root, more ranks than cores allowed, and shared memory without cross-memory attach
   // (which containers forbid).
   test::RunResult mpirun(const std::vector<std::vector<std::string>>& ranks,
-                         const std::vector<std::pair<std::string, std::string>>& env = {}) const {
+                         const std::vector<std::pair<std::string, std::string>>& env = {},
+                         const std::string& interrupt_after = "") const {
     std::vector<std::string> args = {"--oversubscribe", "--allow-run-as-root",
                                      "--mca", "btl_vader_single_copy_mechanism", "none"};
     for (size_t r = 0; r < ranks.size(); ++r) {
@@ -64,6 +66,7 @@ class Mpi : public ::testing::Test {
     // One PoCL thread per rank: two ranks on two cores.
     o.env = {{"POCL_MAX_PTHREAD_COUNT", "1"}, {"OMPI_MCA_rmaps_base_oversubscribe", "1"}};
     o.env.insert(o.env.end(), env.begin(), env.end());
+    o.interrupt_after = interrupt_after;
     return test::run_program(CLPT_MPIEXEC, args, o);
   }
   // clpt on the Cornell box with `args`, writing `name`.exr and its --stats, by `ranks` MPI
@@ -191,6 +194,33 @@ TEST_F(Mpi, DeviceRankGivesEachRankItsOwnDevice) {
   const test::RunResult alone = test::run_program(CLPT_BINARY, args);
   EXPECT_EQ(alone.exit_code, 1) << alone.err;
   EXPECT_NE(alone.err.find("no MPI launcher"), std::string::npos) << alone.err;
+}
+
+// --time: rank 0's clock ends the render for both, which both took samples in; Ctrl-C to
+// mpirun (which passes SIGTERM to every rank): the ranks finish the pass, rank 0 writes what
+// was rendered.
+TEST_F(Mpi, TimeLimitAndCtrlCEndEveryRank) {
+  const std::vector<std::string> timed = {kCornell, "--device", "pocl", "--resolution", "16x16",
+                                          "--time", "1.5", "-o", path("t.exr"),
+                                          "--stats=" + path("t.json")};
+  const test::RunResult t = mpirun({timed, timed});
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  const nlohmann::json stats = nlohmann::json::parse(test::read_file(path("t.json")));
+  EXPECT_GE(stats["render_seconds"].get<double>(), 1.5);
+  EXPECT_LT(stats["render_seconds"].get<double>(), 5.0);
+  test::expect_device_shares(stats, 2, read_image_channels(path("t.exr")).int_attribute("clpt:spp"));
+
+  const std::vector<std::string> long_run = {kCornell, "--device", "pocl", "--resolution", "16x16",
+                                             "--spp", "100000000", "-o", path("i.exr")};
+  const auto t0 = std::chrono::steady_clock::now();
+  const test::RunResult i = mpirun({long_run, long_run}, {}, "rendering ");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_NE(i.exit_code, 0) << "interrupted";
+  EXPECT_LT(seconds, 30.0);
+  ASSERT_TRUE(fs::exists(path("i.exr"))) << i.err;
+  const int spp = read_image_channels(path("i.exr")).int_attribute("clpt:spp");
+  EXPECT_GT(spp, 0);
+  EXPECT_LT(spp, 100000000);
 }
 
 // A checkpoint two ranks wrote holds the first N sample indices, summed: resumed by two ranks
