@@ -107,6 +107,16 @@ TEST_F(Mpi, TwoRanksRenderWhatOneProcessRenders) {
     const nlohmann::json two = render(name + "-two", 2, args);
     if (one.is_null() || two.is_null()) continue;
     test::expect_device_shares(two, 2, 16);
+    if (name == "vcm") {
+      // Its figures add up over the ranks: every pass once, the same radii, the same merges
+      // (to float atomics' order, which does not change counts).
+      EXPECT_EQ(two["vcm"]["passes"], 16);
+      EXPECT_EQ(two["vcm"]["passes"], one["vcm"]["passes"]);
+      EXPECT_EQ(two["vcm"]["first_radius"], one["vcm"]["first_radius"]);
+      EXPECT_EQ(two["vcm"]["last_radius"], one["vcm"]["last_radius"]);
+      EXPECT_EQ(two["vcm"]["merges"], one["vcm"]["merges"]);
+      EXPECT_EQ(two["vcm"]["light_vertices"], one["vcm"]["light_vertices"]);
+    }
     EXPECT_EQ(two["devices"][1]["device"].get<std::string>().rfind("rank 1: ", 0), 0u)
         << two["devices"].dump();
     const test::Agreement g =

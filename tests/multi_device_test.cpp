@@ -92,6 +92,12 @@ TEST_F(MultiDevice, TwoDevicesRenderWhatOneRenders) {
     if (one.is_null() || two.is_null()) continue;
     test::expect_device_shares(one, 1, 24);
     test::expect_device_shares(two, 2, 24);
+    if (name == "vcm") {  // its figures add up over the devices
+      EXPECT_EQ(two["vcm"]["passes"], 24);
+      EXPECT_EQ(two["vcm"]["first_radius"], one["vcm"]["first_radius"]);
+      EXPECT_EQ(two["vcm"]["last_radius"], one["vcm"]["last_radius"]);
+      EXPECT_EQ(two["vcm"]["merges"], one["vcm"]["merges"]);
+    }
     const Image a = read_image(path(name + "-two.exr"));
     const Image b = read_image(path(name + "-one.exr"));
     const test::Agreement g = test::agreement(a, b);

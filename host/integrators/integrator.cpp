@@ -97,8 +97,10 @@ void VcmStats::add(const VcmStats& o) {
   grids += o.grids;
   grid_seconds += o.grid_seconds;
   device_bytes += o.device_bytes;
+  tiles = std::max(tiles, o.tiles);  // per pass, alike on every device
   if (o.passes) {
-    // Radii shrink with the sample index: the largest first, the smallest last.
+    // Radii shrink with the sample index: the largest first, the smallest last (passes ==
+    // o.passes: this held no pass before, so the other's radii are the only ones).
     first_radius = passes == o.passes ? o.first_radius : std::max(first_radius, o.first_radius);
     last_radius = passes == o.passes ? o.last_radius : std::min(last_radius, o.last_radius);
   }

@@ -285,17 +285,26 @@ void Renderer::run_round(const std::vector<uint64_t>& first, const std::vector<u
     if (e) std::rethrow_exception(e);
 }
 
-void Renderer::gather_shares() {
+void Renderer::gather_device_stats() {
   stats_.devices.clear();
   stats_.connections = 0;
+  stats_.vcm = VcmStats{};
   for (const auto& lane : lanes_) {
     stats_.connections += lane->integrator->connections();
     stats_.devices.push_back(lane->share);
+    stats_.vcm.add(lane->integrator->vcm_stats());
   }
   if (cluster_->size() == 1) return;
-  // Other ranks' devices, labelled with their rank, as JSON text.
+  // Other ranks' figures, their devices labelled with their rank, as JSON text.
+  auto vcm_json = [](const VcmStats& v) {
+    return nlohmann::json::array({v.light_vertices, v.connections, v.merges, v.passes, v.tiles,
+                                  v.grids, v.grid_seconds, v.first_radius, v.last_radius,
+                                  v.device_bytes});
+  };
   if (!cluster_->root()) {
-    nlohmann::json j = {{"connections", stats_.connections}, {"devices", nlohmann::json::array()}};
+    nlohmann::json j = {{"connections", stats_.connections},
+                        {"devices", nlohmann::json::array()},
+                        {"vcm", vcm_json(stats_.vcm)}};
     for (const DeviceShare& d : stats_.devices)
       j["devices"].push_back({d.name, d.label, d.samples, d.passes, d.busy_seconds});
     cluster_->gather_text_to_root(j.dump(), {});
@@ -311,6 +320,19 @@ void Renderer::gather_shares() {
       stats_.devices.push_back({d[0].get<std::string>(),
                                 "rank " + std::to_string(rank) + ": " + d[1].get<std::string>(),
                                 d[2].get<uint64_t>(), d[3].get<uint64_t>(), d[4].get<double>()});
+    const auto& v = j["vcm"];
+    VcmStats theirs;
+    theirs.light_vertices = v[0].get<uint64_t>();
+    theirs.connections = v[1].get<uint64_t>();
+    theirs.merges = v[2].get<uint64_t>();
+    theirs.passes = v[3].get<uint32_t>();
+    theirs.tiles = v[4].get<uint32_t>();
+    theirs.grids = v[5].get<uint64_t>();
+    theirs.grid_seconds = v[6].get<double>();
+    theirs.first_radius = v[7].get<float>();
+    theirs.last_radius = v[8].get<float>();
+    theirs.device_bytes = v[9].get<size_t>();
+    stats_.vcm.add(theirs);
   });
 }
 
@@ -447,15 +469,13 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   const FilmSums sums = film_sums();
   stats_.film_gather_seconds = seconds_since(gather_start);
   out.film = resolve_film(sums, done);
-  gather_shares();
-  // The photon maps are traced alike on every device (same seed): the first device's figures.
-  // mlt and ic render on one device. vcm's figures add up over this process's devices (under
-  // MPI: rank 0's devices).
+  // Shares, connections and vcm's figures add up over every device of every rank. The photon
+  // maps are traced alike on every device (same seed): the first device's figures. mlt and ic
+  // render on one device.
+  gather_device_stats();
   stats_.photons = lane0.integrator->photon_stats();
   stats_.metropolis = lane0.integrator->metropolis_stats();
   stats_.ic = lane0.integrator->ic_stats();
-  stats_.vcm = lane0.integrator->vcm_stats();
-  for (size_t i = 1; i < k; ++i) stats_.vcm.add(lanes_[i]->integrator->vcm_stats());
   // Extra layers (vcm's merged part): every device's, each already divided by the render's
   // samples, added (and every rank's, on rank 0).
   out.layers = lane0.integrator->layers(done);

@@ -162,8 +162,9 @@ class Renderer {
  private:
   struct Lane;  // one device's context, scene, integrator, film and AOVs (renderer.cpp)
   const cl::DeviceInfo& lanes_device(size_t i) const;
-  // The devices of every rank: their shares and connections, on rank 0 (collective).
-  void gather_shares();
+  // The devices of every rank: their shares, connections and vcm figures, on rank 0
+  // (collective).
+  void gather_device_stats();
   // Runs every lane's range of the round ([first, first + n) each; n = 0: idle) and waits.
   void run_round(const std::vector<uint64_t>& first, const std::vector<uint64_t>& n);
 
