@@ -336,6 +336,46 @@ void Renderer::gather_device_stats() {
   });
 }
 
+std::vector<NamedChannel> Renderer::gathered_layers(uint64_t done) const {
+  // Every device's, each already divided by the render's samples, added (and every rank's, on
+  // rank 0).
+  std::vector<NamedChannel> layers = lanes_.front()->integrator->layers(done);
+  for (size_t i = 1; i < lanes_.size(); ++i) {
+    const std::vector<NamedChannel> more = lanes_[i]->integrator->layers(done);
+    for (size_t l = 0; l < layers.size() && l < more.size(); ++l)
+      for (size_t j = 0; j < layers[l].image.rgb.size(); ++j)
+        layers[l].image.rgb[j] += more[l].image.rgb[j];
+  }
+  if (cluster_->size() > 1 && !layers.empty()) {
+    std::vector<Cluster::Piece> pieces;
+    for (const NamedChannel& l : layers)
+      pieces.push_back({l.image.rgb.data(), l.image.rgb.size() * sizeof(float)});
+    cluster_->gather_to_root(pieces, [&](size_t l, size_t offset, const void* chunk, size_t bytes) {
+      float* to = layers.at(l).image.rgb.data() + offset / sizeof(float);
+      const float* from = static_cast<const float*>(chunk);
+      for (size_t j = 0; j < bytes / sizeof(float); ++j) to[j] += from[j];
+    });
+  }
+  return layers;
+}
+
+std::vector<NamedChannel> Renderer::gathered_aovs() const {
+  // Rank 0's first device's sums first: it took sample 0, whose material index they keep.
+  std::vector<dev::AovSums> sums = lanes_.front()->aov->sums();
+  for (size_t i = 1; i < lanes_.size(); ++i) {
+    const std::vector<dev::AovSums> other = lanes_[i]->aov->sums();
+    AovPass::add(sums.data(), other.data(), sums.size());
+  }
+  if (cluster_->size() > 1)
+    cluster_->gather_to_root({{sums.data(), sums.size() * sizeof(sums[0])}},
+                             [&](size_t, size_t offset, const void* chunk, size_t bytes) {
+                               AovPass::add(sums.data() + offset / sizeof(dev::AovSums),
+                                            static_cast<const dev::AovSums*>(chunk),
+                                            bytes / sizeof(dev::AovSums));
+                             });
+  return AovPass::aov_layers(sums, width_, height_, settings_.aovs);
+}
+
 RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& progress) {
   RenderOutput out;
   const Cluster& cluster = *cluster_;
@@ -476,40 +516,8 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   stats_.photons = lane0.integrator->photon_stats();
   stats_.metropolis = lane0.integrator->metropolis_stats();
   stats_.ic = lane0.integrator->ic_stats();
-  // Extra layers (vcm's merged part): every device's, each already divided by the render's
-  // samples, added (and every rank's, on rank 0).
-  out.layers = lane0.integrator->layers(done);
-  for (size_t i = 1; i < k; ++i) {
-    const std::vector<NamedChannel> more = lanes_[i]->integrator->layers(done);
-    for (size_t l = 0; l < out.layers.size() && l < more.size(); ++l)
-      for (size_t j = 0; j < out.layers[l].image.rgb.size(); ++j)
-        out.layers[l].image.rgb[j] += more[l].image.rgb[j];
-  }
-  if (cluster.size() > 1 && !out.layers.empty()) {
-    std::vector<Cluster::Piece> pieces;
-    for (const NamedChannel& l : out.layers)
-      pieces.push_back({l.image.rgb.data(), l.image.rgb.size() * sizeof(float)});
-    cluster.gather_to_root(pieces, [&](size_t l, size_t offset, const void* chunk, size_t bytes) {
-      float* to = out.layers.at(l).image.rgb.data() + offset / sizeof(float);
-      const float* from = static_cast<const float*>(chunk);
-      for (size_t j = 0; j < bytes / sizeof(float); ++j) to[j] += from[j];
-    });
-  }
-  if (lane0.aov) {
-    std::vector<dev::AovSums> sums = lane0.aov->sums();
-    for (size_t i = 1; i < k; ++i) {
-      const std::vector<dev::AovSums> other = lanes_[i]->aov->sums();
-      AovPass::add(sums.data(), other.data(), sums.size());
-    }
-    if (cluster.size() > 1)
-      cluster.gather_to_root({{sums.data(), sums.size() * sizeof(sums[0])}},
-                             [&](size_t, size_t offset, const void* chunk, size_t bytes) {
-                               AovPass::add(sums.data() + offset / sizeof(dev::AovSums),
-                                            static_cast<const dev::AovSums*>(chunk),
-                                            bytes / sizeof(dev::AovSums));
-                             });
-    out.aovs = AovPass::aov_layers(sums, width_, height_, settings_.aovs);
-  }
+  out.layers = gathered_layers(done);
+  if (lane0.aov) out.aovs = gathered_aovs();
   out.stats = stats_;
   return out;
 }

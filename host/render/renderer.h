@@ -165,6 +165,10 @@ class Renderer {
   // The devices of every rank: their shares, connections and vcm figures, on rank 0
   // (collective).
   void gather_device_stats();
+  // The integrator's extra layers (vcm's merged part) and the AOVs, of every device and rank
+  // added, on rank 0 (collective).
+  std::vector<NamedChannel> gathered_layers(uint64_t done) const;
+  std::vector<NamedChannel> gathered_aovs() const;
   // Runs every lane's range of the round ([first, first + n) each; n = 0: idle) and waits.
   void run_round(const std::vector<uint64_t>& first, const std::vector<uint64_t>& n);
 
