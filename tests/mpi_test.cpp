@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 const std::string kCornell = std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf";
 
-class Mpi : public ::testing::Test {
+class Mpi : public test::TestFolder {
  protected:
   void SetUp() override {
     if (std::string(CLPT_MPIEXEC).empty())
@@ -39,15 +39,8 @@ class Mpi : public ::testing::Test {
     if (launcher.exit_code != 0)
       GTEST_SKIP() << "mpirun cannot start two processes here (exit " << launcher.exit_code
                    << "):\n" << launcher.err;
-    dir_ = fs::temp_directory_path() /
-           ("clpt-mpi-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    make_folder("clpt-mpi");
   }
-  void TearDown() override {
-    if (!dir_.empty() && !HasFailure()) fs::remove_all(dir_);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
   // mpirun with one program per rank (MPMD: "prog args : prog args"), as CI's container needs
   // it: as root, more ranks than cores allowed, and shared memory without cross-memory attach
@@ -86,8 +79,6 @@ class Mpi : public ::testing::Test {
     if (r.exit_code != 0) return nullptr;
     return nlohmann::json::parse(test::read_file(path(name + ".json")));
   }
-
-  fs::path dir_;
 };
 
 TEST_F(Mpi, TwoRanksRenderWhatOneProcessRenders) {

@@ -28,18 +28,9 @@ namespace fs = std::filesystem;
 
 const std::string kCornell = std::string(CLPT_SOURCE_DIR) + "/scenes/cornell_box.gltf";
 
-class MultiDevice : public ::testing::Test {
+class MultiDevice : public test::TestFolder {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("clpt-multi-device-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  void SetUp() override { make_folder("clpt-multi-device"); }
 
   // clpt with two PoCL devices visible; `args` after the scene.
   test::RunResult clpt(const std::vector<std::string>& args) const {
@@ -59,8 +50,6 @@ class MultiDevice : public ::testing::Test {
     if (r.exit_code != 0) return nullptr;
     return nlohmann::json::parse(test::read_file(path(name + ".json")));
   }
-
-  fs::path dir_;
 };
 
 // Options some integrators need to render small and quick (pm's maps), or that show more of

@@ -154,6 +154,8 @@ DeviceInfo select_device(const std::string& spec_in) {
   return *found;
 }
 
+namespace {
+
 int local_rank() {
   // Open MPI's mpirun, Slurm's srun, MPICH's Hydra; -1 when no launcher set one.
   for (const char* v : {"OMPI_COMM_WORLD_LOCAL_RANK", "SLURM_LOCALID", "MPI_LOCALRANKID"})
@@ -165,32 +167,32 @@ int local_rank() {
   return -1;
 }
 
-std::vector<DeviceInfo> select_devices(const std::string& spec) {
+// Every GPU, or without one every device (--device all and rank); throws when there is none.
+std::vector<DeviceInfo> gpus_else_every_device(const std::string& spec) {
+  const std::vector<DeviceInfo> devices = list_devices();
   std::vector<DeviceInfo> chosen;
+  for (const DeviceInfo& d : devices)
+    if (d.is_gpu()) chosen.push_back(d);
+  if (chosen.empty()) chosen = devices;
+  if (chosen.empty())
+    throw Error(ExitCode::Device, "--device=" + spec + ": no OpenCL device found\nOpenCL devices found:\n" +
+                                      describe_devices(devices));
+  return chosen;
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> select_devices(const std::string& spec) {
   if (lower(spec) == "rank") {
-    const std::vector<DeviceInfo> devices = list_devices();
-    for (const DeviceInfo& d : devices)
-      if (d.is_gpu()) chosen.push_back(d);
-    if (chosen.empty()) chosen = devices;
     const int r = local_rank();
     if (r < 0)
       throw Error(ExitCode::Usage, "--device=rank: no MPI launcher set a local rank "
                                    "(OMPI_COMM_WORLD_LOCAL_RANK, SLURM_LOCALID or MPI_LOCALRANKID)");
-    if (chosen.empty())
-      throw Error(ExitCode::Device, "--device=rank: no OpenCL device found\nOpenCL devices found:\n" +
-                                        describe_devices(devices));
+    const std::vector<DeviceInfo> chosen = gpus_else_every_device("rank");
     return {chosen[size_t(r) % chosen.size()]};
   }
-  if (lower(spec) == "all") {
-    const std::vector<DeviceInfo> devices = list_devices();
-    for (const DeviceInfo& d : devices)
-      if (d.is_gpu()) chosen.push_back(d);
-    if (chosen.empty()) chosen = devices;
-    if (chosen.empty())
-      throw Error(ExitCode::Device, "--device=all: no OpenCL device found\nOpenCL devices found:\n" +
-                                        describe_devices(devices));
-    return chosen;
-  }
+  if (lower(spec) == "all") return gpus_else_every_device("all");
+  std::vector<DeviceInfo> chosen;
   size_t start = 0;
   while (true) {
     const size_t comma = spec.find(',', start);

@@ -140,10 +140,6 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
                           ? settings_.ao_radius
                           : 0.1f * glm::length(scene.bounds().extent());
 
-  // Program from cache or source, then a warm-up launch: drivers such as PoCL compile the
-  // kernel for its work-group size at the first launch, which belongs to start-up, not to
-  // the first pass's timing.
-  t0 = Clock::now();
   IcConfig ic = settings_.ic;
   if (settings_.time_limit > 0.0) ic.refine_seconds = kIcRefineShare * settings_.time_limit;
   VcmConfig vcm = settings_.vcm;
@@ -177,6 +173,9 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
     lane->scene = std::make_unique<SceneBuffers>(*ctx, flat);
     lane->film = std::make_unique<Film>(*ctx, width_, height_, row.film == FilmKind::Splats,
                                         row.film == FilmKind::SampleSums);
+    // Program from cache or source, then a warm-up launch: drivers such as PoCL compile the
+    // kernel for its work-group size at the first launch, which belongs to start-up, not to
+    // the first pass's timing.
     const auto t_kernel = Clock::now();
     lane->integrator = make_integrator(settings_.integrator, *ctx, *lane->scene, config);
     lane->integrator->warm_up(params_, *lane->film);
@@ -223,11 +222,11 @@ FilmState Renderer::film_state(uint64_t samples_per_pixel) const {
   s.width = width_;
   s.height = height_;
   s.samples_per_pixel = samples_per_pixel;
-  for (size_t i = 0; i < sums.sum.size(); ++i)
-    for (int c = 0; c < 4; ++c) {
-      s.sum.push_back(sums.sum[i][c]);
-      s.sum_sq.push_back(sums.sum_sq[i][c]);
-    }
+  // Four floats a pixel, as on the device.
+  const float* sum = sums.sum.front().data();
+  const float* sum_sq = sums.sum_sq.front().data();
+  s.sum.assign(sum, sum + 4 * sums.sum.size());
+  s.sum_sq.assign(sum_sq, sum_sq + 4 * sums.sum_sq.size());
   s.ray_counts = sums.rays;
   return s;
 }

@@ -6,6 +6,17 @@
 
 namespace clpt::test {
 
+void TestFolder::make_folder(const std::string& prefix) {
+  dir_ = std::filesystem::temp_directory_path() /
+         (prefix + "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  std::filesystem::remove_all(dir_);
+  std::filesystem::create_directories(dir_);
+}
+
+void TestFolder::TearDown() {
+  if (!dir_.empty() && !HasFailure()) std::filesystem::remove_all(dir_);
+}
+
 Agreement agreement(const Image& a, const Image& b) {
   return {compare_images(a, b).rel_mse, image_mean(a) / image_mean(b)};
 }

@@ -2,14 +2,29 @@
 // tests/mpi_test.cpp): how closely the images agree, and the shares --stats reports.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "io/image.h"
 
 namespace clpt::test {
+
+// A test with a folder of its own under the temporary directory, named PREFIX-TEST, made by
+// make_folder() and removed after the test unless it failed (its files are then kept).
+class TestFolder : public ::testing::Test {
+ protected:
+  void make_folder(const std::string& prefix);
+  void TearDown() override;
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  std::filesystem::path dir_;
+};
 
 struct Agreement {
   double rel_mse = 0.0;     // stats/image_stats.h's relMSE of a against b
