@@ -2,30 +2,40 @@
 # The GPU check (issue 19): run it on any machine with a GPU and its vendor's OpenCL driver,
 # from a built tree, and keep what it writes. It
 #   1. lists the OpenCL devices (devices.txt);
-#   2. renders the Cornell box (then, after the tests, the caustic scene) with every
-#      integrator, twice: kernels cold (an empty kernel cache) and cached, with --stats
-#      (stats/*.json);
-#   3. runs the device-independent tests on the GPU (CLPT_TEST_DEVICE): every program builds,
+#   2. builds every integrator's kernel programs, all at once, one clpt process each (a
+#      driver compiles a program on one core, and NVIDIA's took 37 to 153 s a program on an
+#      H200: one after another they would not fit a lent machine's 15 minutes), with empty
+#      caches: the cold build time (stats/INTEG-build.json; on NVIDIA each kernel's registers
+#      and spills from -cl-nv-verbose in stats/INTEG-build.log);
+#   3. renders the Cornell box with every integrator, one after another, with the caches
+#      warm (clpt's and the driver's own): the start-up a user sees from the second run on,
+#      paths/s and rays/s (stats/INTEG-cornell_box.json); on NVIDIA pt once more with the
+#      driver's cache off (stats/pt-nvcache-off.json): clpt's cache holds PTX there, and this is
+#      what assembling it costs at every start without the driver's cache;
+#   4. runs the device-independent tests on the GPU (CLPT_TEST_DEVICE): every program builds,
 #      the furnaces against their closed forms, the cross-integrator tests, determinism
 #      (tests.log; the gtest summary is printed);
-#   4. writes summary.md: device, driver, per integrator the cold and cached kernel build,
+#   5. renders the caustic scene with every integrator (caches warm);
+#   6. writes summary.md: device, driver, per integrator the cold build, the warm start,
 #      paths/s and rays/s, and what failed or was skipped.
 #
 #   scripts/gpu-check.sh [--device SPEC] [--build DIR] [--out DIR] [--seconds S] [--no-tests]
-#                        [--budget S]
+#                        [--budget S] [--jobs N]
 #
-# --device: clpt's device spec (default gpu). --seconds: each render's --time (default 5).
-# --build: a build tree, or a bundle from scripts/gpu_bundle.py (a machine without clpt's
+# --device: clpt's device spec (default gpu). --seconds: each timed render's --time (default
+# 5). --build: a build tree, or a bundle from scripts/gpu_bundle.py (a machine without clpt's
 # libraries: its lib/ goes on LD_LIBRARY_PATH). --budget: wall seconds for the whole check
-# (default none); a step that would start after it is skipped and listed as such, and the
-# tests get what is left, so a lent machine's time is never overrun.
+# (default none): the parallel builds get at most half of it, a later step that would start
+# after it is skipped and listed as such, and the tests get what is left, so a lent machine's
+# time is never overrun. --jobs: builds at once (default: the number of cores).
 # NVIDIA's driver registers no ICD file where only its libraries were installed; when no file
-# under /etc/OpenCL/vendors names libnvidia-opencl and the library loads, the check makes a
-# private vendors folder naming it (OCL_ICD_VENDORS). It also runs on PoCL (--device pocl) as
-# a dry run. Exit status: 0 when every test and render succeeded, 1 otherwise.
+# under /etc/OpenCL/vendors names libnvidia-opencl and the library is found, the check makes
+# a private vendors folder naming it (OCL_ICD_VENDORS). It also runs on PoCL (--device pocl)
+# as a dry run. Exit status: 0 when every test and render that ran succeeded, 1 otherwise.
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 device=gpu build="$root/build" out="$root/gpu-check-out" seconds=5 tests=1 budget=0
+jobs=$(nproc 2>/dev/null || echo 4)
 while [ $# -gt 0 ]; do
   case "$1" in
     --device) device="$2"; shift 2 ;;
@@ -34,7 +44,8 @@ while [ $# -gt 0 ]; do
     --seconds) seconds="$2"; shift 2 ;;
     --no-tests) tests=0; shift ;;
     --budget) budget="$2"; shift 2 ;;
-    *) sed -n '2,27p' "$0" >&2; exit 2 ;;
+    --jobs) jobs="$2"; shift 2 ;;
+    *) sed -n '2,34p' "$0" >&2; exit 2 ;;
   esac
 done
 clpt="$build/clpt"
@@ -45,6 +56,8 @@ failed=() skipped=()
 start=$SECONDS
 # left: seconds of the budget left (a large number without one).
 left() { if [ "$budget" -gt 0 ]; then echo $((budget - (SECONDS - start))); else echo 100000; fi; }
+# cap N: the smaller of N and what is left.
+cap() { local l; l=$(left); [ "$l" -lt "$1" ] && echo "$l" || echo "$1"; }
 
 # NVIDIA without an ICD file: name its library in a private vendors folder (by its full
 # path when the loader's cache does not know it, as in containers that mount the driver).
@@ -66,40 +79,69 @@ fi
 
 "$clpt" --list-devices >"$out/devices.txt" 2>&1 || failed+=("list-devices")
 cat "$out/devices.txt"
+nvidia=0
+[ "$device" != pocl ] && grep -q 'NVIDIA' "$out/devices.txt" && nvidia=1
 
-integrators="pt lt bdpt pm sppm vcm mlt ic ao direct indirect1"
+# Both caches start empty and are shared by every step after the builds: clpt's (written
+# atomically, so parallel builds may share it) and, on NVIDIA, the driver's own.
 kernel_cache=$(mktemp -d)
 trap 'rm -rf "$kernel_cache"' EXIT
-render_scene() {
-  local scene=$1 integ run limit json cold_env
-  for integ in $integrators; do
-    for run in cold cached; do
-      if [ "$(left)" -lt $((seconds + 20)) ]; then
-        skipped+=("$integ/$scene/$run")
-        continue
-      fi
-      # cold: clpt's kernel cache emptied, and the drivers' own caches off (NVIDIA's
-      # ComputeCache, PoCL's kernel cache), so the figure is a whole build from source.
-      cold_env=()
-      if [ "$run" = cold ]; then
-        rm -rf "${kernel_cache:?}"/*
-        cold_env=(CUDA_CACHE_DISABLE=1 POCL_KERNEL_CACHE=0)
-      fi
-      json="$out/stats/$integ-$scene-$run.json"
-      limit=$(left); [ "$limit" -gt 900 ] && limit=900
-      if ! env "${cold_env[@]}" CLPT_CACHE_DIR="$kernel_cache" timeout "$limit" "$clpt" --device "$device" -q \
-             "$root/scenes/$scene.gltf" --integrator "$integ" --resolution 256x256 \
-             --time "$seconds" -o "$out/stats/$integ-$scene.exr" --stats "$json" \
-             >"$out/stats/$integ-$scene-$run.log" 2>&1; then
-        failed+=("$integ/$scene/$run")
-        tail -n 5 "$out/stats/$integ-$scene-$run.log"
-      fi
-    done
-  done
+export CLPT_CACHE_DIR="$kernel_cache/clpt"
+if [ "$nvidia" = 1 ]; then
+  export CUDA_CACHE_PATH="$kernel_cache/nv" CUDA_CACHE_MAXSIZE=4294967296
+  export CLPT_BUILD_OPTIONS="-cl-nv-verbose"
+fi
+
+integrators="pt lt bdpt pm sppm vcm mlt ic ao direct indirect1"
+
+# render NAME LIMIT ARGS...: one clpt run, its stats in stats/NAME.json, its output in
+# stats/NAME.log; a failure is listed.
+render() {
+  local name=$1 limit=$2
+  shift 2
+  if ! timeout "$limit" "$clpt" --device "$device" "$@" --stats "$out/stats/$name.json" \
+         >"$out/stats/$name.log" 2>&1; then
+    failed+=("$name")
+    tail -n 5 "$out/stats/$name.log"
+  fi
 }
 
-# The tests read the sources through the path they were built from; a tree copied elsewhere
-# (a lent GPU machine) gets a link from that path to here when it is free.
+# 2. Cold builds, in parallel (-v: the build log, which carries NVIDIA's per-kernel figures).
+build_limit=$(cap 1800)
+[ "$budget" -gt 0 ] && build_limit=$((budget / 2))
+running=0
+for integ in $integrators; do
+  ( POCL_KERNEL_CACHE=0 timeout "$build_limit" "$clpt" --device "$device" -v "$root/scenes/cornell_box.gltf" \
+      --integrator "$integ" --resolution 32x32 --spp 1 -o "$out/stats/$integ-build.exr" \
+      --stats "$out/stats/$integ-build.json" >"$out/stats/$integ-build.log" 2>&1 ||
+      echo "gpu-check: the build of $integ failed or ran past ${build_limit}s" ) &
+  running=$((running + 1))
+  if [ "$running" -ge "$jobs" ]; then wait -n; running=$((running - 1)); fi
+done
+wait
+for integ in $integrators; do
+  [ -s "$out/stats/$integ-build.json" ] || failed+=("$integ-build")
+done
+
+# 3. The Cornell box with warm caches, one integrator at a time.
+render_scene() {
+  local scene=$1 integ
+  for integ in $integrators; do
+    if [ "$(left)" -lt $((seconds + 20)) ]; then skipped+=("$integ-$scene"); continue; fi
+    render "$integ-$scene" "$(cap 900)" -q "$root/scenes/$scene.gltf" --integrator "$integ" \
+      --resolution 256x256 --time "$seconds" -o "$out/stats/$integ-$scene.exr"
+  done
+}
+render_scene cornell_box
+if [ "$nvidia" = 1 ]; then
+  if [ "$(left)" -lt 200 ]; then skipped+=("pt-nvcache-off"); else
+    CUDA_CACHE_DISABLE=1 render pt-nvcache-off "$(cap 300)" -q "$root/scenes/cornell_box.gltf" \
+      --resolution 64x64 --spp 1 -o "$out/stats/pt-nvcache-off.exr"
+  fi
+fi
+
+# 4. The tests read the sources through the path they were built from; a tree copied
+# elsewhere (a lent GPU machine) gets a link from that path to here when it is free.
 run_tests() {
   [ "$tests" = 1 ] || return 0
   src=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" 2>/dev/null)
@@ -108,45 +150,89 @@ run_tests() {
       echo "gpu-check: linked $src -> $root (the tests' source path)"
   fi
   filter='KernelPrograms.EveryProgramBuilds:*SphereFurnace*:*EstimatorFurnace*:CrossIntegrator.*:Determinism.*:MltStationary.*'
-  limit=$(left); [ "$limit" -gt 1800 ] && limit=1800
-  if [ "$limit" -lt 30 ]; then
-    skipped+=("tests")
-  else
-    cache=$(mktemp -d)
-    XDG_CACHE_HOME="$cache" CLPT_TEST_DEVICE="$device" timeout "$limit" \
-      "$build/tests/clpt_tests" --gtest_filter="$filter" >"$out/tests.log" 2>&1 || failed+=("tests")
-    rm -rf "$cache"
-    grep -E '^\[  (PASSED|FAILED) |^\[==========\]|^\[       OK \]' "$out/tests.log" | tail -n 40
-  fi
+  local limit
+  limit=$(cap 1800)
+  if [ "$limit" -lt 30 ]; then skipped+=("tests"); return 0; fi
+  CLPT_TEST_DEVICE="$device" timeout "$limit" \
+    "$build/tests/clpt_tests" --gtest_filter="$filter" >"$out/tests.log" 2>&1
+  case $? in
+    0) ;;
+    124) skipped+=("tests (cut at ${limit}s)") ;;
+    *) failed+=("tests") ;;
+  esac
+  grep -E '^\[  (PASSED|FAILED) |^\[==========\]|^\[       OK \]' "$out/tests.log" | tail -n 40
 }
-
-# Most telling first, in case the budget ends the check: the Cornell box, the tests, the
-# caustic scene.
-render_scene cornell_box
 run_tests
+
+# 5. The caustic scene.
 render_scene caustic
 
+# 6. The summary.
 python3 - "$out" <<'PY' >"$out/summary.md"
-import glob, json, os, sys
+import glob, json, os, re, sys
 out = sys.argv[1]
-rows, dev = [], None
-for cold in sorted(glob.glob(os.path.join(out, "stats", "*-cold.json"))):
-    cached = cold.replace("-cold.json", "-cached.json")
-    c = json.load(open(cold))
-    w = json.load(open(cached)) if os.path.exists(cached) else None
-    dev = dev or c["device"]
-    r = w or c
-    paths = r.get("camera_paths_per_second", r.get("light_paths_per_second", 0.0))
-    rows.append("| %s | %s | %.2f | %s | %.3f%s | %.1f | %d |" % (
-        c["integrator"], os.path.basename(c["scene"]), c["kernel"]["seconds"],
-        "%.2f" % w["kernel"]["seconds"] if w else "-", paths / 1e6,
-        "" if "camera_paths_per_second" in r else " (light)", r["rays_per_second"] / 1e6, r["spp"]))
+stats = os.path.join(out, "stats")
+def load(name):
+    try:
+        return json.load(open(os.path.join(stats, name + ".json")))
+    except (OSError, ValueError):
+        return None
+dev, rows = None, []
+integrators = "pt lt bdpt pm sppm vcm mlt ic ao direct indirect1".split()
+for scene in ("cornell_box", "caustic"):
+    for integ in integrators:
+        b, r = load(integ + "-build"), load("%s-%s" % (integ, scene))
+        if not (b or r) or (scene != "cornell_box" and not r):
+            continue
+        dev = dev or (b or r)["device"]
+        cells = ["%.1f" % b["kernel"]["seconds"] if b else "-"]
+        if r:
+            light = "camera_paths_per_second" not in r
+            paths = r.get("camera_paths_per_second", r.get("light_paths_per_second", 0.0))
+            cells += ["%.1f" % r["kernel"]["seconds"], "%.2f%s" % (paths / 1e6, " (light)" if light else ""),
+                      "%.0f" % (r["rays_per_second"] / 1e6), "%d" % r["spp"]]
+        else:
+            cells += ["-"] * 4
+        rows.append("| %s | %s | %s |" % (integ, scene, " | ".join(cells)))
 if dev:
     print("Device: %s (%s, %s, driver %s, %d compute units)\n" % (
         dev["name"], dev["platform"], dev["version"], dev["driver"], dev["compute_units"]))
-print("| integrator | scene | kernels cold s | kernels cached s | M paths/s | M rays/s | spp (cached run) |")
+print("| integrator | scene | cold build s (in parallel) | warm start s | M paths/s | M rays/s | spp |")
 print("|---|---|---|---|---|---|---|")
 print("\n".join(rows))
+try:
+    log = open(os.path.join(out, "tests.log"), errors="replace").read()
+    ok, bad = len(re.findall(r"^\[       OK \]", log, re.M)), len(re.findall(r"^\[  FAILED  \] \S+\.", log, re.M))
+    done = re.search(r"^\[==========\] (\d+) tests? from .* ran", log, re.M)
+    print("\nTests on the device: %d passed, %d failed%s" % (
+        ok, bad, "" if done else " (cut before the end: tests.log)"))
+except OSError:
+    pass
+off = load("pt-nvcache-off")
+if off:
+    print("\npt with the driver's cache off, clpt's cache warm: %.1f s to start" % off["kernel"]["seconds"])
+# NVIDIA's -cl-nv-verbose lines in the build logs: registers and spills per kernel.
+regs = []
+for log in sorted(glob.glob(os.path.join(stats, "*-build.log"))):
+    kernel = None
+    for line in open(log, errors="replace"):
+        m = re.search(r"Compiling entry function '(\w+)'", line)
+        if m:
+            kernel = m.group(1)
+        m = re.search(r"(\d+) bytes stack frame, (\d+) bytes spill stores, (\d+) bytes spill loads", line)
+        if m and kernel:
+            regs.append([kernel, m.group(1), m.group(2), m.group(3), ""])
+        m = re.search(r"Used (\d+) registers", line)
+        if m and kernel and regs and regs[-1][0] == kernel:
+            regs[-1][4] = m.group(1)
+if regs:
+    print("\n| kernel (driver's build log) | stack bytes | spill stores | spill loads | registers |")
+    print("|---|---|---|---|---|")
+    seen = set()
+    for r in regs:
+        if r[0] not in seen:
+            seen.add(r[0])
+            print("| " + " | ".join(r) + " |")
 PY
 cat "$out/summary.md"
 if [ ${#skipped[@]} -gt 0 ]; then

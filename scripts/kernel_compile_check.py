@@ -17,6 +17,11 @@ options clpt gives the device (programs.tsv). Targets (--targets, comma-separate
           front end, so its figures differ from these.
   amdgcn  AMD: clang-15 to a gfx1030 code object (amdgcn-amd-amdhsa), libclc's amdgcn builtins
           linked in; VGPRs, SGPRs, scratch and occupancy per kernel from LLVM's resource remarks.
+  nvinline  (opt-in, not in the default list) nvptx with every call inlined into its kernel,
+          as NVIDIA's OpenCL compiler does (clang keeps the large functions out of line): the
+          PTX grows several times, and ptxas's time on it is this machine's stand-in for the
+          driver's build time on the GPU, which measured 72 s for pt on an H200
+          (docs/BENCHMARKS.md); a function marked CLPT_NOINLINE stays out of line in both.
   tgllp   Intel Xe-LP (Tiger Lake), and
   dg2     Intel Xe-HPG (Arc): Intel's offline compiler ocloc (Debian's intel-opencl-icd); SIMD
           width, registers (GRF) and scratch per kernel from the binary's .ze_info, and IGC's
@@ -50,6 +55,10 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LIBCLC = "/usr/lib/clc"
 TARGETS = ["nvptx", "amdgcn", "tgllp", "dg2"]
+# Opt-in targets (named in --targets only): nvinline is nvptx with every call inlined.
+EXTRA_TARGETS = ["nvinline"]
+# clang's inliner threshold that inlines every call it may, as NVIDIA's OpenCL compiler does.
+INLINE_ALL = ["-mllvm", "-inline-threshold=100000"]
 PACKAGES = {"clang": "clang-15", "libclc": "libclc-15", "ocloc": "intel-opencl-icd"}
 
 
@@ -109,12 +118,12 @@ def unresolved_calls(ll_text):
     return [n for n in names if not n.startswith("llvm.")]
 
 
-def clang_compile(clang, libclc, triple, cpu, src, options, out_base, shim=None):
+def clang_compile(clang, libclc, triple, cpu, src, options, out_base, shim=None, extra=()):
     """Returns (ok, log, seconds, artefact path). shim: bitcode linked before libclc."""
     link = ["-Xclang", "-mlink-builtin-bitcode", "-Xclang", shim] if shim else []
     common = [clang, "-x", "cl", *options, "-Xclang", "-finclude-default-header", "-O3",
               "-target", triple, *link, "-Xclang", "-mlink-builtin-bitcode", "-Xclang", libclc,
-              "-Wno-linker-warnings"]
+              "-Wno-linker-warnings", *extra]
     if cpu:
         common += ["-mcpu=" + cpu]
     if triple.startswith("amdgcn"):
@@ -323,16 +332,18 @@ def main():
     args = ap.parse_args()
 
     targets = [t for t in args.targets.split(",") if t]
-    unknown = [t for t in targets if t not in TARGETS]
+    unknown = [t for t in targets if t not in TARGETS + EXTRA_TARGETS]
     if unknown:
-        ap.error("unknown target(s) %s; known: %s" % (", ".join(unknown), ", ".join(TARGETS)))
+        ap.error("unknown target(s) %s; known: %s" % (", ".join(unknown),
+                                                      ", ".join(TARGETS + EXTRA_TARGETS)))
+    nvidia = [t for t in targets if t in ("nvptx", "nvinline")]
 
     clang, ocloc, ptxas = find_clang(), shutil.which("ocloc"), find_ptxas()
     missing = []
-    if any(t in ("nvptx", "amdgcn") for t in targets):
+    if any(t in ("nvptx", "nvinline", "amdgcn") for t in targets):
         if not clang:
             missing.append("clang (Debian package %s)" % PACKAGES["clang"])
-        for f in (["nvptx64--nvidiacl.bc"] if "nvptx" in targets else []) + \
+        for f in (["nvptx64--nvidiacl.bc"] if nvidia else []) + \
                  (["amdgcn--amdhsa.bc"] if "amdgcn" in targets else []):
             if not os.path.exists(os.path.join(LIBCLC, f)):
                 missing.append("%s/%s (Debian package %s)" % (LIBCLC, f, PACKAGES["libclc"]))
@@ -369,12 +380,12 @@ def main():
         m = re.search(r"\d+\.\d+\.\d+(\.\d+)?", run(["dpkg-query", "-W", "-f=${Version}",
                                                       "intel-opencl-icd"])[1])
         versions["ocloc"] = "ocloc (intel-opencl-icd %s)" % (m.group(0) if m else "?")
-    if ptxas and "nvptx" in targets:
+    if ptxas and nvidia:
         versions["ptxas"] = run([ptxas, "--version"])[1].strip().splitlines()[-1]
     libclc = run(["dpkg-query", "-W", "-f=${Version}", "libclc-15"])[1].strip()
 
     shim = None
-    if "nvptx" in targets:
+    if nvidia:
         # libclc's NVPTX native_ functions that LLVM 15 cannot lower (kernel_check/nvptx_native.cl).
         shim = os.path.join(work, "nvptx_native.bc")
         rc, log, _ = run([clang, "-x", "cl", "-cl-std=CL1.2", "-Xclang", "-finclude-default-header",
@@ -389,6 +400,7 @@ def main():
     identity = {
         "nvptx": [clang_version, libclc,
                   versions.get("ptxas", "no ptxas")],
+        "nvinline": [clang_version, libclc, versions.get("ptxas", "no ptxas"), INLINE_ALL],
         "amdgcn": [clang_version, libclc],
         "tgllp": [versions.get("ocloc", "")],
         "dg2": [versions.get("ocloc", "")],
@@ -412,14 +424,18 @@ def main():
             cached = None if args.no_cache else cache_load(key)
             if cached:
                 ok, log, secs, figures = True, "", cached["seconds"], cached["figures"]
-            elif target == "nvptx":
+            elif target in ("nvptx", "nvinline"):
                 ok, log, secs, out = clang_compile(clang, os.path.join(LIBCLC, "nvptx64--nvidiacl.bc"),
                                                    "nvptx64--nvidiacl", None, src, options, base,
-                                                   shim)
+                                                   shim, INLINE_ALL if target == "nvinline" else ())
                 figures = {}
                 if ok:
                     with open(out) as f:
-                        figures = ptx_local_bytes(f.read())
+                        ptx = f.read()
+                    figures = ptx_local_bytes(ptx)
+                    if target == "nvinline":
+                        for k in figures:
+                            figures[k]["PTX lines"] = ptx.count("\n")
                     if ptxas:
                         pok, plog, psecs, pfig = ptxas_figures(ptxas, out, set(figures))
                         secs += psecs
@@ -427,6 +443,9 @@ def main():
                             ok, log = False, log + "\nptxas:\n" + plog
                         for k, v in pfig.items():
                             figures.setdefault(k, {}).update(v)
+                        if target == "nvinline":
+                            for k in figures:
+                                figures[k]["ptxas s"] = round(psecs, 1)
             elif target == "amdgcn":
                 ok, log, secs, _ = clang_compile(clang, os.path.join(LIBCLC, "amdgcn--amdhsa.bc"),
                                                  "amdgcn-amd-amdhsa", "gfx1030", src, options, base)
@@ -463,6 +482,8 @@ def write_report(path, targets, rows, versions, have_ptxas):
     columns = {
         "nvptx": ["registers", "stack bytes", "spill stores", "spill loads", "local bytes"]
         if have_ptxas else ["local bytes"],
+        "nvinline": ["PTX lines", "ptxas s", "registers", "stack bytes", "spill stores",
+                     "spill loads"] if have_ptxas else ["PTX lines", "local bytes"],
         "amdgcn": ["VGPRs", "SGPRs", "scratch bytes", "waves/SIMD"],
         "tgllp": ["SIMD", "GRF", "spill", "scratch bytes"],
         "dg2": ["SIMD", "GRF", "spill", "scratch bytes"],

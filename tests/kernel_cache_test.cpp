@@ -27,6 +27,7 @@ class KernelCache : public ::testing::Test {
   }
   void TearDown() override {
     ::unsetenv("CLPT_CACHE_DIR");
+    ::unsetenv("CLPT_BUILD_OPTIONS");
     fs::remove_all(dir_);
   }
   void write_source(const std::string& text) {
@@ -80,6 +81,23 @@ TEST_F(KernelCache, ChangedOptionsMiss) {
   EXPECT_FALSE(build().from_cache);
   EXPECT_FALSE(build("-DCLPT_PROBE=1").from_cache);
   EXPECT_TRUE(build("-DCLPT_PROBE=1").from_cache);
+}
+
+// CLPT_BUILD_OPTIONS reaches the compiler (a macro it defines decides whether the source
+// builds) and the cache key (the same source with other options is another entry).
+TEST_F(KernelCache, EnvironmentOptionsReachTheBuildAndTheKey) {
+  write_source("#ifndef CLPT_PROBE_ENV\n#error CLPT_PROBE_ENV is not defined\n#endif\n"
+               "__kernel void k(__global int* x) { x[0] = CLPT_PROBE_ENV; }\n");
+  EXPECT_THROW(build(), Error);
+  ::setenv("CLPT_BUILD_OPTIONS", "-DCLPT_PROBE_ENV=3", 1);
+  EXPECT_EQ(cl::build_options("-DA=1"), "-cl-std=CL1.2 -DA=1 -DCLPT_PROBE_ENV=3");
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_TRUE(build().from_cache);
+  ::setenv("CLPT_BUILD_OPTIONS", "-DCLPT_PROBE_ENV=4", 1);
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_EQ(entries(), 2u);
+  ::unsetenv("CLPT_BUILD_OPTIONS");
+  EXPECT_EQ(cl::build_options(""), "-cl-std=CL1.2");
 }
 
 TEST_F(KernelCache, CorruptEntryIsRebuilt) {

@@ -220,7 +220,9 @@ std::vector<unsigned char> program_binary(cl_program program) {
 // Program
 
 std::string build_options(const std::string& extra) {
-  return "-cl-std=CL1.2" + (extra.empty() ? "" : " " + extra);
+  std::string options = "-cl-std=CL1.2" + (extra.empty() ? "" : " " + extra);
+  if (const char* user = std::getenv("CLPT_BUILD_OPTIONS"); user && *user) options += std::string(" ") + user;
+  return options;
 }
 
 Program::Program(const Context& ctx, const std::string& entry_file, const std::string& extra_options,

@@ -36,7 +36,9 @@ struct ProgramSpec {
   const char* options;     // e.g. "-DCLPT_MLT_MULTIPLEXED=1"; "" for none
 };
 
-// The options a program is built with: "-cl-std=CL1.2" and then `extra`.
+// The options a program is built with: "-cl-std=CL1.2", then `extra`, then the environment's
+// CLPT_BUILD_OPTIONS (a vendor's own options, e.g. NVIDIA's -cl-nv-verbose, which puts each
+// kernel's registers and spills in the build log); they are part of the kernel cache's key.
 std::string build_options(const std::string& extra);
 
 struct BuildInfo {

@@ -51,8 +51,9 @@ static inline float3 thin_film_ior_from_f0(float3 f0) {
 }
 
 /* cos1: the cosine of the angle of incidence on the film, outside (>= 0). Clamped to [0, 1]:
- * the Gaussian fit can overshoot by a little. */
-static inline float3 thin_film_reflectance(float cos1, float eta2, float d, float3 f0) {
+ * the Gaussian fit can overshoot by a little. Out of line: every Fresnel term of the glTF
+ * BSDF can call it (33 call sites in pt's kernel once inlined), and a film is rare. */
+CLPT_NOINLINE float3 thin_film_reflectance(float cos1, float eta2, float d, float3 f0) {
   cos1 = clamp(cos1, 0.0f, 1.0f);
   if (!(d > 0.0f)) return fresnel_schlick(f0, cos1); /* no film */
   const float sin2_2 = (1.0f - cos1 * cos1) / (eta2 * eta2);
