@@ -318,14 +318,22 @@ static inline bool gltf_is_lambert(const BsdfParams* p) {
          !(p->clearcoat > 0.0f) && !(p->diffuse_transmission > 0.0f);
 }
 
+/* The layered lobes' evaluation, density and sampling below are out of line (CLPT_NOINLINE):
+ * a kernel evaluates the BSDF at many call sites (next-event estimation, MIS, bdpt's
+ * connections and reverse densities), and NVIDIA's compiler, which inlines every call, made a
+ * copy of the whole layer stack at each of them. The Lambertian shortcuts stay inline. */
+CLPT_NOINLINE float3 gltf_eval_layered(const BsdfParams* p, float3 wo, float3 wi, int mode) {
+  const bool flip = wo.z < 0.0f;
+  const GltfLobes L = gltf_lobes(p, fabs(wo.z), !flip);
+  return gltf_eval_up(p, &L, gltf_flip(wo, flip), gltf_flip(wi, flip), mode);
+}
+
 /* f(wo, wi) |wi.z| of the non-delta lobes. */
 static inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, int mode) {
   if (wo.z == 0.0f) return (float3)(0.0f);
   if (gltf_is_lambert(p))
     return wo.z * wi.z > 0.0f ? p->base_color * (INV_PI_F * fabs(wi.z)) : (float3)(0.0f);
-  const bool flip = wo.z < 0.0f;
-  const GltfLobes L = gltf_lobes(p, fabs(wo.z), !flip);
-  return gltf_eval_up(p, &L, gltf_flip(wo, flip), gltf_flip(wi, flip), mode);
+  return gltf_eval_layered(p, wo, wi, mode);
 }
 
 /* The Lambertian factor kd(wo) of the diffuse layer with the coats' cos_i terms left out:
@@ -343,12 +351,15 @@ static inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
 }
 
 /* Density of gltf_bsdf_sample at wi, per steradian, the delta lobes left out. */
-static inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
-  if (wo.z == 0.0f) return 0.0f;
-  if (gltf_is_lambert(p)) return wo.z * wi.z > 0.0f ? warp_cosine_hemisphere_pdf(fabs(wi.z)) : 0.0f;
+CLPT_NOINLINE float gltf_pdf_layered(const BsdfParams* p, float3 wo, float3 wi) {
   const bool flip = wo.z < 0.0f;
   const GltfLobes L = gltf_lobes(p, fabs(wo.z), !flip);
   return gltf_pdf_up(&L, gltf_flip(wo, flip), gltf_flip(wi, flip));
+}
+static inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
+  if (wo.z == 0.0f) return 0.0f;
+  if (gltf_is_lambert(p)) return wo.z * wi.z > 0.0f ? warp_cosine_hemisphere_pdf(fabs(wi.z)) : 0.0f;
+  return gltf_pdf_layered(p, wo, wi);
 }
 
 /* Whether some lobe is not a Dirac delta (NEE and MIS make sense). */
@@ -388,21 +399,10 @@ static inline BsdfSample gltf_mirror_sample(const BsdfParams* p, const GltfLobes
   return bs;
 }
 
-/* One direction from the lobe mixture: u picks the direction within the lobe, u_lobe the
- * lobe (and, rescaled, reflection or refraction within the glass lobe). */
-static inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, float u_lobe,
-                                          int mode) {
-  if (wo_in.z == 0.0f) return gltf_absorbed();
+/* The layered lobes' sampling, wo_in.z != 0 (gltf_bsdf_sample). */
+CLPT_NOINLINE BsdfSample gltf_sample_layered(const BsdfParams* p, float3 wo_in, float2 u,
+                                             float u_lobe, int mode) {
   const bool flip = wo_in.z < 0.0f;
-  if (gltf_is_lambert(p)) {
-    const float3 wi = warp_cosine_hemisphere(u);
-    BsdfSample bs = gltf_absorbed();
-    bs.pdf_w = warp_cosine_hemisphere_pdf(wi.z);
-    if (!(bs.pdf_w > 0.0f)) return bs;
-    bs.wi = gltf_flip(wi, flip);
-    bs.weight = p->base_color;
-    return bs;
-  }
   const GltfLobes L = gltf_lobes(p, fabs(wo_in.z), !flip);
   const float3 wo = gltf_flip(wo_in, flip);
   BsdfSample bs = gltf_absorbed();
@@ -452,6 +452,23 @@ static inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, flo
   bs.pdf_w = pdf;
   bs.weight = gltf_eval_up(p, &L, wo, wi, mode) / pdf;
   return bs;
+}
+
+/* One direction from the lobe mixture: u picks the direction within the lobe, u_lobe the
+ * lobe (and, rescaled, reflection or refraction within the glass lobe). */
+static inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, float u_lobe,
+                                          int mode) {
+  if (wo_in.z == 0.0f) return gltf_absorbed();
+  if (gltf_is_lambert(p)) {
+    const float3 wi = warp_cosine_hemisphere(u);
+    BsdfSample bs = gltf_absorbed();
+    bs.pdf_w = warp_cosine_hemisphere_pdf(wi.z);
+    if (!(bs.pdf_w > 0.0f)) return bs;
+    bs.wi = gltf_flip(wi, wo_in.z < 0.0f);
+    bs.weight = p->base_color;
+    return bs;
+  }
+  return gltf_sample_layered(p, wo_in, u, u_lobe, mode);
 }
 
 #endif
