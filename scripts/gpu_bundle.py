@@ -58,8 +58,8 @@ def needed(path):
 
 
 def dyn_symbols(path):
-    """(defined, undefined): defined = {(name, version or ''): (type, size, tls)}; undefined =
-    set of (name, version or '') that are strong references."""
+    """(defined, undefined): defined = {(name, version or ''): (type, size)}; undefined = set
+    of (name, version or '') that are strong references."""
     defined, undefined = {}, set()
     for line in run("readelf", "--dyn-syms", "-W", path).splitlines():
         f = line.split()
@@ -74,8 +74,7 @@ def dyn_symbols(path):
             if bind != "WEAK":
                 undefined.add((name, ver))
         else:
-            size = int(size, 0) if not size.startswith("0x") else int(size, 16)
-            defined[(name, ver)] = (typ, size)
+            defined[(name, ver)] = (typ, int(size, 16) if size.startswith("0x") else int(size))
     return defined, undefined
 
 
@@ -94,15 +93,15 @@ def versions_needed_from(path):
 
 
 def make_stub(soname, real_path, importers, libdir, workdir):
+    """importers: (undefined symbols, versions needed per file) of each real object."""
     defined, _ = dyn_symbols(real_path)
     by_name = {}
     for (name, ver), info in defined.items():
         by_name.setdefault(name, []).append((ver, info))
     wanted = {}  # (name, ver) -> (type, size)
     versions = set()
-    for imp in importers:
-        versions |= versions_needed_from(imp).get(soname, set())
-        _, undef = dyn_symbols(imp)
+    for undef, needs in importers:
+        versions |= needs.get(soname, set())
         for name, ver in undef:
             for dver, info in by_name.get(name, []):
                 if dver == ver or (not ver and dver):
@@ -113,19 +112,15 @@ def make_stub(soname, real_path, importers, libdir, workdir):
     # a caller that reads a struct.
     asm = [".bss", ".balign 64", "__stub_zeros: .zero 4096", ".text"]
     nodes = {}
-    for i, ((name, ver), (typ, size)) in enumerate(sorted(wanted.items())):
-        label = name
-        if typ == "TLS":
-            asm += ['.section .tbss,"awT",@nobits', ".globl %s" % label,
-                    ".type %s,@object" % label, ".size %s,%d" % (label, max(size, 8)),
-                    "%s: .zero %d" % (label, max(size, 8)), ".text"]
-        elif typ == "OBJECT":
-            asm += [".data", ".balign 16", ".globl %s" % label, ".type %s,@object" % label,
-                    ".size %s,%d" % (label, max(size, 8)), "%s: .zero %d" % (label, max(size, 8)),
-                    ".text"]
+    for (name, ver), (typ, size) in sorted(wanted.items()):
+        if typ in ("TLS", "OBJECT"):
+            size = max(size, 8)
+            section = '.section .tbss,"awT",@nobits' if typ == "TLS" else ".data"
+            asm += [section, ".balign 16", ".globl %s" % name, ".type %s,@object" % name,
+                    ".size %s,%d" % (name, size), "%s: .zero %d" % (name, size), ".text"]
         else:
-            asm += [".globl %s" % label, ".type %s,@function" % label,
-                    "%s: lea __stub_zeros(%%rip), %%rax" % label, "ret"]
+            asm += [".globl %s" % name, ".type %s,@function" % name,
+                    "%s: lea __stub_zeros(%%rip), %%rax" % name, "ret"]
         nodes.setdefault(ver, []).append(name)
     for ver in versions:
         nodes.setdefault(ver, [])
@@ -187,14 +182,13 @@ def main():
             if STUB.match(so):
                 stubbed.add(so)
             else:
-                real.append(resolved[so])
+                real.append((so, resolved[so]))
                 todo.append(resolved[so])
-    for path in real:
-        shutil.copy2(path, os.path.join(libdir, os.path.basename(path)))
-        so = [k for k, v in resolved.items() if v == path][0]
-        if so != os.path.basename(path):
-            shutil.copy2(path, os.path.join(libdir, so))
-    importers = list(binaries.values()) + real
+    for so, path in real:  # under its soname, the name the loader looks for
+        shutil.copy2(path, os.path.join(libdir, so))
+    # Each real object's imports, read once for every stub.
+    importers = [(dyn_symbols(obj)[1], versions_needed_from(obj))
+                 for obj in list(binaries.values()) + [path for _, path in real]]
     count = 0
     with tempfile.TemporaryDirectory() as work:
         for so in sorted(stubbed):

@@ -57,6 +57,7 @@ LIBCLC = "/usr/lib/clc"
 TARGETS = ["nvptx", "amdgcn", "tgllp", "dg2"]
 # Opt-in targets (named in --targets only): nvinline is nvptx with every call inlined.
 EXTRA_TARGETS = ["nvinline"]
+NVIDIA_TARGETS = ("nvptx", "nvinline")  # clang to PTX, then ptxas where it is installed
 # clang's inliner threshold that inlines every call it may, as NVIDIA's OpenCL compiler does.
 INLINE_ALL = ["-mllvm", "-inline-threshold=100000"]
 PACKAGES = {"clang": "clang-15", "libclc": "libclc-15", "ocloc": "intel-opencl-icd"}
@@ -336,11 +337,11 @@ def main():
     if unknown:
         ap.error("unknown target(s) %s; known: %s" % (", ".join(unknown),
                                                       ", ".join(TARGETS + EXTRA_TARGETS)))
-    nvidia = [t for t in targets if t in ("nvptx", "nvinline")]
+    nvidia = [t for t in targets if t in NVIDIA_TARGETS]
 
     clang, ocloc, ptxas = find_clang(), shutil.which("ocloc"), find_ptxas()
     missing = []
-    if any(t in ("nvptx", "nvinline", "amdgcn") for t in targets):
+    if nvidia or "amdgcn" in targets:
         if not clang:
             missing.append("clang (Debian package %s)" % PACKAGES["clang"])
         for f in (["nvptx64--nvidiacl.bc"] if nvidia else []) + \
@@ -424,7 +425,7 @@ def main():
             cached = None if args.no_cache else cache_load(key)
             if cached:
                 ok, log, secs, figures = True, "", cached["seconds"], cached["figures"]
-            elif target in ("nvptx", "nvinline"):
+            elif target in NVIDIA_TARGETS:
                 ok, log, secs, out = clang_compile(clang, os.path.join(LIBCLC, "nvptx64--nvidiacl.bc"),
                                                    "nvptx64--nvidiacl", None, src, options, base,
                                                    shim, INLINE_ALL if target == "nvinline" else ())

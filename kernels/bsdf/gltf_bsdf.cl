@@ -350,12 +350,13 @@ static inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
          p->base_color;
 }
 
-/* Density of gltf_bsdf_sample at wi, per steradian, the delta lobes left out. */
 CLPT_NOINLINE float gltf_pdf_layered(const BsdfParams* p, float3 wo, float3 wi) {
   const bool flip = wo.z < 0.0f;
   const GltfLobes L = gltf_lobes(p, fabs(wo.z), !flip);
   return gltf_pdf_up(&L, gltf_flip(wo, flip), gltf_flip(wi, flip));
 }
+
+/* Density of gltf_bsdf_sample at wi, per steradian, the delta lobes left out. */
 static inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
   if (wo.z == 0.0f) return 0.0f;
   if (gltf_is_lambert(p)) return wo.z * wi.z > 0.0f ? warp_cosine_hemisphere_pdf(fabs(wi.z)) : 0.0f;
