@@ -910,5 +910,33 @@ TEST(ScaleInvariance, SmallScenesAreLitLikeUnitScenes) {
 TEST(ScaleInvariance, EmittersAreKeptAtExtremeAreas) {
   for (float k : {1e-13f, 1e11f}) EXPECT_EQ(cornell_means(k).emitters, 2u) << "scale " << k;
 }
+
+// A buffer whose file exists but is no file (issue 23, class 11: a folder or FIFO was reported
+// "not found"): exit 2 naming the scene, the buffer and what the path is, without blocking on
+// the FIFO or reading /dev/zero.
+TEST(UnreadableInput, BufferThatIsAFolderFifoOrDeviceIsNamedAsSuch) {
+  const fs::path valid = fs::path(CLPT_TEST_DATA_DIR) / "valid";
+  struct Case {
+    const char* kind;
+    const char* says;
+  };
+  for (const Case& c : {Case{"folder", "is a directory, not a file"},
+                        Case{"fifo", "is not a regular file"}, Case{"device", "is not a regular file"},
+                        Case{"missing", "not found next to the scene file"}}) {
+    SCOPED_TRACE(c.kind);
+    TempDir dir;
+    fs::copy_file(valid / "quad_trs_u8.gltf", dir / "quad.gltf");
+    const fs::path bin = dir / "quad_trs_u8.bin";
+    if (std::string(c.kind) == "folder") fs::create_directory(bin);
+    if (std::string(c.kind) == "fifo") ASSERT_EQ(::mkfifo(bin.c_str(), 0600), 0);
+    if (std::string(c.kind) == "device") fs::create_symlink("/dev/zero", bin);
+    const Result r = run_clpt_env(tiny({dir / "quad.gltf", "-o", dir / "q.exr"}), {}, dir);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_TRUE(contains(r.err, dir / "quad.gltf")) << r.err;
+    EXPECT_TRUE(contains(r.err, "buffer 0 uri 'quad_trs_u8.bin'")) << r.err;
+    EXPECT_TRUE(contains(r.err, c.says)) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "q.exr"));
+  }
+}
 }  // namespace
 }  // namespace clpt

@@ -20,24 +20,25 @@
 
 namespace clpt::gltf {
 
+// Why `path` cannot be read as a file ("" when it is a regular file, or a symlink to one):
+// missing, a folder, or something that is not a regular file (a FIFO or a device would block
+// or never end). Errors other than "no such file" are named as the system names them.
+static std::string not_a_readable_file(const fs::path& path) {
+  std::error_code ec;
+  fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st))
+    return ec && ec != std::errc::no_such_file_or_directory ? ec.message() : "file not found";
+  if (fs::is_directory(st)) return "is a directory, not a file";
+  if (!fs::is_regular_file(st)) return "is not a regular file (a FIFO, device or socket)";
+  return "";
+}
+
 // Reads a whole regular file of at most `cap` bytes. On failure returns false and a reason.
 bool read_whole_file(const fs::path& path, uint64_t cap, std::vector<unsigned char>* out,
                      std::string* why) {
+  *why = not_a_readable_file(path);
+  if (!why->empty()) return false;
   std::error_code ec;
-  fs::file_status st = fs::status(path, ec);
-  if (ec || !fs::exists(st)) {
-    *why = ec && ec != std::errc::no_such_file_or_directory ? ec.message()
-                                                            : "file not found";
-    return false;
-  }
-  if (fs::is_directory(st)) {
-    *why = "is a directory, not a file";
-    return false;
-  }
-  if (!fs::is_regular_file(st)) {
-    *why = "is not a regular file";
-    return false;
-  }
   uint64_t size = fs::file_size(path, ec);
   if (ec) {
     *why = "cannot get its size: " + ec.message();
@@ -197,10 +198,11 @@ void check_uris(const nlohmann::json& doc, bool binary, FsContext& ctx, ImageSou
       if (problem.empty()) problem = uri_problem(decoded);
       if (!problem.empty()) fail(label + " " + problem);
       ctx.rewrite.emplace(tinygltf_urldecode(raw), decoded);
-      std::error_code ec;
-      if (!fs::is_regular_file(ctx.base / decoded, ec)) {
-        if (required) fail(label + ": file " + printable(decoded) + " not found next to the scene file");
-        images.problem[int(i)] = "file " + printable(decoded) + " not found next to the scene file";
+      std::string why = not_a_readable_file(ctx.base / decoded);
+      if (!why.empty()) {
+        why = why == "file not found" ? "not found next to the scene file" : why;
+        if (required) fail(label + ": file " + printable(decoded) + " " + why);
+        images.problem[int(i)] = "file " + printable(decoded) + " " + why;
       }
     }
   };
