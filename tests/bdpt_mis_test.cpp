@@ -159,7 +159,6 @@ PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta) {
   p.mis = heuristic;
   p.light_samples = 1;
   p.branching = 1;
-  p.bdpt_s = BDPT_ALL_STRATEGIES;
   cl::Buffer params = cl::Buffer::from_vector(ctx, std::vector<dev::RenderParams>{p});
   const size_t floats = size_t(kPaths) * kSlots;
   cl::Buffer rec(ctx, floats * sizeof(float), CL_MEM_WRITE_ONLY, nullptr, "rec");

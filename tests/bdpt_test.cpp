@@ -72,9 +72,9 @@ RenderSettings settings(const std::string& integrator, uint64_t spp, uint32_t si
 RenderSettings strategy(uint32_t s, uint32_t t, bool unweighted, uint64_t spp, uint32_t size) {
   RenderSettings r = settings("bdpt", spp, size);
   r.max_depth = s + t - 2;
-  r.bdpt_s = s;
-  r.bdpt_t = t;
-  r.bdpt_unweighted = unweighted;
+  r.bdpt.strategy_s = s;
+  r.bdpt.strategy_t = t;
+  r.bdpt.unweighted = unweighted;
   return r;
 }
 
@@ -94,10 +94,10 @@ TEST(CrossIntegrator, BdptWithLightVertexCachingMatchesPt) {
   const Scene scene = test::cornell_box();
   const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
   RenderSettings s = settings("bdpt", 32);
-  s.bdpt_lvc = 2;
+  s.bdpt.lvc = 2;
   test::expect_matches_reference(test::render_batches(scene, s, 16, 1700), ref, "bdpt lvc 2");
-  s.bdpt_lvc = 3;
-  s.bdpt_memory_bytes = 7 * sizeof(dev::PathVertex) * 100;  // about 100 light paths per tile and cache
+  s.bdpt.lvc = 3;
+  s.bdpt.memory_bytes = 7 * sizeof(dev::PathVertex) * 100;  // about 100 light paths per tile and cache
   test::expect_matches_reference(test::render_batches(scene, s, 12, 1800), ref,
                                  "bdpt lvc 3, caches of ~100 paths");
 }
@@ -196,7 +196,7 @@ TEST(Bdpt, TilesGiveTheSameImageAsOnePass) {
   Renderer whole(test::device_context(), scene, s);
   const FilmResult a = whole.render().film;
   constexpr size_t kVertex = sizeof(dev::PathVertex);
-  s.bdpt_memory_bytes = 7 * kVertex * 37;  // 37 light paths per tile at max depth 8
+  s.bdpt.memory_bytes = 7 * kVertex * 37;  // 37 light paths per tile at max depth 8
   Renderer tiled(test::device_context(), scene, s);
   const FilmResult b = tiled.render().film;
   ASSERT_EQ(a.mean.rgb.size(), b.mean.rgb.size());

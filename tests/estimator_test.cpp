@@ -123,7 +123,7 @@ TEST(AmbientOcclusion, SlabMatchesClosedForm) {
     s.spp = 32;
     s.seed = 5 + b;
     s.integrator = "ao";
-    s.ao_radius = kR;
+    s.ao.radius = kR;
     Renderer r(test::device_context(), scene, s);
     const RenderOutput out = r.render();
     batches.push_back(out.film.mean);

@@ -43,7 +43,7 @@ RenderSettings settings_for(Variant v, uint64_t spp, uint32_t size) {
   if (v == Variant::IcPhotons)
     s.ic.photons = 200000;
   else
-    s.final_gather_cache = true;
+    s.pm.final_gather_cache = true;
   return s;
 }
 
@@ -76,9 +76,9 @@ TEST_P(IcPhotons, FurnaceNearClosedForm) {
   RenderSettings s = settings_for(v, 2, 16);
   s.max_depth = 3;
   s.ic.rays = 64;
-  s.photons = 20000;
+  s.pm.photons = 20000;
   s.ic.photons = v == Variant::IcPhotons ? 20000 : 0;
-  s.caustic_photons = 0;
+  s.pm.caustic_photons = 0;
   const BatchMean bm = batch_mean(test::render_batches(scene, s, 12, 5300));
   std::cout << "[ figures  ] " << variant_name(v) << " furnace rho 0.5 depth 3: mean " << bm.mean
             << " expected " << expected << " sigma " << bm.sigma << "\n";

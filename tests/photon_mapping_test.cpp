@@ -52,7 +52,7 @@ TEST_P(SphereFurnaceSppm, ConvergesToClosedForm) {
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
   RenderSettings s = render_settings("sppm", 16, 16);
   s.max_depth = c.max_depth;
-  s.photons = 20000;  // per pass
+  s.sppm.photons = 20000;  // per pass
 
   // Unbiased at any pass count: the image mean over independent renders.
   const BatchMean bm = batch_mean(test::render_batches(scene, s, 16, 5000));
@@ -82,8 +82,8 @@ TEST(CrossIntegrator, SppmConvergesToPtOnCornellBox) {
   // the default of two footprints darkens the edges of the walls by some percent at 256
   // passes (a disc that reaches past a wall's edge finds no photons there).
   RenderSettings s = render_settings("sppm", 16, 32);
-  s.sppm_radius = 0.02f;
-  s.photons = 20000;
+  s.sppm.radius = 0.02f;
+  s.sppm.photons = 20000;
   double previous = 0.0;
   Image last;
   for (uint64_t passes : {16u, 64u, 256u}) {
@@ -146,7 +146,7 @@ TEST(CrossIntegrator, PmWithinBiasBoundsOnCornellBox) {
   const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
   expect_pm_within_bounds(scene, ref, render_settings("pm", 256, 32), "pm cornell, final gather 8");
   RenderSettings s = render_settings("pm", 256, 32);
-  s.final_gather = 0;
+  s.pm.final_gather = 0;
   expect_pm_within_bounds(scene, ref, s, "pm cornell, global map at the first hit");
 }
 
@@ -165,10 +165,10 @@ TEST(PhotonMapping, PmErrorFallsAsTheMapGrows) {
   const Scene scene = test::cornell_box();
   const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, 32, 8192, 4242);
   RenderSettings s = render_settings("pm", 64, 32);
-  s.final_gather = 0;
+  s.pm.final_gather = 0;
   double previous = 0.0;
   for (uint64_t photons : {10000u, 100000u, 1000000u}) {
-    s.photons = photons;
+    s.pm.photons = photons;
     const double rel_mse = compare_images(render(scene, s, 11).mean, ref.mean).rel_mse;
     std::cout << "[ figures  ] pm cornell, global map of " << photons << " paths at the first hit: relMSE "
               << rel_mse << "\n";
@@ -203,13 +203,13 @@ TEST(PhotonMapping, NoLightThroughAClosedShell) {
   test::add_camera_on_z(scene, 2.0f, 0.6f);
 
   RenderSettings s = render_settings("sppm", 16, 16);
-  s.sppm_radius = 0.2f;
-  s.photons = 20000;
+  s.sppm.radius = 0.2f;
+  s.sppm.photons = 20000;
   const Image sppm = render(scene, s, 3).mean;
   s = render_settings("pm", 4, 16);
-  s.final_gather = 0;  // the global map read at the visible point
-  s.photons = 20000;
-  s.pm_max_radius = 0.2f;
+  s.pm.final_gather = 0;  // the global map read at the visible point
+  s.pm.photons = 20000;
+  s.pm.max_radius = 0.2f;
   const Image pm = render(scene, s, 3).mean;
   const float sppm_max = *std::max_element(sppm.rgb.begin(), sppm.rgb.end());
   const float pm_max = *std::max_element(pm.rgb.begin(), pm.rgb.end());
@@ -268,7 +268,7 @@ TEST(PhotonMapping, ThroughRoughGlass) {
   const double reference = sphere_mean(ref.mean);
   for (const char* integrator : {"pm", "sppm"}) {
     RenderSettings s = render_settings(integrator, 64, kSize);
-    if (std::string(integrator) == "sppm") s.photons = 16384;
+    if (std::string(integrator) == "sppm") s.sppm.photons = 16384;
     std::vector<double> m;
     for (const Image& b : test::render_batches(rough_glass_scene(), s, 4, 40)) m.push_back(sphere_mean(b));
     double mean = 0.0;
@@ -286,8 +286,8 @@ TEST(PhotonMapping, ThroughRoughGlass) {
 TEST(PhotonMapping, PmIsReproducible) {
   const Scene scene = test::cornell_box_glossy_glass();
   RenderSettings s = render_settings("pm", 2, 24);
-  s.photons = 30000;
-  s.caustic_photons = 30000;
+  s.pm.photons = 30000;
+  s.pm.caustic_photons = 30000;
   const Image a = render(scene, s, 5).mean, b = render(scene, s, 5).mean;
   EXPECT_EQ(a.rgb, b.rgb);
 }

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "shared/ao_types.h"
 #include "shared/bdpt_types.h"
 #include "shared/ic_types.h"
 #include "shared/indirect_types.h"

@@ -98,7 +98,7 @@ ImageDifference difference(const Image& a, const Image& b) {
 }
 
 // Merging off, vcm is bdpt: the same subpaths from the same sampler dimensions, the same
-// strategies and weights (MisMerge's vm = 0). Only the order of the splats' float atomics
+// strategies and weights (StrategyMis' vm = 0). Only the order of the splats' float atomics
 // differs between two renders, so the images agree to float rounding, not bit for bit.
 TEST(VcmModes, BptModeRendersBdpt) {
   const Scene scene = test::cornell_box();
@@ -139,7 +139,7 @@ TEST(CrossIntegrator, VcmMatchesPtOnCornellBox) {
   test::expect_matches_reference(test::render_batches(scene, s, 16, 700), ref, "vcm cornell");
   // Tiles of about 100 light paths: each camera path merges with its tile's light vertices
   // only, over eta = pi r^2 (paths of the tile).
-  s.bdpt_memory_bytes = 8 * (sizeof(dev::PathVertex) + 12) * 100;
+  s.bdpt.memory_bytes = 8 * (sizeof(dev::PathVertex) + 12) * 100;
   test::expect_matches_reference(test::render_batches(scene, s, 16, 1700), ref, "vcm tiles");
 }
 
@@ -149,7 +149,7 @@ TEST(CrossIntegrator, VcmWithLightVertexCachingMatchesPt) {
   const Scene scene = test::cornell_box();
   const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
   RenderSettings s = vcm_settings(dev::VCM_MODE_VCM, 32);
-  s.bdpt_lvc = 2;
+  s.bdpt.lvc = 2;
   test::expect_matches_reference(test::render_batches(scene, s, 16, 2700), ref, "vcm lvc 2");
 }
 

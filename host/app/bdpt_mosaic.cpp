@@ -18,7 +18,7 @@ MosaicResult render_bdpt_mosaic(const cl::Context& ctx, const Scene& scene, Rend
   MosaicResult r;
   r.cells_total = static_cast<uint32_t>(cells.size());
   settings.integrator = "bdpt";
-  settings.bdpt_unweighted = unweighted;
+  settings.bdpt.unweighted = unweighted;
   if (settings.time_limit > 0.0) settings.time_limit /= double(cells.size());
   uint32_t w = 0, h = 0;
   for (const Cell& c : cells) {
@@ -28,8 +28,8 @@ MosaicResult render_bdpt_mosaic(const cl::Context& ctx, const Scene& scene, Rend
     }
     RenderSettings s = settings;
     s.max_depth = c.d;
-    s.bdpt_s = c.s;
-    s.bdpt_t = c.d + 2 - c.s;
+    s.bdpt.strategy_s = c.s;
+    s.bdpt.strategy_t = c.d + 2 - c.s;
     Renderer renderer(ctx, scene, s);
     const RenderOutput out = renderer.render(stop);
     if (r.image.rgb.empty()) {

@@ -97,21 +97,24 @@ RenderSettings render_settings(const Options& opt) {
   if (settings.rr == dev::RR_FIXED) settings.rr_absorb = std::stof(opt.rr.substr(6));
   settings.rr_depth = opt.rr_depth;
   settings.branching = opt.branching;
-  settings.ao_radius = opt.ao_radius;
-  if (!opt.bdpt_strategy.empty()) parse_strategy(opt.bdpt_strategy, &settings.bdpt_s, &settings.bdpt_t);
-  settings.bdpt_unweighted = opt.bdpt_unweighted;
-  settings.bdpt_lvc = opt.bdpt_lvc;
-  settings.bdpt_memory_bytes = size_t(opt.bdpt_memory_mib) << 20;
-  settings.photons = opt.photons;
-  settings.caustic_photons = opt.caustic_photons;
-  settings.final_gather = opt.final_gather;
-  settings.knn = opt.knn;
-  settings.pm_max_radius = opt.pm_max_radius;
-  settings.pm_filter = opt.pm_filter == "box"            ? dev::PHOTON_FILTER_BOX
+  settings.ao.radius = opt.ao_radius;
+  if (!opt.bdpt_strategy.empty())
+    parse_strategy(opt.bdpt_strategy, &settings.bdpt.strategy_s, &settings.bdpt.strategy_t);
+  settings.bdpt.unweighted = opt.bdpt_unweighted;
+  settings.bdpt.lvc = opt.bdpt_lvc;
+  settings.bdpt.memory_bytes = size_t(opt.bdpt_memory_mib) << 20;
+  settings.pm.photons = opt.photons;
+  settings.pm.caustic_photons = opt.caustic_photons;
+  settings.pm.final_gather = opt.final_gather;
+  settings.pm.final_gather_cache = opt.final_gather_cache;
+  settings.pm.knn = opt.knn;
+  settings.pm.max_radius = opt.pm_max_radius;
+  settings.pm.filter = opt.pm_filter == "box"            ? dev::PHOTON_FILTER_BOX
                        : opt.pm_filter == "epanechnikov" ? dev::PHOTON_FILTER_EPANECHNIKOV
                                                          : dev::PHOTON_FILTER_CONE;
-  settings.sppm_radius = opt.sppm_radius;
-  settings.sppm_alpha = opt.sppm_alpha;
+  settings.sppm.photons = opt.photons;
+  settings.sppm.radius = opt.sppm_radius;
+  settings.sppm.alpha = opt.sppm_alpha;
   settings.mlt.multiplexed = opt.mlt_mode == "mmlt";
   settings.mlt.chains = opt.mlt_chains;
   settings.mlt.importance_tile = opt.mlt_target == "tile" ? kMltTile : 0u;
@@ -125,7 +128,6 @@ RenderSettings render_settings(const Options& opt) {
   settings.ic.gradients = !opt.ic_no_gradients;
   settings.ic.show_records = opt.ic_show_records;
   settings.ic.photons = opt.ic_photons;
-  settings.final_gather_cache = opt.final_gather_cache;
   settings.vcm.mode = opt.vcm_mode == "bpt"   ? dev::VCM_MODE_BPT
                       : opt.vcm_mode == "ppm" ? dev::VCM_MODE_PPM
                       : opt.vcm_mode == "lt"  ? dev::VCM_MODE_LT

@@ -3,7 +3,7 @@
 // index (splatting the t = 1 strategies, storing connectable vertices), bdpt_camera traces one
 // camera subpath per pixel and joins it with the light subpath of the same index. The light
 // vertex buffer holds max(max_depth - 1, 1) vertices of 128 bytes per light path of a tile;
-// tiles are as large as the memory budget allows (`path_memory_bytes`, --bdpt-memory).
+// tiles are as large as the memory budget allows (BdptConfig::memory_bytes, --bdpt-memory).
 // Like lt, its film has splats: no per-pixel variance, sums not bit-reproducible.
 #pragma once
 
@@ -15,7 +15,7 @@ namespace clpt {
 
 class BidirectionalPathTracer final : public Integrator {
  public:
-  BidirectionalPathTracer(const cl::Context& ctx, const SceneBuffers& scene, size_t path_memory_bytes);
+  BidirectionalPathTracer(const cl::Context& ctx, const SceneBuffers& scene, const BdptConfig& config);
   const char* name() const override { return "bdpt"; }
   // The film must have been made with splats (Film(..., true)).
   void warm_up(const dev::RenderParams& params, Film& film) override;
@@ -29,15 +29,16 @@ class BidirectionalPathTracer final : public Integrator {
   static size_t tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels);
 
  private:
-  // The pass's parameters with the light vertex capacity; buffers sized for the film.
-  dev::RenderParams prepare(const dev::RenderParams& params, Film& film);
+  // Uploads the pass's parameters (and BdptParams with the light vertex capacity its depth
+  // needs); buffers sized for the film.
+  void prepare(const dev::RenderParams& params, Film& film);
   void ensure_buffers(uint32_t capacity, size_t tile);
 
   const cl::Context& ctx_;
-  size_t budget_;
+  BdptConfig config_;
   cl::Program program_;
   cl::Kernel light_kernel_, camera_kernel_;
-  cl::Buffer params_;
+  cl::Buffer params_, bdpt_params_;  // RenderParams, BdptParams
   cl::Buffer vertices_, vertex_counts_;
   cl::Buffer connection_counts_;
   cl::Buffer pool_count_;  // light vertex caching: vertices appended to the tile's cache  // per pixel index, allocated with the first pass

@@ -32,7 +32,7 @@ void IcRecords::strata(uint32_t rays, uint32_t* m, uint32_t* n) {
 }
 
 IcRecords::IcRecords(const cl::Context& ctx, const SceneBuffers& scene, const IcConfig& config,
-                     dev::IcGather gather)
+                     dev::IcGather gather, const dev::PhotonLookup& photons)
     : ctx_(ctx),
       config_(config),
       program_(ctx, programs::kIc),
@@ -53,6 +53,7 @@ IcRecords::IcRecords(const cl::Context& ctx, const SceneBuffers& scene, const Ic
   ic_.gradients = config.gradients ? 1u : 0u;
   ic_.show_records = config.show_records ? 1u : 0u;
   ic_.gather = gather;
+  ic_.photons = photons;
   stats_.rays_per_record = ic_.rays_theta * ic_.rays_phi;
   upload_records();  // empty: the warm-up reads no record
   upload_grid();

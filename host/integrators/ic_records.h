@@ -29,8 +29,10 @@ class IcRecords {
   // tracing (ic), the global map's estimate and the emission seen through delta and glossy
   // surfaces beyond the first hit (ic --ic-photons), or the map's estimate alone, a caustic
   // map holding L S+ D light at the lookup (pm --final-gather-cache).
+  // photons: how records read the map (pm's --knn, --pm-max-radius, --pm-filter; unused with
+  // IC_GATHER_PATHS).
   IcRecords(const cl::Context& ctx, const SceneBuffers& scene, const IcConfig& config,
-            dev::IcGather gather);
+            dev::IcGather gather, const dev::PhotonLookup& photons = {});
 
   // The program of the record kernels (ic.cl), whose ic_render an integrator may use.
   const cl::Program& program() const { return program_; }

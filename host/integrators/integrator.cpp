@@ -1,6 +1,8 @@
 #include "integrators/integrator.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 
 #include "cl/programs.h"
 #include "integrators/bdpt.h"
@@ -12,6 +14,7 @@
 #include "integrators/photon_mapper.h"
 #include "integrators/sppm.h"
 #include "integrators/vcm.h"
+#include "shared/ao_types.h"
 #include "util/error.h"
 
 namespace clpt {
@@ -30,30 +33,36 @@ std::unique_ptr<Integrator> make_direct(const cl::Context& ctx, const SceneBuffe
 std::unique_ptr<Integrator> make_indirect1(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
   return std::make_unique<OneBounceIndirect>(ctx, s, c.indirect);
 }
-std::unique_ptr<Integrator> make_ao(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
-  return std::make_unique<MegakernelIntegrator>(ctx, s, "ao", programs::kAo, "ao_render");
+std::unique_ptr<Integrator> make_ao(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
+  dev::AoParams ao{};
+  ao.radius = c.ao.radius > 0.0f ? c.ao.radius : 0.1f * c.scale.diagonal;
+  std::vector<unsigned char> bytes(sizeof(ao));
+  std::memcpy(bytes.data(), &ao, sizeof(ao));
+  return std::make_unique<MegakernelIntegrator>(ctx, s, "ao", programs::kAo, "ao_render", bytes);
 }
 std::unique_ptr<Integrator> make_lt(const cl::Context& ctx, const SceneBuffers& s, const Config&) {
   return std::make_unique<LightTracer>(ctx, s);
 }
 std::unique_ptr<Integrator> make_bdpt(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
-  return std::make_unique<BidirectionalPathTracer>(ctx, s, c.path_memory_bytes);
+  return std::make_unique<BidirectionalPathTracer>(ctx, s, c.bdpt);
 }
 std::unique_ptr<Integrator> make_pm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
-  return std::make_unique<PhotonMapper>(ctx, s, c.photons, c.caustic_photons,
-                                        c.final_gather_cache ? &c.ic : nullptr);
+  return std::make_unique<PhotonMapper>(ctx, s, c.pm, c.scale,
+                                        c.pm.final_gather_cache ? &c.ic : nullptr);
 }
 std::unique_ptr<Integrator> make_mlt(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
   return std::make_unique<Metropolis>(ctx, s, c.mlt);
 }
 std::unique_ptr<Integrator> make_ic(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
-  return std::make_unique<IrradianceCache>(ctx, s, c.ic);
+  IcConfig ic = c.ic;
+  if (c.time_limit > 0.0) ic.refine_seconds = kIcRefineShare * c.time_limit;
+  return std::make_unique<IrradianceCache>(ctx, s, ic, photon_lookup(c.pm, c.scale));
 }
 std::unique_ptr<Integrator> make_vcm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
-  return std::make_unique<VertexConnectionMerging>(ctx, s, c.vcm, c.path_memory_bytes);
+  return std::make_unique<VertexConnectionMerging>(ctx, s, c.vcm, c.bdpt, c.scale);
 }
 std::unique_ptr<Integrator> make_sppm(const cl::Context& ctx, const SceneBuffers& s, const Config& c) {
-  return std::make_unique<Sppm>(ctx, s, c.photons);
+  return std::make_unique<Sppm>(ctx, s, c.sppm, c.scale);
 }
 
 }  // namespace
@@ -87,6 +96,20 @@ const IntegratorInfo& integrator_info(const std::string& name) {
   const IntegratorInfo* row = find_integrator(name);
   if (!row) throw Error(ExitCode::Usage, "--integrator " + name + ": unknown integrator");
   return *row;
+}
+
+dev::PhotonLookup photon_lookup(const PmConfig& pm, const SceneScale& scale) {
+  dev::PhotonLookup q{};
+  q.knn = std::clamp<uint32_t>(pm.knn, 1, PM_KNN_MAX);
+  q.max_radius = pm.max_radius > 0.0f ? pm.max_radius : 0.02f * scale.diagonal;
+  q.filter = pm.filter;
+  return q;
+}
+
+float default_merge_radius(const SceneScale& scale) {
+  float r = 2.0f * scale.pixel_footprint;
+  if (!(r > 0.0f) || !std::isfinite(r)) r = std::max(1e-3f * scale.diagonal, 1e-6f);
+  return r;
 }
 
 void VcmStats::add(const VcmStats& o) {

@@ -11,6 +11,8 @@
 #include "io/image_io.h"
 #include "render/film.h"
 #include "render/scene_buffers.h"
+#include "shared/bdpt_types.h"
+#include "shared/photon_types.h"
 #include "shared/render_types.h"
 
 namespace clpt {
@@ -150,7 +152,7 @@ struct IcConfig {
   // land (--ic-photons); 0: the rays are path traced. pm --final-gather-cache reads pm's map.
   uint64_t photons = 0;
   // Seconds the cache may spend refining its records (another --ic-rays per record per
-  // round) after placement; the renderer gives it kIcRefineShare of --time, 0 without.
+  // round) after placement; kIcRefineShare of --time (make_ic), 0 without.
   double refine_seconds = 0.0;
 };
 
@@ -160,20 +162,69 @@ constexpr double kIcRefineShare = 0.25;
 // vcm's settings (--vcm-*).
 struct VcmConfig {
   uint32_t mode = 0;        // dev::VcmMode (--vcm-mode)
-  float radius = 0.0f;      // the first pass's merge radius (the renderer's default: a pixel footprint)
+  float radius = 0.0f;      // the first pass's merge radius; 0: half default_merge_radius
   float alpha = 0.75f;      // radius_i = radius (i + 1)^((alpha - 1) / 2)
 };
 
-// Construction-time settings some integrators take.
+// The scene's lengths the integrators' default radii are measured in (the renderer's).
+struct SceneScale {
+  float diagonal = 1.0f;         // of the scene's bounding box
+  float pixel_footprint = 0.0f;  // a pixel's width at the scene's centre (render/camera_setup.h);
+                                 // 0 or not finite where the camera gives none
+};
+
+// bdpt's settings (--bdpt-*); vcm's light subpaths take lvc and memory_bytes too.
+struct BdptConfig {
+  uint32_t strategy_s = BDPT_ALL_STRATEGIES;  // --bdpt-strategy s,t: the one strategy that
+  uint32_t strategy_t = 0;                    //   contributes; BDPT_ALL_STRATEGIES: every one
+  bool unweighted = false;                    // --bdpt-unweighted: that strategy without its weight
+  uint32_t lvc = 0;                           // --bdpt-lvc: light vertex caching's connections
+  size_t memory_bytes = size_t(256) << 20;    // --bdpt-memory: light vertex buffer budget
+};
+
+// pm's settings (--photons, --caustic-photons, --final-gather*, --knn, --pm-*).
+struct PmConfig {
+  uint64_t photons = 0;                 // global map paths; 0: PhotonMapper::kDefaultGlobalPaths
+  uint64_t caustic_photons = 1000000;   // caustic map paths
+  uint32_t final_gather = 8;            // gather rays per sample; 0: the global map at the hit
+  bool final_gather_cache = false;      // the final gather's diffuse part from an irradiance cache
+  uint32_t knn = 50;                    // photons per estimate
+  float max_radius = 0.0f;              // 0: 2 % of the scene's diagonal
+  uint32_t filter = dev::PHOTON_FILTER_CONE;
+};
+
+// How pm's estimates read a photon map (also what ic's records read with --ic-photons):
+// --knn clamped to the kernels' heap, the maximum radius's default resolved.
+dev::PhotonLookup photon_lookup(const PmConfig& pm, const SceneScale& scale);
+
+// sppm's settings (--photons, --sppm-*).
+struct SppmConfig {
+  uint64_t photons = 0;          // photon paths per pass; 0: one per pixel
+  float radius = 0.0f;           // initial radius; 0: default_merge_radius
+  float alpha = 2.0f / 3.0f;     // fraction of each pass's photons kept
+};
+
+// The radius sppm starts from by default (and, halved, vcm's): two pixel footprints at the
+// scene's centre, or 1e-3 of the diagonal where the camera gives no footprint.
+float default_merge_radius(const SceneScale& scale);
+
+// ao's settings (--ao-radius).
+struct AoConfig {
+  float radius = 0.0f;  // occluders farther away do not count; 0: 10 % of the scene's diagonal
+};
+
+// What the integrators are made from: each one's settings, and what their defaults need.
 struct IntegratorConfig {
-  size_t path_memory_bytes = size_t(256) << 20;  // bdpt: light vertex buffer budget
-  uint64_t photons = 0;          // pm: global map paths; sppm: paths per pass (0: pixels)
-  uint64_t caustic_photons = 0;  // pm: caustic map paths
-  bool final_gather_cache = false;  // pm: final gather from an irradiance cache (ic settings)
+  BdptConfig bdpt;
+  PmConfig pm;
+  SppmConfig sppm;
+  AoConfig ao;
   MltConfig mlt;
   IcConfig ic;
   VcmConfig vcm;
-  uint32_t indirect = 0;  // indirect1: dev::IndirectGenerator (--indirect)
+  uint32_t indirect = 0;    // indirect1: dev::IndirectGenerator (--indirect)
+  SceneScale scale;
+  double time_limit = 0.0;  // --time; ic refines its records for kIcRefineShare of it
 };
 
 // What an integrator's film holds, which decides what the film and the command line offer.

@@ -5,10 +5,11 @@
 namespace clpt {
 
 IrradianceCache::IrradianceCache(const cl::Context& ctx, const SceneBuffers& scene,
-                                 const IcConfig& config)
+                                 const IcConfig& config, const dev::PhotonLookup& photons)
     : ctx_(ctx),
       config_(config),
-      cache_(ctx, scene, config, config.photons ? dev::IC_GATHER_PHOTONS : dev::IC_GATHER_PATHS),
+      cache_(ctx, scene, config, config.photons ? dev::IC_GATHER_PHOTONS : dev::IC_GATHER_PATHS,
+             photons),
       tracer_(config.photons ? std::make_unique<PhotonTracer>(ctx, scene) : nullptr),
       render_kernel_(cache_.program(), "ic_render"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {

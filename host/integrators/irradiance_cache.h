@@ -16,7 +16,9 @@ namespace clpt {
 
 class IrradianceCache final : public Integrator {
  public:
-  IrradianceCache(const cl::Context& ctx, const SceneBuffers& scene, const IcConfig& config);
+  // photons: how records read the global map with --ic-photons (photon_lookup).
+  IrradianceCache(const cl::Context& ctx, const SceneBuffers& scene, const IcConfig& config,
+                  const dev::PhotonLookup& photons);
   const char* name() const override { return "ic"; }
   void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;

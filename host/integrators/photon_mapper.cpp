@@ -6,19 +6,25 @@
 
 namespace clpt {
 
-PhotonMapper::PhotonMapper(const cl::Context& ctx, const SceneBuffers& scene, uint64_t global_paths,
-                           uint64_t caustic_paths, const IcConfig* cache)
+PhotonMapper::PhotonMapper(const cl::Context& ctx, const SceneBuffers& scene, const PmConfig& pm,
+                           const SceneScale& scale, const IcConfig* cache)
     : ctx_(ctx),
-      global_paths_(global_paths ? global_paths : kDefaultGlobalPaths),
-      caustic_paths_(caustic_paths),
+      global_paths_(pm.photons ? pm.photons : kDefaultGlobalPaths),
+      caustic_paths_(pm.caustic_photons),
       tracer_(ctx, scene),
       cache_(cache ? std::make_unique<IcRecords>(ctx, scene, *cache,
-                                                 dev::IC_GATHER_PHOTONS_NO_CAUSTICS)
+                                                 dev::IC_GATHER_PHOTONS_NO_CAUSTICS,
+                                                 photon_lookup(pm, scale))
                    : nullptr),
       no_cache_(cache ? nullptr : std::make_unique<IcNoCache>(ctx)),
       program_(ctx, programs::kPm),
       kernel_(program_, "pm_render"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters") {
+  dev::PmParams own{};
+  own.lookup = photon_lookup(pm, scale);
+  own.final_gather = pm.final_gather;
+  pm_params_ = cl::Buffer::from_vector(ctx, std::vector<dev::PmParams>{own}, CL_MEM_READ_ONLY,
+                                       "pm parameters");
   first_arg_ = scene.bind(kernel_, 0);
   // Empty maps until the first pass builds them (the warm-up launch reads none).
   global_ = empty_photon_map(ctx);
@@ -49,7 +55,7 @@ void PhotonMapper::render_pass(const dev::RenderParams& params, Film& film) {
 
 void PhotonMapper::launch(const dev::RenderParams& params, Film& film) {
   params_.write(&params, sizeof(params));
-  cl_uint next = kernel_.args(first_arg_, params_, global_.nodes, global_.photons, global_.count,
+  cl_uint next = kernel_.args(first_arg_, params_, pm_params_, global_.nodes, global_.photons, global_.count,
                               caustic_.nodes, caustic_.photons, caustic_.count);
   if (cache_) {
     cache_->write_params();

@@ -20,10 +20,9 @@ namespace clpt {
 
 class PhotonMapper final : public Integrator {
  public:
-  // global_paths 0: kDefaultGlobalPaths. cache: the irradiance cache's settings, null for
-  // none.
-  PhotonMapper(const cl::Context& ctx, const SceneBuffers& scene, uint64_t global_paths,
-               uint64_t caustic_paths, const IcConfig* cache = nullptr);
+  // cache: the irradiance cache's settings (with pm.final_gather_cache), null for none.
+  PhotonMapper(const cl::Context& ctx, const SceneBuffers& scene, const PmConfig& pm,
+               const SceneScale& scale, const IcConfig* cache = nullptr);
   const char* name() const override { return "pm"; }
   void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;
@@ -46,7 +45,7 @@ class PhotonMapper final : public Integrator {
   std::unique_ptr<IcNoCache> no_cache_;  // what the kernel's cache arguments bind without one
   cl::Program program_;
   cl::Kernel kernel_;
-  cl::Buffer params_;
+  cl::Buffer params_, pm_params_;  // RenderParams, PmParams
   cl_uint first_arg_ = 0;
   bool built_ = false;
   DevicePhotonMap global_, caustic_;

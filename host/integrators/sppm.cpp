@@ -13,9 +13,12 @@ namespace clpt {
 
 static_assert(sizeof(dev::SppmPixel) == 32, "SppmPixel should stay 32 bytes");
 
-Sppm::Sppm(const cl::Context& ctx, const SceneBuffers& scene, uint64_t paths_per_pass)
+Sppm::Sppm(const cl::Context& ctx, const SceneBuffers& scene, const SppmConfig& config,
+           const SceneScale& scale)
     : ctx_(ctx),
-      paths_per_pass_(paths_per_pass),
+      paths_per_pass_(config.photons),
+      initial_radius_(config.radius > 0.0f ? config.radius : default_merge_radius(scale)),
+      alpha_(config.alpha),
       tracer_(ctx, scene),
       program_(ctx, programs::kSppm),
       insert_kernel_(program_, "sppm_grid_insert"),
@@ -25,21 +28,21 @@ Sppm::Sppm(const cl::Context& ctx, const SceneBuffers& scene, uint64_t paths_per
   pass_arg_ = scene.bind(pass_kernel_, 0);
 }
 
-void Sppm::start(const dev::RenderParams& params, size_t pixels) {
+void Sppm::start(size_t pixels) {
   std::vector<dev::SppmPixel> init(pixels);
   for (dev::SppmPixel& px : init) {
     std::memset(&px, 0, sizeof(px));
-    px.radius = params.sppm_radius;
+    px.radius = initial_radius_;
   }
   pixels_ = cl::Buffer::from_vector(ctx_, init, CL_MEM_READ_WRITE, "SPPM pixel statistics");
   pixel_count_ = pixels;
-  cell_ = params.sppm_radius;
+  cell_ = initial_radius_;
   next_sample_ = 0;
 }
 
 void Sppm::prepare(const dev::RenderParams& params, Film& film) {
   if (film.sums_samples()) throw Error(ExitCode::Usage, "sppm needs a film without sample sums");
-  if (pixel_count_ != film.pixels()) start(params, film.pixels());
+  if (pixel_count_ != film.pixels()) start(film.pixels());
   if (paths_per_pass_ == 0) paths_per_pass_ = film.pixels();
   params_.write(&params, sizeof(params));
 }
@@ -56,7 +59,7 @@ void Sppm::warm_up(const dev::RenderParams& params, Film& film) {
   const float one = 1.0f;
   insert_kernel_.args(0, none, zero, one, zero, heads, next);
   insert_kernel_.launch(ctx_, paths_per_pass_);
-  pass_kernel_.args(pass_arg_, params_, zero, zero, none, heads, next, one, zero, pixels_,
+  pass_kernel_.args(pass_arg_, params_, alpha_, zero, zero, none, heads, next, one, zero, pixels_,
                     film.sum(), film.ray_counts(), max_radius_);
   pass_kernel_.launch(ctx_, film.pixels());
 }
@@ -119,7 +122,7 @@ void Sppm::one_pass(const dev::RenderParams& params, uint32_t sample, Film& film
 
   max_radius_.fill_zero();
   const auto pixels = static_cast<uint32_t>(film.pixels());
-  pass_kernel_.args(pass_arg_, params_, pixels, sample, photons_, heads_, next_, inv_cell, bucket_mask_,
+  pass_kernel_.args(pass_arg_, params_, alpha_, pixels, sample, photons_, heads_, next_, inv_cell, bucket_mask_,
                     pixels_, film.sum(), film.ray_counts(), max_radius_);
   pass_kernel_.launch(ctx_, film.pixels());
   uint32_t bits = max_radius_.read_vector<uint32_t>(1)[0];

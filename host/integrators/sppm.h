@@ -14,8 +14,9 @@ namespace clpt {
 
 class Sppm final : public Integrator {
  public:
-  // paths_per_pass 0: one photon path per pixel.
-  Sppm(const cl::Context& ctx, const SceneBuffers& scene, uint64_t paths_per_pass);
+  // config.photons 0: one photon path per pixel; config.radius 0: default_merge_radius.
+  Sppm(const cl::Context& ctx, const SceneBuffers& scene, const SppmConfig& config,
+       const SceneScale& scale);
   const char* name() const override { return "sppm"; }
   // Passes must come in order from sample index 0 (the statistics are progressive).
   void warm_up(const dev::RenderParams& params, Film& film) override;
@@ -26,11 +27,13 @@ class Sppm final : public Integrator {
  private:
   // Pixel statistics for the film (started on first use), parameters uploaded.
   void prepare(const dev::RenderParams& params, Film& film);
-  void start(const dev::RenderParams& params, size_t pixels);
+  void start(size_t pixels);
   void one_pass(const dev::RenderParams& params, uint32_t sample, Film& film);
 
   const cl::Context& ctx_;
   uint64_t paths_per_pass_;
+  float initial_radius_;  // every pixel's first radius
+  float alpha_;           // the kernel's alpha argument
   PhotonTracer tracer_;
   cl::Program program_;
   cl::Kernel insert_kernel_, pass_kernel_;

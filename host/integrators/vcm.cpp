@@ -11,10 +11,11 @@
 namespace clpt {
 
 VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const SceneBuffers& scene,
-                                                 const VcmConfig& config, size_t memory_bytes)
+                                                 const VcmConfig& config, const BdptConfig& subpaths,
+                                                 const SceneScale& scale)
     : ctx_(ctx),
       config_(config),
-      budget_(memory_bytes),
+      subpaths_(subpaths),
       program_(ctx, programs::kVcm),
       light_kernel_(program_, "vcm_light"),
       insert_kernel_(program_, "vcm_grid_insert"),
@@ -22,6 +23,7 @@ VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const S
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
       vcm_params_(ctx, sizeof(dev::VcmParams), CL_MEM_READ_ONLY, nullptr, "VCM parameters"),
       cache_count_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM light vertex cache count") {
+  config_.radius = first_radius(config.radius, scale);
   if (!(config_.radius > 0.0f) || !std::isfinite(config_.radius))
     throw Error(ExitCode::Usage, "vcm needs a positive merge radius");
   light_arg_ = scene.bind(light_kernel_, 0);
@@ -32,6 +34,22 @@ size_t VertexConnectionMerging::tile_paths(size_t budget_bytes, uint32_t capacit
   const size_t per_path =
       size_t(capacity) * (sizeof(dev::PathVertex) + 3 * sizeof(uint32_t)) + sizeof(uint32_t);
   return std::clamp<size_t>(budget_bytes / per_path, 1, std::max<size_t>(pixels, 1));
+}
+
+float VertexConnectionMerging::first_radius(float given, const SceneScale& scale) {
+  // One pixel footprint at the scene's centre: half sppm's default radius (the --vcm-radius
+  // sweep in docs/BENCHMARKS.md, session 11). A radius near the scene's size merges every
+  // light vertex at every camera vertex, and one below float resolution at the scene's scale
+  // puts them all in one saturated grid cell: either is a render that does not end. 10 % and
+  // 1e-6 of the diagonal bound it. The default is held inside the bounds: at a tiny
+  // resolution (8x8) a footprint is above 10 %, and a radius nobody asked for is no usage error.
+  const float lo = 1e-6f * scale.diagonal, hi = 0.1f * scale.diagonal;
+  if (!(given > 0.0f)) return std::clamp(0.5f * default_merge_radius(scale), lo, hi);
+  if (!(given <= hi && given >= lo))
+    throw Error(ExitCode::Usage, "--vcm-radius " + std::to_string(given) +
+                                     " is outside [1e-6, 0.1] times the scene's diagonal (" +
+                                     std::to_string(scale.diagonal) + ")");
+  return given;
 }
 
 float VertexConnectionMerging::radius(float r0, float alpha, uint32_t pass) {
@@ -54,10 +72,9 @@ dev::VcmParams VertexConnectionMerging::pass_params(const VcmConfig& c, uint32_t
   return v;
 }
 
-dev::RenderParams VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& film) {
+void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& film) {
   if (!film.splats()) throw Error(ExitCode::Usage, "vcm needs a film with splats");
-  dev::RenderParams p = params;
-  p.light_vertex_capacity = vertex_capacity(p.max_depth);
+  const uint32_t capacity = vertex_capacity(params.max_depth);
   const size_t pixels = film.pixels();
   if (pixels_ != pixels) {
     const auto counts = [&](const char* what) {
@@ -74,9 +91,9 @@ dev::RenderParams VertexConnectionMerging::prepare(const dev::RenderParams& para
     pixels_ = pixels;
     width_ = film.width();
   }
-  const size_t tile = tile_paths(budget_, p.light_vertex_capacity, pixels);
-  if (p.light_vertex_capacity != capacity_ || tile != tile_) {
-    const size_t slots = tile * p.light_vertex_capacity;
+  const size_t tile = tile_paths(subpaths_.memory_bytes, capacity, pixels);
+  if (capacity != capacity_ || tile != tile_) {
+    const size_t slots = tile * capacity;
     vertices_ = cl::Buffer(ctx_, slots * sizeof(dev::PathVertex), CL_MEM_READ_WRITE, nullptr,
                            "VCM light vertices");
     vertex_counts_ = cl::Buffer(ctx_, tile * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
@@ -88,20 +105,21 @@ dev::RenderParams VertexConnectionMerging::prepare(const dev::RenderParams& para
     while (buckets < slots) buckets *= 2;
     heads_ = cl::Buffer(ctx_, buckets * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM grid");
     mask_ = static_cast<uint32_t>(buckets - 1);
-    capacity_ = p.light_vertex_capacity;
+    capacity_ = capacity;
     tile_ = tile;
   }
   stats_.device_bytes = vertices_.size() + vertex_counts_.size() + next_.size() + heads_.size() +
                         cache_.size() +
                         connection_counts_.size() + stored_counts_.size() + merge_counts_.size() +
                         merge_sum_.size();
-  params_.write(&p, sizeof(p));
-  return p;
+  params_.write(&params, sizeof(params));
 }
 
 void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& film) {
-  const dev::RenderParams p = prepare(params, film);
-  const dev::VcmParams v = pass_params(config_, p.mis, config_.radius, 1, mask_);
+  prepare(params, film);
+  dev::VcmParams v = pass_params(config_, params.mis, config_.radius, 1, mask_);
+  v.light_vertex_capacity = capacity_;
+  v.lvc = subpaths_.lvc;
   vcm_params_.write(&v, sizeof(v));
   const uint32_t none = 0;
   light_kernel_.args(light_arg_, params_, vcm_params_, none, none, none, vertices_, vertex_counts_,
@@ -119,7 +137,9 @@ void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& fil
 void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t sample,
                                           uint32_t first, uint32_t count, float r, Film& film) {
   const uint32_t mode = config_.mode;
-  const dev::VcmParams v = pass_params(config_, p.mis, r, count, mask_);
+  dev::VcmParams v = pass_params(config_, p.mis, r, count, mask_);
+  v.light_vertex_capacity = capacity_;
+  v.lvc = subpaths_.lvc;
   vcm_params_.write(&v, sizeof(v));
   if (mode != dev::VCM_MODE_PT) {
     light_kernel_.args(light_arg_, params_, vcm_params_, sample, first, count, vertices_,
@@ -128,7 +148,7 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
     light_kernel_.launch(ctx_, count);
   }
   const bool merging = dev::vcm_mode_merges(mode);
-  const bool caching = p.bdpt_lvc && dev::vcm_mode_connects(mode);
+  const bool caching = subpaths_.lvc && dev::vcm_mode_connects(mode);
   if (merging || caching) {
     // The light kernel first, so that grid_seconds times the grid alone (the queue is in
     // order: the insert waits for it anyway).
@@ -150,7 +170,8 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
 }
 
 void VertexConnectionMerging::render_pass(const dev::RenderParams& params, Film& film) {
-  const dev::RenderParams p = prepare(params, film);
+  prepare(params, film);
+  const dev::RenderParams& p = params;
   const size_t pixels = film.pixels();
   for (uint32_t i = 0; i < p.samples_per_pass; ++i) {
     const uint32_t sample = p.sample_offset + i;

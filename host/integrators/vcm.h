@@ -20,8 +20,10 @@ namespace clpt {
 
 class VertexConnectionMerging final : public Integrator {
  public:
+  // subpaths: bdpt's settings its light subpaths follow (--bdpt-lvc, --bdpt-memory). The
+  // first radius (config.radius, 0: its default) is resolved by first_radius.
   VertexConnectionMerging(const cl::Context& ctx, const SceneBuffers& scene, const VcmConfig& config,
-                          size_t memory_bytes);
+                          const BdptConfig& subpaths, const SceneScale& scale);
   const char* name() const override { return "vcm"; }
   void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;
@@ -36,6 +38,9 @@ class VertexConnectionMerging final : public Integrator {
   // Paths per tile within a budget: each path's vertices, their grid links and the grid's
   // buckets (at most two per slot), and its vertex count.
   static size_t tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels);
+  // The first pass's merge radius: `given`, or half default_merge_radius held within the
+  // bounds; a given radius outside [1e-6, 0.1] times the scene's diagonal is a usage error.
+  static float first_radius(float given, const SceneScale& scale);
   // Pass i's merge radius.
   static float radius(float r0, float alpha, uint32_t pass);
   // The pass's VcmParams for a tile of `paths` light paths.
@@ -43,13 +48,14 @@ class VertexConnectionMerging final : public Integrator {
                                     uint32_t mask);
 
  private:
-  dev::RenderParams prepare(const dev::RenderParams& params, Film& film);
+  // Uploads the pass's parameters; buffers sized for the film and the light vertex capacity.
+  void prepare(const dev::RenderParams& params, Film& film);
   void launch_tile(const dev::RenderParams& p, uint32_t sample, uint32_t first, uint32_t count,
                    float r, Film& film);
 
   const cl::Context& ctx_;
-  VcmConfig config_;
-  size_t budget_;
+  VcmConfig config_;  // its radius resolved
+  BdptConfig subpaths_;
   cl::Program program_;
   cl::Kernel light_kernel_, insert_kernel_, camera_kernel_;
   cl::Buffer params_, vcm_params_;

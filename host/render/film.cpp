@@ -96,7 +96,7 @@ FilmResult resolve_film(const FilmSums& f, uint64_t spp) {
     if (splats_) {
       // N = spp * pixels light paths; each splat already carries the 1 / A_pixel of the
       // pixel's importance relative to the whole film, so sum / spp is the pixel's estimate
-      // (kernels/integrators/light_trace.cl, docs/concepts/light-tracing.md).
+      // (kernels/integrators/lt/light_trace.cl, docs/concepts/light-tracing.md).
       r.dropped_samples += static_cast<uint64_t>(splat[i][3]);
       r.rays += rays[i];
       for (int c = 0; c < 3; ++c)

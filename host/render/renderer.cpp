@@ -86,7 +86,7 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
                 "--integrator " + settings_.integrator + " renders on one device: its passes "
                 "depend on the passes before them, so they cannot be split into sample ranges; "
                 "name one --device (and run one process)");
-  if (split && settings_.final_gather_cache)
+  if (split && settings_.pm.final_gather_cache)
     throw Error(ExitCode::Usage, "--final-gather-cache renders on one device; name one --device "
                                  "(and run one process)");
   if (flat.lights.empty() && row.needs_lights)
@@ -120,50 +120,11 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
   params_.rr_absorb = settings_.rr_absorb;
   params_.branching = std::max<uint32_t>(1, settings_.branching);
   if (row.max_depth_cap) params_.max_depth = std::min(params_.max_depth, row.max_depth_cap);
-  params_.bdpt_s = settings_.bdpt_s;
-  params_.bdpt_t = settings_.bdpt_t;
-  params_.bdpt_unweighted = settings_.bdpt_unweighted ? 1u : 0u;
-  params_.bdpt_lvc = settings_.bdpt_lvc;
-  params_.knn = std::clamp<uint32_t>(settings_.knn, 1, PM_KNN_MAX);
-  params_.pm_max_radius = settings_.pm_max_radius > 0.0f
-                              ? settings_.pm_max_radius
-                              : 0.02f * glm::length(scene.bounds().extent());
-  params_.pm_filter = settings_.pm_filter;
-  params_.final_gather = settings_.final_gather;
-  params_.sppm_radius = settings_.sppm_radius > 0.0f
-                            ? settings_.sppm_radius
-                            : 2.0f * pixel_footprint(params_.camera, height_, scene.bounds());
-  if (!(params_.sppm_radius > 0.0f) || !std::isfinite(params_.sppm_radius))
-    params_.sppm_radius = std::max(1e-3f * glm::length(scene.bounds().extent()), 1e-6f);
-  params_.sppm_alpha = settings_.sppm_alpha;
-  params_.ao_radius = settings_.ao_radius > 0.0f
-                          ? settings_.ao_radius
-                          : 0.1f * glm::length(scene.bounds().extent());
-
-  IcConfig ic = settings_.ic;
-  if (settings_.time_limit > 0.0) ic.refine_seconds = kIcRefineShare * settings_.time_limit;
-  VcmConfig vcm = settings_.vcm;
-  // One pixel footprint at the scene's centre: half sppm's default radius (the --vcm-radius
-  // sweep in docs/BENCHMARKS.md, session 11).
-  const bool vcm_radius_given = vcm.radius > 0.0f;
-  if (!vcm_radius_given) vcm.radius = 0.5f * params_.sppm_radius;
-  if (row.options & OPTIONS_VCM) {
-    // A radius near the scene's size merges every light vertex at every camera vertex, and one
-    // below float resolution at the scene's scale puts them all in one saturated grid cell:
-    // either is a render that does not end. 10 % and 1e-6 of the diagonal bound it. The
-    // default (a pixel footprint) is held inside the bounds: at a tiny resolution (8x8) a
-    // footprint is above 10 %, and a radius nobody asked for is no usage error.
-    const float diagonal = glm::length(scene.bounds().extent());
-    if (!vcm_radius_given) vcm.radius = std::clamp(vcm.radius, 1e-6f * diagonal, 0.1f * diagonal);
-    if (!(vcm.radius <= 0.1f * diagonal && vcm.radius >= 1e-6f * diagonal))
-      throw Error(ExitCode::Usage, "--vcm-radius " + std::to_string(vcm.radius) +
-                                       " is outside [1e-6, 0.1] times the scene's diagonal (" +
-                                       std::to_string(diagonal) + ")");
-  }
-  const IntegratorConfig config{settings_.bdpt_memory_bytes, settings_.photons,
-                                settings_.caustic_photons,  settings_.final_gather_cache,
-                                settings_.mlt,              ic,
-                                vcm,                        settings_.indirect};
+  IntegratorConfig config{settings_.bdpt, settings_.pm,  settings_.sppm,     settings_.ao,
+                          settings_.mlt,  settings_.ic,  settings_.vcm,      settings_.indirect,
+                          {},             settings_.time_limit};
+  config.scale.diagonal = glm::length(scene.bounds().extent());
+  config.scale.pixel_footprint = pixel_footprint(params_.camera, height_, scene.bounds());
   for (const cl::Context* ctx : contexts) {
     for (const auto& other : lanes_)
       if (other->ctx->device().id == ctx->device().id)

@@ -41,20 +41,13 @@ struct RenderSettings {
   uint32_t rr = 0;             // dev::RussianRoulette
   float rr_absorb = 0.5f;      // absorption probability with RR_FIXED
   uint32_t branching = 1;      // continuations from the first hit
-  float ao_radius = 0.0f;      // ambient occlusion distance; 0: 10 % of the scene's diagonal
-  uint32_t bdpt_s = BDPT_ALL_STRATEGIES, bdpt_t = 0;  // --bdpt-strategy
-  bool bdpt_unweighted = false;
-  uint32_t bdpt_lvc = 0;  // light vertex caching: connections per camera vertex; 0: off
-  size_t bdpt_memory_bytes = size_t(256) << 20;  // light vertex buffer budget
-  uint64_t photons = 0;             // pm: global map paths [200000]; sppm: per pass [pixels]
-  uint64_t caustic_photons = 1000000;  // pm: caustic map paths
-  uint32_t final_gather = 8;        // pm: gather rays per sample; 0: global map at the hit
-  bool final_gather_cache = false;  // pm: the final gather's diffuse part from an irradiance cache
-  uint32_t knn = 50;                // pm: photons per estimate
-  float pm_max_radius = 0.0f;       // pm: 0: 2 % of the scene's bounding-box diagonal
-  uint32_t pm_filter = 1;           // dev::PhotonFilter (cone)
-  float sppm_radius = 0.0f;         // sppm: initial radius; 0: 2 pixel footprints at the centre
-  float sppm_alpha = 2.0f / 3.0f;
+  // Each integrator's own settings (integrators/integrator.h); their defaults are resolved by
+  // the integrators, from the scene's diagonal and a pixel's footprint.
+  BdptConfig bdpt;                  // bdpt: --bdpt-strategy, --bdpt-unweighted; bdpt and vcm:
+                                    //   --bdpt-lvc, --bdpt-memory
+  PmConfig pm;                      // pm: maps, final gather, k-NN estimates (ic's too)
+  SppmConfig sppm;                  // sppm: photons per pass, radius, alpha
+  AoConfig ao;                      // ao: radius
   MltConfig mlt;                    // mlt: chains, bootstrap, step sizes
   IcConfig ic;                      // ic: accuracy, rays, spacing
   VcmConfig vcm;                    // vcm: mode, radius (0: a pixel footprint at the centre), alpha

@@ -68,7 +68,7 @@ __kernel void ic_record_rays(SCENE_KERNEL_ARGS __constant const RenderParams* pa
   const u32 r = ic->first + g / per, q = g % per;
   /* A record's later batches draw the sample indices after its earlier rays'. */
   const Sampler sampler = sampler_init(params, r, records[r].rays + q);
-  const PhotonMap map = photon_map(map_nodes, map_photons, map_count);
+  const PhotonMap map = photon_map(map_nodes, map_photons, map_count, &ic->photons);
   u32 rays = 0;
   results[g] = ic_record_ray(params, &scene, ic, &map, &records[r], q, &sampler, &rays);
 }

@@ -3,7 +3,7 @@
  * light paths each, so a pass traces samples_per_pass * width * height light paths and
  * --spp keeps meaning paths per pixel on average. Contributions land anywhere on the film
  * (film/splat.cl); ray counts stay with the work-item's virtual pixel. */
-#include "integrators/light_trace.cl"
+#include "integrators/lt/light_trace.cl"
 
 __kernel void lt_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __global float4* splat, __global u32* ray_counts) {

@@ -7,6 +7,7 @@
 #include "integrators/photon/pm_radiance.cl"
 
 __kernel void pm_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
+                        __constant const PmParams* pm,
                         __global const KdNode* global_nodes, __global const Photon* global_photons,
                         u32 global_count, __global const KdNode* caustic_nodes,
                         __global const Photon* caustic_photons, u32 caustic_count,
@@ -15,8 +16,8 @@ __kernel void pm_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   const u32 pixel = get_global_id(0);
   if (pixel >= params->width * params->height) return;
   const SceneView scene = SCENE_VIEW();
-  const PhotonMap global_map = photon_map(global_nodes, global_photons, global_count);
-  const PhotonMap caustic_map = photon_map(caustic_nodes, caustic_photons, caustic_count);
+  const PhotonMap global_map = photon_map(global_nodes, global_photons, global_count, &pm->lookup);
+  const PhotonMap caustic_map = photon_map(caustic_nodes, caustic_photons, caustic_count, &pm->lookup);
 
   const IcCache cache = ic_cache(ic, records, starts, entries);
   const int marked = ic->show_records && marks[pixel];
@@ -26,7 +27,7 @@ __kernel void pm_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   for (u32 i = 0; i < params->samples_per_pass; ++i) {
     float3 org, dir;
     const Sampler sampler = pixel_sample(params, &ps, i, &org, &dir);
-    const float3 L = pm_radiance(params, &scene, &sampler, &global_map, &caustic_map, &cache, org,
+    const float3 L = pm_radiance(params, pm, &scene, &sampler, &global_map, &caustic_map, &cache, org,
                                  dir, &ps.rays, &counts);
     film_add(&ps.film, marked ? (float3)(1.0f, 0.0f, 0.0f) : L);
   }

@@ -1,6 +1,6 @@
 /* Entry point of the path tracer: one work-item per pixel, samples_per_pass samples each. */
 #include "integrators/stages/pixel_samples.cl"
-#include "integrators/path_trace.cl"
+#include "integrators/estimators/path_trace.cl"
 
 __kernel void pt_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __global float4* film_sum, __global float4* film_sum_sq,

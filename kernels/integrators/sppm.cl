@@ -2,7 +2,7 @@
  * One pass per sample index: the host emits the pass's photons (photon.cl, first hits not
  * stored: direct light is NEE's), sppm_grid_insert hashes them (kernels/spatial/hash_grid.cl),
  * then sppm_pass traces each pixel's camera ray to its visible point (through delta
- * scatterings, kernels/integrators/photon/visible_point.cl), adds emission and direct light
+ * scatterings, kernels/integrators/estimators/photon/visible_point.cl), adds emission and direct light
  * to the pixel's sum, and gathers the photons within the pixel's radius R:
  *     Phi = beta sum_p f(x, wo, wi_p) Phi_p   over the M photons on x's surface within R,
  * with photon bounce b in [2, max_depth - depth]. The statistics then shrink (alpha):
@@ -11,8 +11,8 @@
  * powers being already divided by the photon paths of a pass. sppm_pass writes
  * K times that into the film's sum, so the film resolves it like any other. */
 #include "camera/pixel_ray.cl"
-#include "integrators/photon/visible_point.cl"
-#include "integrators/photon/density.cl"
+#include "integrators/estimators/photon/visible_point.cl"
+#include "integrators/estimators/photon/density.cl"
 #include "spatial/hash_grid.cl"
 
 __kernel void sppm_grid_insert(__global const Photon* photons, u32 count, float inv_cell, u32 mask,
@@ -57,8 +57,8 @@ static inline float3 sppm_gather(__global const Photon* photons, __global const 
 }
 
 /* pixel_count: width x height, or 0 for the host's warm-up launch. */
-__kernel void sppm_pass(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 pixel_count,
-                        u32 sample,
+__kernel void sppm_pass(SCENE_KERNEL_ARGS __constant const RenderParams* params, float alpha,
+                        u32 pixel_count, u32 sample,
                         __global const Photon* photons, __global const u32* heads,
                         __global const u32* next, float inv_cell, u32 mask,
                         __global SppmPixel* pixels, __global float4* film_sum,
@@ -86,7 +86,7 @@ __kernel void sppm_pass(SCENE_KERNEL_ARGS __constant const RenderParams* params,
     if (!is_finite3(phi)) {
       film.w += 1.0f;
     } else if (m > 0u) {
-      const float n_new = px.n + params->sppm_alpha * (float)m;
+      const float n_new = px.n + alpha * (float)m;
       const float r_new = px.radius * sqrt(n_new / (px.n + (float)m));
       tau = (tau + phi) * ((r_new * r_new) / (px.radius * px.radius));
       px.n = n_new;

@@ -27,7 +27,7 @@ __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   const Sampler sampler = sampler_init(params, path, sample_index);
   u32 rays = 0, connections = 0;
   const u32 stored = vcm_light_path(params, vcm, &scene, &sampler,
-                                    vertices + (size_t)i * params->light_vertex_capacity, splat,
+                                    vertices + (size_t)i * vcm->light_vertex_capacity, splat,
                                     &rays, &connections);
   vertex_counts[i] = stored;
   ray_counts[path] += rays;
@@ -41,12 +41,12 @@ __kernel void vcm_grid_insert(__constant const RenderParams* params, __constant 
                               __global u32* next, __global u32* cache,
                               volatile __global u32* cache_count) {
   const u32 slot = get_global_id(0);
-  const u32 capacity = params->light_vertex_capacity;
+  const u32 capacity = vcm->light_vertex_capacity;
   if (slot >= path_count * capacity) return;
   if (slot % capacity >= vertex_counts[slot / capacity]) return;
   if (vcm_mode_merges(vcm->mode))
     grid_insert_point(vload3(0, vertices[slot].p), slot, vcm->inv_cell, vcm->mask, heads, next);
-  if (params->bdpt_lvc) cache[atomic_inc(cache_count)] = slot;
+  if (vcm->lvc) cache[atomic_inc(cache_count)] = slot;
 }
 
 __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params,
@@ -68,9 +68,9 @@ __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params
   float3 merged;
   const float3 L = vcm_camera_path(
       params, vcm, &scene, &sampler, pixel % params->width, pixel / params->width,
-      vertices + (size_t)i * params->light_vertex_capacity,
+      vertices + (size_t)i * vcm->light_vertex_capacity,
       vcm_mode_connects(vcm->mode) ? vertex_counts[i] : 0u, vertices,
-      cache, params->bdpt_lvc ? cache_count[0] : 0u, heads, next, &merged, &rays, &connections,
+      cache, vcm->lvc ? cache_count[0] : 0u, heads, next, &merged, &rays, &connections,
       &merges);
   if (!film_camera_splat(params, splat, &sampler, pixel, L)) film_add(&film, L);
   film_store(film_sum, film_sum_sq, pixel, &film);

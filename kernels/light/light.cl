@@ -141,7 +141,7 @@ static inline float3 light_emission_origin(const SceneView* s, const LightEmissi
 }
 
 /* Densities of a light's two sampling techniques for one light point, in the form the
- * bidirectional MIS weights use them (kernels/integrators/bdpt/bdpt_mis.cl; Georgiev 2012,
+ * bidirectional MIS weights use them (kernels/integrators/stages/vertex_mis.cl; Georgiev 2012,
  * SmallVCM's Illuminate/Emit/GetRadiance outputs):
  *   direct     light_illuminate's density of the point: per unit area for area lights, per
  *              steradian for the environment, the selection probability alone for delta

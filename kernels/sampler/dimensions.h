@@ -16,7 +16,7 @@
 #define DIM_RR 6u           /* 1D */
 #define DIM_LVC_PICK 7u     /* 1D: bdpt with light vertex caching, which cached vertex */
 
-/* Light paths (--integrator lt, kernels/integrators/light_trace.cl) use the same layout:
+/* Light paths (--integrator lt, kernels/integrators/lt/light_trace.cl) use the same layout:
  * the emitted ray takes the camera ray's places, and light vertex k (0: on the light) takes
  * bounce k's: its camera connection's lens point, its BSDF direction, lobe and roulette.
  * The light is chosen with bounce 0's DIM_LIGHT_SELECT. */
@@ -28,7 +28,7 @@
  * (--branching) draw from their own streams of dimensions: stream = branch * 256 + light
  * sample index; stream 0 is the plain path. */
 #define DIM_STREAM_STRIDE 0x10000u
-/* BDPT's light subpath shares its camera subpath's sampler key (kernels/integrators/bdpt/),
+/* BDPT's light subpath shares its camera subpath's sampler key (kernels/integrators/estimators/bdpt/),
  * with the light tracer's layout in a stream of its own. */
 #define DIM_BDPT_LIGHT_STREAM 0xff00u
 #define DIM_STREAMS_PER_BRANCH 256u

@@ -1,6 +1,6 @@
 /* What bidirectional path tracing keeps of a light subpath between its two kernels
  * (kernels/integrators/bdpt.cl): one PathVertex per stored light vertex, a fixed number of
- * slots per light path (RenderParams.light_vertex_capacity). Plain floats, so the host
+ * slots per light path (BdptParams.light_vertex_capacity). Plain floats, so the host
  * knows its size (160 bytes) for the buffer it allocates. */
 #ifndef CLPT_SHARED_BDPT_TYPES_H
 #define CLPT_SHARED_BDPT_TYPES_H
@@ -8,6 +8,21 @@
 #include "shared/compat.h"
 
 CLPT_BEGIN_SHARED
+
+#define BDPT_ALL_STRATEGIES 0xffffffffu
+
+/* bdpt's own parameters (--integrator bdpt, kernels/integrators/bdpt.cl), written by the host
+ * (host/integrators/bdpt.cpp) beside the common RenderParams. */
+typedef struct BdptParams {
+  u32 strategy_s;            /* --bdpt-strategy: light vertices of the one strategy that contributes; */
+  u32 strategy_t;            /*   camera vertices; BDPT_ALL_STRATEGIES in strategy_s: every strategy */
+  u32 unweighted;            /* 1: that strategy without its MIS weight (--bdpt-unweighted) */
+  u32 light_vertex_capacity; /* light vertices stored per light subpath */
+  u32 lvc;                   /* connections per camera vertex to random cached light vertices
+                              * (--bdpt-lvc, light vertex caching); 0: to every vertex of its own
+                              * light subpath */
+  u32 pad[3];
+} BdptParams;
 
 typedef struct PathVertex {
   float p[3];

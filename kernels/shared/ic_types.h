@@ -6,6 +6,7 @@
 #define CLPT_SHARED_IC_TYPES_H
 
 #include "shared/compat.h"
+#include "shared/photon_types.h"
 
 CLPT_BEGIN_SHARED
 
@@ -51,6 +52,8 @@ typedef struct IcParams {
   u32 grid_first;       /* ... for grid points grid_first .. grid_first + capacity - 1 */
   u32 jitter;           /* ic_place: 0 pixel centres; 1 a random point in each pixel */
   u32 gather;           /* IcGather: what a record's ray adds where it lands */
+  u32 pad[2];
+  PhotonLookup photons; /* how records read the global photon map (IC_GATHER_PHOTONS*) */
 } IcParams;
 
 /* What a record's hemisphere ray adds where it lands (kernels/integrators/ic/records.cl). */

@@ -17,6 +17,28 @@ CLPT_BEGIN_SHARED
 #define PHOTON_STORE_CAUSTIC_ONLY 1u /* only caustic photons; paths end once they cannot make one */
 #define PHOTON_STORE_SKIP_DIRECT 2u  /* not the first hit's photons (direct light is NEE's) */
 
+/* --pm-filter: the density-estimation kernel of pm's k-nearest-neighbour estimates */
+enum PhotonFilter { PHOTON_FILTER_BOX = 0, PHOTON_FILTER_CONE = 1, PHOTON_FILTER_EPANECHNIKOV = 2 };
+
+#define PM_KNN_MAX 256u /* largest --knn: the kernels' private neighbour heap */
+
+/* How a photon map's k-nearest-neighbour estimate reads it (--knn, --pm-max-radius,
+ * --pm-filter): pm's maps, and the global map the irradiance cache's records read. */
+typedef struct PhotonLookup {
+  u32 knn;          /* photons per estimate (1 .. PM_KNN_MAX) */
+  float max_radius; /* the search radius bound (world units) */
+  u32 filter;       /* PhotonFilter */
+  u32 pad;
+} PhotonLookup;
+
+/* pm's own parameters (--integrator pm, kernels/integrators/pm.cl), written by the host
+ * (host/integrators/photon_mapper.cpp) beside the common RenderParams. */
+typedef struct PmParams {
+  PhotonLookup lookup;
+  u32 final_gather; /* gather rays from the first non-delta vertex; 0: the maps there directly */
+  u32 pad[3];
+} PmParams;
+
 /* 64 bytes in four 16-byte rows. */
 typedef struct Photon {
   float p[3];      /* where it landed */

@@ -1,4 +1,7 @@
-/* Per-pass render parameters, uploaded to a small __constant buffer. */
+/* Per-pass render parameters, uploaded to a small __constant buffer: what every integrator
+ * reads. An integrator's own settings are in its own struct beside it (BdptParams, PmParams,
+ * VcmParams, MltParams, IcParams, IndirectParams, AoParams; sppm's alpha is a kernel
+ * argument). */
 #ifndef CLPT_SHARED_RENDER_TYPES_H
 #define CLPT_SHARED_RENDER_TYPES_H
 
@@ -26,8 +29,6 @@ enum HemisphereSampling { HEMISPHERE_BSDF = 0, HEMISPHERE_COSINE = 1, HEMISPHERE
 enum RussianRoulette { RR_THROUGHPUT = 0, RR_FIXED = 1 };
 /* --filter: the pixel reconstruction filter, by filter importance sampling (camera/pixel_filter.cl) */
 enum PixelFilter { FILTER_BOX = 0, FILTER_TENT = 1, FILTER_GAUSSIAN = 2, FILTER_BLACKMAN_HARRIS = 3 };
-/* --pm-filter: the density-estimation kernel of pm's k-nearest-neighbour estimates */
-enum PhotonFilter { PHOTON_FILTER_BOX = 0, PHOTON_FILTER_CONE = 1, PHOTON_FILTER_EPANECHNIKOV = 2 };
 
 /* A pinhole or orthographic camera as world-space vectors. For a film point (sx, sy) in
  * [-1, 1]^2 (+y up), a perspective ray has direction forward + sx*right + sy*up from
@@ -64,19 +65,6 @@ typedef struct RenderParams {
   u32 rr;               /* RussianRoulette */
   float rr_absorb;      /* absorption probability for RR_FIXED */
   u32 branching;        /* secondary rays at the first hit (>= 1; 1 = path tracing) */
-  float ao_radius;      /* ambient occlusion: occluders farther than this do not count */
-  u32 bdpt_s;           /* --bdpt-strategy: light vertices of the one strategy that contributes; */
-  u32 bdpt_t;           /*   camera vertices; BDPT_ALL_STRATEGIES in bdpt_s: every strategy */
-  u32 bdpt_unweighted;  /* 1: that strategy without its MIS weight */
-  u32 light_vertex_capacity; /* bdpt: light vertices stored per light subpath */
-  u32 bdpt_lvc;         /* bdpt: connections per camera vertex to random cached light vertices
-                         * (light vertex caching); 0: to every vertex of its own light subpath */
-  u32 knn;              /* pm: photons per radiance estimate (--knn, <= PM_KNN_MAX) */
-  float pm_max_radius;  /* pm: the estimates' search radius bound (world units) */
-  u32 pm_filter;        /* pm: PhotonFilter */
-  u32 final_gather;     /* pm: gather rays from the first non-delta vertex; 0: maps directly */
-  float sppm_radius;    /* sppm: initial search radius (world units) */
-  float sppm_alpha;     /* sppm: fraction of new photons kept per pass (Hachisuka's alpha) */
   u32 filter;           /* PixelFilter of the camera samples' film positions */
   float filter_radius;  /* its radius in pixels (box 0.5: one pixel, the plain jitter) */
   u32 filter_splat;     /* 1: the filter is applied where contributions are added (integrators
@@ -85,9 +73,6 @@ typedef struct RenderParams {
                          * 0: camera samples are drawn from it (filter importance sampling) */
   u32 pad;
 } RenderParams;
-
-#define BDPT_ALL_STRATEGIES 0xffffffffu
-#define PM_KNN_MAX 256u /* largest --knn: the kernels' private neighbour heap */
 
 CLPT_END_SHARED
 

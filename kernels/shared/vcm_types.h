@@ -24,12 +24,15 @@ static inline int vcm_mode_connects(u32 mode) { return mode == VCM_MODE_VCM || m
 typedef struct VcmParams {
   u32 mode;               /* VcmMode */
   float radius;           /* this pass's merge radius r */
-  float mis_vm;           /* MisMerge.vm = mis(eta), eta = pi r^2 light_paths; 0 without merging */
-  float mis_vc;           /* MisMerge.vc = mis(1 / eta); 0 without connections */
+  float mis_vm;           /* StrategyMis.vm = mis(eta), eta = pi r^2 light_paths; 0 without merging */
+  float mis_vc;           /* StrategyMis.vc = mis(1 / eta); 0 without connections */
   float vm_normalization; /* 1 / eta: a merge's density kernel over the light paths */
   float inv_cell;         /* the light vertex grid's cells are 2r wide */
   u32 mask;               /* its buckets - 1 */
   u32 light_paths;        /* light subpaths of the tile (N_merge: each camera path merges with all) */
+  u32 light_vertex_capacity; /* light vertices stored per light subpath */
+  u32 lvc;                /* --bdpt-lvc: connections per camera vertex to random cached light
+                           * vertices (light vertex caching, as bdpt's); 0: to its own subpath's */
 } VcmParams;
 
 CLPT_END_SHARED

@@ -7,7 +7,7 @@
  *   - rec[s], s = 0 .. m: the recursive weight of strategy (s, t = m + 1 - s), computed by
  *     replaying the light subpath xm, xm-1, ... and the camera subpath x0, x1, ... over the
  *     same vertices with mis.cl's functions, called with the arguments that
- *     kernels/integrators/bdpt/light_path.cl and camera_path.cl pass, every distance,
+ *     kernels/integrators/estimators/bdpt/light_path.cl and camera_path.cl pass, every distance,
  *     direction and density recomputed from the vertex positions;
  *   - rec_raw[s]: the same with the camera subpath's own hit.t, ray direction and bs.pdf_w
  *     in bdpt_mis_arrive / bdpt_mis_scatter, as the integrator has them (they differ from
@@ -62,7 +62,7 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
                                    const float3* x, const SurfaceHit* vc, const SurfaceHit* vl,
                                    const SubpathState* lstate, u32 light_tri, float3 dir0,
                                    const float* hit_t, const float3* wo_cam, const float* fwd_cam,
-                                   const float3* wi_cam, int raw, const MisMerge* mm, float* rec,
+                                   const float3* wi_cam, int raw, const StrategyMis* mm, float* rec,
                                    float* rec_vm) {
   SubpathState st;
   st.beta = (float3)(1.0f);
@@ -123,7 +123,7 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
   const u32 gid = get_global_id(0);
   if (gid >= n) return;
   const SceneView s = SCENE_VIEW();
-  MisMerge mm = mis_no_merging();
+  StrategyMis mm = mis_all_strategies();
   if (eta > 0.0f) {
     mm.vm = bdpt_mis(params, eta);
     mm.vc = bdpt_mis(params, 1.0f / eta);

@@ -1,4 +1,5 @@
 /* Reports sizeof/offsetof of the shared structs as the device compiler lays them out. */
+#include "shared/ao_types.h"
 #include "shared/aov_types.h"
 #include "shared/bdpt_types.h"
 #include "shared/ic_types.h"

@@ -22,8 +22,8 @@
 #ifndef CLPT_INTEGRATORS_IC_IC_PATH_CL
 #define CLPT_INTEGRATORS_IC_IC_PATH_CL
 
-#include "integrators/ic/diffuse_part.cl"
-#include "integrators/path_trace.cl"
+#include "integrators/estimators/ic/diffuse_part.cl"
+#include "integrators/estimators/path_trace.cl"
 
 /* Follows a camera walk (its ray not yet traced) through delta-only vertices to the first
  * vertex with a smooth lobe, at depth < max_depth. *L gains the emission seen on the way

@@ -27,7 +27,7 @@
 #define CLPT_INTEGRATORS_IC_RECORDS_CL
 
 #include "integrators/ic/ic_path.cl"
-#include "integrators/photon/estimate.cl"
+#include "integrators/estimators/photon/estimate.cl"
 
 /* The record frame's local direction of stratum (j, k) at offset u in it. */
 static inline float3 ic_stratum_dir(u32 j, u32 k, u32 m, u32 n, float2 u) {

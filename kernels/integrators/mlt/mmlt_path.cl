@@ -11,7 +11,7 @@
  * estimate of the paths of this length; chains of every length together give the image.
  *
  * Both subpaths are traced to their fixed lengths without Russian roulette, each through the
- * functions bdpt's own subpaths use (integrators/bdpt/), from their streams of the vector
+ * functions bdpt's own subpaths use (integrators/estimators/bdpt/), from their streams of the vector
  * (sampler/pss.cl interleaves them): the camera's film position, lens and bounces, the light's
  * emission and bounces. The film position is the camera ray's for t >= 2 and the camera
  * connection's for t = 1 (light tracing). The bdpt MIS weights count one light path per
@@ -20,8 +20,8 @@
 #define CLPT_INTEGRATORS_MLT_MMLT_PATH_CL
 
 #include "camera/pixel_ray.cl"
-#include "integrators/bdpt/camera_path.cl"
-#include "integrators/bdpt/light_path.cl"
+#include "integrators/estimators/bdpt/camera_path.cl"
+#include "integrators/estimators/bdpt/light_path.cl"
 #include "integrators/mlt/pss_path.cl"
 
 /* The vertex a light subpath ends at: bounce `depth` of the light walk (1: the first hit). */
@@ -39,7 +39,7 @@ static inline int mmlt_light_vertex(__constant const RenderParams* p, const Scen
                                     u32* rays) {
   LightPdfs q;
   PathWalk w;
-  const MisMerge none = mis_no_merging();
+  const StrategyMis none = mis_all_strategies();
   if (!bdpt_light_start(p, &none, s, sampler, &y->st, &q, &w)) return 0;
   w.roulette = WALK_RR_NONE;
   while (walk_next(s, &w, rays)) {
@@ -72,7 +72,7 @@ static inline float3 mmlt_camera_strategy(__constant const RenderParams* p, cons
                                           const MmltLightVertex* y, u32* pixel, float2* raster,
                                           u32* rays) {
   u32 connections = 0u;
-  const MisMerge none = mis_no_merging();
+  const StrategyMis none = mis_all_strategies();
   float3 org, dir;
   *pixel = film_sample_ray(p, sampler, &org, &dir, raster);
   SubpathState st = bdpt_camera_start(p, dir);
@@ -83,14 +83,14 @@ static inline float3 mmlt_camera_strategy(__constant const RenderParams* p, cons
   for (;;) {
     const u32 k = w.depth + 1u;
     if (!walk_next(s, &w, rays)) {
-      if (s_count == 0u && k == last) bdpt_gather_escape(p, s, &st, w.beta, w.dir, k, &L);
+      if (s_count == 0u && k == last) bdpt_gather_escape(p, &none, s, &st, w.beta, w.dir, k, &L);
       return L;
     }
     st.beta = w.beta;
     bdpt_mis_arrive(p, &st, distance(w.sh.p, w.from), fabs(dot(w.sh.ng, w.wo)), 1);
     if (k == last) {
       if (s_count == 0u) {
-        bdpt_gather_emitter(p, s, &st, &w.sh, w.wo, k, &L);
+        bdpt_gather_emitter(p, &none, s, &st, &w.sh, w.wo, k, &L);
         return L;
       }
       if (!bsdf_has_smooth_lobe(&w.sh)) return (float3)(0.0f);
@@ -119,7 +119,7 @@ static inline PssPath mmlt_path(const SceneView* s, __constant const RenderParam
   if (s_count >= 2u && !mmlt_light_vertex(p, s, sampler, s_count - 1u, &y, rays)) return path;
   if (t_count == 1u) {
     u32 connections = 0u;
-    const MisMerge none = mis_no_merging();
+    const StrategyMis none = mis_all_strategies();
     path.L = bdpt_camera_connection(p, &none, s, &y.sh, y.wo, &y.st, s_count - 1u,
                                     bdpt_light_sample_2d(sampler, bounce_dim(s_count - 1u,
                                     DIM_LT_LENS)),

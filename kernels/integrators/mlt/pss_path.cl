@@ -1,12 +1,12 @@
 /* The path a primary sample vector stands for (PSSMLT over the path tracer, Kelemen et al.
- * 2002): the film position from DIM_PIXEL, then pt's estimator (integrators/path_trace.cl,
+ * 2002): the film position from DIM_PIXEL, then pt's estimator (integrators/estimators/path_trace.cl,
  * the same function pt's pixels run) reading the vector through the PSS sampler. The
  * chain's target function is the luminance of that contribution. */
 #ifndef CLPT_INTEGRATORS_MLT_PSS_PATH_CL
 #define CLPT_INTEGRATORS_MLT_PSS_PATH_CL
 
 #include "camera/pixel_ray.cl"
-#include "integrators/path_trace.cl"
+#include "integrators/estimators/path_trace.cl"
 
 typedef struct PssPath {
   float3 L;        /* the path's contribution C (radiance, pt's estimate for one sample) */

@@ -12,7 +12,7 @@
 #ifndef CLPT_INTEGRATORS_PHOTON_PHOTON_TRACE_CL
 #define CLPT_INTEGRATORS_PHOTON_PHOTON_TRACE_CL
 
-#include "integrators/photon/glossy.cl"
+#include "integrators/estimators/photon/glossy.cl"
 #include "integrators/stages/walk.cl"
 #include "light/light.cl"
 #include "shared/photon_types.h"
@@ -51,7 +51,7 @@ static inline void photon_trace(__constant const RenderParams* p, const SceneVie
   while (w.depth <= p->max_depth && walk_next(s, &w, rays)) {
     const u32 depth = w.depth;
     /* Glossy vertices hold no photons: no density estimate is made there
-     * (kernels/integrators/photon/visible_point.cl). */
+     * (kernels/integrators/estimators/photon/visible_point.cl). */
     const int glossy = photon_glossy(&w.sh);
     if (bsdf_has_smooth_lobe(&w.sh) && !glossy) {
       const int caustic = specular_only && depth > 1u;

@@ -9,7 +9,7 @@
  *                   with --final-gather 0, the global map's photons at x itself that are not
  *                   direct (bounce >= 2) and not caustic.
  * With --final-gather-cache the final gather's diffuse part comes from an irradiance cache
- * (kernels/integrators/ic/diffuse_part.cl) whose records gathered from the global map
+ * (kernels/integrators/estimators/ic/diffuse_part.cl) whose records gathered from the global map
  * likewise (Jensen 2001, ch. 9); gather rays then sample only the rest of the BSDF (none on
  * a Lambertian surface), or all of it where no record covers x.
  * Each photon path class is counted once. The estimates are k-nearest-neighbour ones
@@ -20,16 +20,17 @@
 #ifndef CLPT_INTEGRATORS_PHOTON_PM_RADIANCE_CL
 #define CLPT_INTEGRATORS_PHOTON_PM_RADIANCE_CL
 
-#include "integrators/ic/diffuse_part.cl"
-#include "integrators/photon/estimate.cl"
+#include "integrators/estimators/ic/diffuse_part.cl"
+#include "integrators/estimators/photon/estimate.cl"
 
 /* Indirect light at vp by final gathering: the mean over N BSDF-sampled rays of the global
  * map's estimate where each ray (after delta bounces) meets a non-delta surface; without the
  * diffuse part kd when an irradiance cache holds it (ic_rest_weight). */
-static inline float3 pm_final_gather(__constant const RenderParams* p, const SceneView* s,
+static inline float3 pm_final_gather(__constant const RenderParams* p,
+                                     __constant const PmParams* pm, const SceneView* s,
                                      const Sampler* sampler, const PhotonMap* global_map,
                                      const VisiblePoint* vp, float3 kd, u32* rays) {
-  const u32 n = p->final_gather;
+  const u32 n = pm->final_gather;
   float3 L = (float3)(0.0f);
   for (u32 j = 0; j < n; ++j) {
     const u32 stream = (j + 1u) * DIM_STREAMS_PER_BRANCH;
@@ -50,7 +51,8 @@ static inline float3 pm_final_gather(__constant const RenderParams* p, const Sce
   return L / (float)max(n, 1u);
 }
 
-static inline float3 pm_radiance(__constant const RenderParams* p, const SceneView* s,
+static inline float3 pm_radiance(__constant const RenderParams* p, __constant const PmParams* pm,
+                                 const SceneView* s,
                                  const Sampler* sampler, const PhotonMap* global_map,
                                  const PhotonMap* caustic_map, const IcCache* cache, float3 org,
                                  float3 dir, u32* rays, IcCounts* counts) {
@@ -59,13 +61,13 @@ static inline float3 pm_radiance(__constant const RenderParams* p, const SceneVi
     return vp.L;
   float3 R = photon_direct(p, s, sampler, &vp, rays);
   R += pm_estimate(p, caustic_map, &vp, 2u, 0);
-  if (p->final_gather == 0u)
+  if (pm->final_gather == 0u)
     R += pm_estimate(p, global_map, &vp, 2u, 1);
   else {
     float3 kd;
     const float3 e = ic_diffuse_irradiance(p, cache, &vp.sh, vp.wo, vp.depth, counts, &kd);
     if (!is_black(kd)) R += kd * e;
-    R += pm_final_gather(p, s, sampler, global_map, &vp, kd, rays);
+    R += pm_final_gather(p, pm, s, sampler, global_map, &vp, kd, rays);
   }
   return vp.L + vp.beta * R;
 }

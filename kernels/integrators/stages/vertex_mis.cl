@@ -1,7 +1,7 @@
 /* Bidirectional MIS weights in O(1) per strategy, after Georgiev, "Implementing Vertex
  * Connection and Merging" (2012): the connection strategies of bdpt, and with vertex merging
  * (vcm, kernels/integrators/vcm.cl) the merging ones too. Without merging (bdpt, mmlt) the
- * MisMerge factors are 0 and the weights are bdpt's.
+ * StrategyMis merging factors are 0 and the weights are bdpt's.
  *
  * A path x0 ... xk can be sampled by k + 2 strategies (s light vertices, t camera vertices,
  * s + t = k + 1). The balance or power heuristic weight of one of them is 1 / sum_i (p_i/p_s)^b,
@@ -19,7 +19,7 @@
  *                    dVM = cos_out / fwd * (dVM * rev + dVCM * vc + 1), dVCM = 1 / fwd
  *   each delta scattering: dVCM = 0, dVC *= cos_out, dVM *= cos_out
  * all raised to the heuristic's power. vm = eta and vc = 1 / eta (raised likewise) are
- * MisMerge's factors, eta = pi r^2 N_merge the ratio of a merge's density to a connection's
+ * StrategyMis' factors, eta = pi r^2 N_merge the ratio of a merge's density to a connection's
  * at the same vertex (N_merge light paths merged with each camera path, radius r); vm is 0
  * without merging, vc 0 without connections. Densities convert between solid angle and area with
  * geometric-normal cosines; Russian roulette stays out of the weights (a partition of unity
@@ -40,16 +40,35 @@ static inline float bdpt_mis(__constant const RenderParams* p, float x) {
   return p->mis == MIS_BALANCE ? x : x * x;
 }
 
-/* The merging factors of the header: vm = mis(eta), vc = mis(1 / eta); both 0 for bdpt. */
-typedef struct MisMerge {
+/* How a bidirectional estimator weights its strategies: the merging factors of the header,
+ * vm = mis(eta) and vc = mis(1 / eta), both 0 for bdpt and mmlt; and which strategies count
+ * (bdpt's --bdpt-strategy: only (only_s, only_t), with or without its weight; every strategy
+ * when only_s is BDPT_ALL_STRATEGIES). */
+typedef struct StrategyMis {
   float vm;
   float vc;
-} MisMerge;
+  u32 only_s;
+  u32 only_t;
+  int unweighted;
+} StrategyMis;
 
-static inline MisMerge mis_no_merging(void) {
-  MisMerge m;
+/* Every strategy, MIS-weighted, no merging (mmlt; bdpt without --bdpt-strategy). */
+static inline StrategyMis mis_all_strategies(void) {
+  StrategyMis m;
   m.vm = 0.0f;
   m.vc = 0.0f;
+  m.only_s = BDPT_ALL_STRATEGIES;
+  m.only_t = 0u;
+  m.unweighted = 0;
+  return m;
+}
+
+/* bdpt's: no merging, the strategies --bdpt-strategy selects. */
+static inline StrategyMis mis_bdpt(__constant const BdptParams* b) {
+  StrategyMis m = mis_all_strategies();
+  m.only_s = b->strategy_s;
+  m.only_t = b->strategy_t;
+  m.unweighted = b->unweighted != 0u;
   return m;
 }
 
@@ -66,7 +85,7 @@ static inline void bdpt_mis_arrive(__constant const RenderParams* p, SubpathStat
 
 /* Scattering into a direction of density fwd (rev: the reverse direction's density), leaving
  * under cosine cos_out (geometric); delta: the direction came from a Dirac lobe. */
-static inline void bdpt_mis_scatter(__constant const RenderParams* p, const MisMerge* m,
+static inline void bdpt_mis_scatter(__constant const RenderParams* p, const StrategyMis* m,
                                     SubpathState* st, float fwd, float rev, float cos_out,
                                     int delta) {
   if (delta) {
@@ -83,7 +102,7 @@ static inline void bdpt_mis_scatter(__constant const RenderParams* p, const MisM
 
 /* The MIS update of a subpath scattering at vertex sh (oriented to wo) into bs; the walk
  * (stages/walk.cl) does the rest of the scattering. */
-static inline void bdpt_mis_scatter_sample(__constant const RenderParams* p, const MisMerge* m,
+static inline void bdpt_mis_scatter_sample(__constant const RenderParams* p, const StrategyMis* m,
                                            SubpathState* st, const SurfaceHit* sh, float3 wo,
                                            const BsdfSample* bs) {
   bdpt_mis_scatter(p, m, st, bs->pdf_w, bs->is_delta ? bs->pdf_w : bsdf_pdf_w(sh, bs->wi, wo),
@@ -103,7 +122,7 @@ static inline float bdpt_weight_hit_light(__constant const RenderParams* p, cons
  * SmallVCM's convention (a point light's delta position: selection * d^2); fwd, rev: the
  * camera vertex's BSDF densities towards the light and back; cos_here: geometric cosine at
  * the camera vertex. */
-static inline float bdpt_weight_nee(__constant const RenderParams* p, const MisMerge* m,
+static inline float bdpt_weight_nee(__constant const RenderParams* p, const StrategyMis* m,
                                     const SubpathState* cam, float pdf_w, int delta, float direct_w,
                                     float emit_w, float cos_light, float fwd, float rev,
                                     float cos_here) {
@@ -116,7 +135,7 @@ static inline float bdpt_weight_nee(__constant const RenderParams* p, const MisM
 /* t = 1: a light vertex connected to the camera. camera_pdf_a: the density with which a camera
  * ray would find the vertex, per unit area and per light path (pdf_camera_film cos / d^2);
  * rev: the vertex's density of scattering back along the light subpath given the camera side. */
-static inline float bdpt_weight_camera(__constant const RenderParams* p, const MisMerge* m,
+static inline float bdpt_weight_camera(__constant const RenderParams* p, const StrategyMis* m,
                                        const SubpathState* light, float camera_pdf_a, float rev) {
   const float w_light =
       bdpt_mis(p, camera_pdf_a) * (light->dvcm + light->dvc * bdpt_mis(p, rev) + m->vm);
@@ -126,7 +145,7 @@ static inline float bdpt_weight_camera(__constant const RenderParams* p, const M
 /* s >= 2, t >= 2: camera vertex and light vertex joined by an edge. *_fwd_a: each end's BSDF
  * density of sampling the other end, per unit area; *_rev: each end's density of scattering
  * back along its own subpath given the edge. */
-static inline float bdpt_weight_connect(__constant const RenderParams* p, const MisMerge* m,
+static inline float bdpt_weight_connect(__constant const RenderParams* p, const StrategyMis* m,
                                         const SubpathState* cam, const SubpathState* light,
                                         float cam_fwd_a, float cam_rev, float light_fwd_a,
                                         float light_rev) {
@@ -139,7 +158,7 @@ static inline float bdpt_weight_connect(__constant const RenderParams* p, const 
 
 /* Merging a light vertex (state light) at camera vertex cam: fwd, rev the camera vertex's
  * BSDF densities towards the light vertex's incoming direction and back (solid angle). */
-static inline float vcm_weight_merge(__constant const RenderParams* p, const MisMerge* m,
+static inline float vcm_weight_merge(__constant const RenderParams* p, const StrategyMis* m,
                                      const SubpathState* cam, const SubpathState* light, float fwd,
                                      float rev) {
   const float w_light = light->dvcm * m->vc + light->dvm * bdpt_mis(p, fwd);
@@ -148,10 +167,10 @@ static inline float vcm_weight_merge(__constant const RenderParams* p, const Mis
 }
 
 /* Whether strategy (s, t) contributes (--bdpt-strategy), and with which weight. */
-static inline float bdpt_strategy_weight(__constant const RenderParams* p, u32 s, u32 t, float w) {
-  if (p->bdpt_s == BDPT_ALL_STRATEGIES) return w;
-  if (s != p->bdpt_s || t != p->bdpt_t) return 0.0f;
-  return p->bdpt_unweighted ? 1.0f : w;
+static inline float bdpt_strategy_weight(const StrategyMis* m, u32 s, u32 t, float w) {
+  if (m->only_s == BDPT_ALL_STRATEGIES) return w;
+  if (s != m->only_s || t != m->only_t) return 0.0f;
+  return m->unweighted ? 1.0f : w;
 }
 
 #endif

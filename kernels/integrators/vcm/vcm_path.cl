@@ -1,7 +1,7 @@
 /* Vertex connection and merging (Georgiev, Krivanek, Davidovic and Slusallek 2012; its
  * report "Implementing Vertex Connection and Merging"): bdpt's subpaths and strategies
- * (kernels/integrators/bdpt/) with a second technique, merging, weighted against them by
- * the same recursive MIS quantities (kernels/integrators/stages/vertex_mis.cl, MisMerge).
+ * (kernels/integrators/estimators/bdpt/) with a second technique, merging, weighted against them by
+ * the same recursive MIS quantities (kernels/integrators/stages/vertex_mis.cl, StrategyMis).
  *
  * Per pass, over a tile of light_paths pixel indices:
  *   light subpath  as bdpt's, but every non-delta vertex y_k with k <= max_depth is stored
@@ -13,11 +13,11 @@
  *                  kernels/spatial/hash_grid.cl): y's throughput times z's BSDF for y's
  *                  incoming direction, over eta = pi r^2 light_paths, MIS-weighted by
  *                  vcm_weight_merge. A merge of y_j at z_k is a path of j + k - 1 bounces.
- * As with photons (kernels/integrators/photon/density.cl) a light vertex merges only where
+ * As with photons (kernels/integrators/estimators/photon/density.cl) a light vertex merges only where
  * it lies on z's surface (normals within about 37 degrees) and its direction is carried to
  * z's normal first.
  *
- * The modes (VcmMode) switch techniques off: bpt renders bdpt's estimator (MisMerge's vm =
+ * The modes (VcmMode) switch techniques off: bpt renders bdpt's estimator (StrategyMis's vm =
  * 0: the weights are bdpt's), ppm merges at the first non-delta camera vertex only with weight
  * 1 and sees emitters only through delta paths (SmallVCM's ppm), lt splats light subpaths
  * unweighted and takes the camera's first hit for emitters seen directly, pt keeps dVC = 0 on
@@ -27,26 +27,26 @@
 #define CLPT_INTEGRATORS_VCM_VCM_PATH_CL
 
 #include "camera/pixel_ray.cl"
-#include "integrators/bdpt/camera_path.cl"
-#include "integrators/bdpt/light_path.cl"
-#include "integrators/photon/density.cl"
+#include "integrators/estimators/bdpt/camera_path.cl"
+#include "integrators/estimators/bdpt/light_path.cl"
+#include "integrators/estimators/photon/density.cl"
 #include "shared/vcm_types.h"
 #include "spatial/hash_grid.cl"
 
-static inline MisMerge vcm_mis(__constant const VcmParams* v) {
-  MisMerge m;
+static inline StrategyMis vcm_mis(__constant const VcmParams* v) {
+  StrategyMis m = mis_all_strategies();
   m.vm = v->mis_vm;
   m.vc = v->mis_vc;
   return m;
 }
 
 /* Traces the light subpath of one pixel index, stores its vertices in out (at most
- * p->light_vertex_capacity) and splats its camera connections. Returns how many it stored. */
+ * v->light_vertex_capacity) and splats its camera connections. Returns how many it stored. */
 static inline u32 vcm_light_path(__constant const RenderParams* p, __constant const VcmParams* v,
                                  const SceneView* s, const Sampler* sampler,
                                  __global PathVertex* out,
                                  __global float4* splat, u32* rays, u32* connections) {
-  const MisMerge m = vcm_mis(v);
+  const StrategyMis m = vcm_mis(v);
   SubpathState st;
   LightPdfs q;
   PathWalk w;
@@ -59,7 +59,7 @@ static inline u32 vcm_light_path(__constant const RenderParams* p, __constant co
     bdpt_light_arrive(p, &st, &w, q.finite);
     if (v->mode == VCM_MODE_LT) st.dvcm = st.dvc = 0.0f; /* no strategy but t = 1: weight 1 */
     if (bsdf_has_smooth_lobe(&w.sh)) {
-      if (store && stored < p->light_vertex_capacity)
+      if (store && stored < v->light_vertex_capacity)
         path_vertex_store(out + stored++, &w.sh, w.wo, &st, depth);
       if (connect) {
         float2 raster = (float2)(0.0f);
@@ -81,7 +81,7 @@ static inline u32 vcm_light_path(__constant const RenderParams* p, __constant co
  * light vertices within r of f(wo, y's direction) y.beta, each times its weight (1 in ppm
  * mode), before the camera's throughput and 1 / eta. */
 static inline float3 vcm_merge(__constant const RenderParams* p, __constant const VcmParams* v,
-                               const MisMerge* m, const SurfaceHit* sh, float3 wo,
+                               const StrategyMis* m, const SurfaceHit* sh, float3 wo,
                                const SubpathState* st,
                                u32 k, __global const PathVertex* vertices,
                                __global const u32* heads,
@@ -124,7 +124,7 @@ static inline float3 vcm_merge(__constant const RenderParams* p, __constant cons
 }
 
 /* The camera subpath of pixel (x, y) with its light subpath lv (count vertices) and the
- * tile's merge grid. With light vertex caching (p->bdpt_lvc = M > 0, as bdpt's) each camera
+ * tile's merge grid. With light vertex caching (v->lvc = M > 0, as bdpt's) each camera
  * vertex connects instead to M vertices drawn from the tile's `cached` stored vertices (their
  * slots in `cache`), scaled by cached / (M light_paths). Returns the pixel's estimate;
  * *merged is the part merging added. */
@@ -136,7 +136,7 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
                                      u32 cached, __global const u32* heads,
                                      __global const u32* next,
                                      float3* merged, u32* rays, u32* connections, u32* merges) {
-  const MisMerge m = vcm_mis(v);
+  const StrategyMis m = vcm_mis(v);
   const bool connect = vcm_mode_connects(v->mode);
   const bool vc = connect || v->mode == VCM_MODE_PT; /* next-event estimation */
   const bool merge = vcm_mode_merges(v->mode);
@@ -152,14 +152,14 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
   for (;;) {
     const u32 k = w.depth + 1u;
     if (!walk_next(s, &w, rays)) {
-      if (v->mode != VCM_MODE_PPM || specular) bdpt_gather_escape(p, s, &st, w.beta, w.dir, k, &L);
+      if (v->mode != VCM_MODE_PPM || specular) bdpt_gather_escape(p, &m, s, &st, w.beta, w.dir, k, &L);
       break;
     }
     st.beta = w.beta;
     const SurfaceHit* sh = &w.sh;
     const float3 wo = w.wo;
     bdpt_mis_arrive(p, &st, distance(sh->p, w.from), fabs(dot(sh->ng, wo)), 1);
-    if (v->mode != VCM_MODE_PPM || specular) bdpt_gather_emitter(p, s, &st, sh, wo, k, &L);
+    if (v->mode != VCM_MODE_PPM || specular) bdpt_gather_emitter(p, &m, s, &st, sh, wo, k, &L);
     if (v->mode == VCM_MODE_LT || k > p->max_depth) break;
     if (bsdf_has_smooth_lobe(sh)) {
       specular = false;
@@ -169,17 +169,17 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
         if (v->mode == VCM_MODE_PT) nee.dvcm = nee.dvc = 0.0f;
         L += st.beta * bdpt_nee(p, &m, s, sampler, sh, wo, &nee, k, rays, connections);
       }
-      if (connect && p->bdpt_lvc == 0u) {
+      if (connect && v->lvc == 0u) {
         for (u32 i = 0u; i < count; ++i)
           L += st.beta * bdpt_connect(p, &m, s, sh, wo, &st, k, lv + i, rays, connections);
       } else if (connect && cached > 0u) {
         float3 sum = (float3)(0.0f);
-        for (u32 j = 0u; j < p->bdpt_lvc; ++j) {
+        for (u32 j = 0u; j < v->lvc; ++j) {
           const float u = sample_1d(sampler, stream_dim(bounce_dim(k - 1u, DIM_LVC_PICK), j));
           const u32 i = min((u32)(u * (float)cached), cached - 1u);
           sum += bdpt_connect(p, &m, s, sh, wo, &st, k, vertices + cache[i], rays, connections);
         }
-        L += st.beta * sum * ((float)cached / ((float)p->bdpt_lvc * (float)v->light_paths));
+        L += st.beta * sum * ((float)cached / ((float)v->lvc * (float)v->light_paths));
       }
       if (merge) {
         const float3 M = st.beta * vcm_merge(p, v, &m, sh, wo, &st, k, vertices, heads, next,

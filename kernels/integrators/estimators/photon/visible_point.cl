@@ -22,7 +22,7 @@
 #ifndef CLPT_INTEGRATORS_PHOTON_VISIBLE_POINT_CL
 #define CLPT_INTEGRATORS_PHOTON_VISIBLE_POINT_CL
 
-#include "integrators/photon/glossy.cl"
+#include "integrators/estimators/photon/glossy.cl"
 #include "integrators/stages/direct_light.cl"
 #include "integrators/stages/walk.cl"
 

@@ -6,34 +6,41 @@
 #ifndef CLPT_INTEGRATORS_PHOTON_ESTIMATE_CL
 #define CLPT_INTEGRATORS_PHOTON_ESTIMATE_CL
 
-#include "integrators/photon/density.cl"
-#include "integrators/photon/visible_point.cl"
+#include "integrators/estimators/photon/density.cl"
+#include "integrators/estimators/photon/visible_point.cl"
 #include "spatial/kdtree.cl"
 
 typedef struct PhotonMap {
   __global const KdNode* nodes; /* heap-ordered kd-tree over photons */
   __global const Photon* photons;
   u32 count;
+  u32 knn;          /* how its estimates read it (PhotonLookup) */
+  float max_radius;
+  u32 filter;
 } PhotonMap;
 
 static inline PhotonMap photon_map(__global const KdNode* nodes, __global const Photon* photons,
-                                   u32 count) {
+                                   u32 count, __constant const PhotonLookup* lookup) {
   PhotonMap m;
   m.nodes = nodes;
   m.photons = photons;
   m.count = count;
+  m.knn = lookup->knn;
+  m.max_radius = lookup->max_radius;
+  m.filter = lookup->filter;
   return m;
 }
 
 /* The radiance vp reflects towards vp->wo from the k photons of `map` nearest to it (within
  * the maximum radius), counting those of bounce >= min_bounce that make paths within
  * max_depth, without caustic photons when exclude_caustic. Jensen's radius: the k-th
- * photon's distance, or the maximum radius when fewer photons lie within it. */
+ * photon's distance, or the maximum radius when fewer photons lie within it. k, the maximum
+ * radius and the filter are the map's (PhotonLookup). */
 static inline float3 pm_estimate(__constant const RenderParams* p, const PhotonMap* map,
                                  const VisiblePoint* vp, u32 min_bounce, int exclude_caustic) {
   KdNeighbor heap[PM_KNN_MAX];
-  const u32 k = clamp(p->knn, 1u, PM_KNN_MAX);
-  const float max_r2 = p->pm_max_radius * p->pm_max_radius;
+  const u32 k = clamp(map->knn, 1u, PM_KNN_MAX);
+  const float max_r2 = map->max_radius * map->max_radius;
   const u32 count = kd_knn(map->nodes, map->count, vp->sh.p, k, max_r2, heap);
   if (count == 0u) return (float3)(0.0f);
   const float r2 = count == k ? heap[0].d2 : max_r2;
@@ -46,7 +53,7 @@ static inline float3 pm_estimate(__constant const RenderParams* p, const PhotonM
     if (b < min_bounce || b > max_bounce) continue;
     if (exclude_caustic && (ph->flags & PHOTON_CAUSTIC)) continue;
     if (!photon_on_surface(&vp->sh, ph)) continue;
-    L += photon_reflected(&vp->sh, &shading, ph) * photon_kernel(p->pm_filter, heap[i].d2, r2);
+    L += photon_reflected(&vp->sh, &shading, ph) * photon_kernel(map->filter, heap[i].d2, r2);
   }
   return L;
 }

@@ -10,7 +10,7 @@
 #define CLPT_INTEGRATORS_IC_DIFFUSE_PART_CL
 
 #include "bsdf/bsdf.cl"
-#include "integrators/ic/lookup.cl"
+#include "integrators/estimators/ic/lookup.cl"
 #include "shared/render_types.h"
 
 /* An image kernel's cache arguments: the cache, the pixels that placed a record

@@ -1,6 +1,6 @@
 /* Which vertices photon mapping treats as glossy (docs/concepts/photon-mapping.md): the
  * camera side path traces through them rather than estimating density there
- * (kernels/integrators/photon/visible_point.cl), and the photon side stores no photon at
+ * (kernels/integrators/estimators/photon/visible_point.cl), and the photon side stores no photon at
  * them and counts them, like delta scatterings, towards caustic paths
  * (kernels/integrators/photon/photon_trace.cl). */
 #ifndef CLPT_PHOTON_GLOSSY_CL

@@ -1,5 +1,5 @@
 /* BDPT's light subpath (Veach 1997 ch. 10; Georgiev 2012): traced from a light like the
- * light tracer's paths (kernels/integrators/light_trace.cl), with the MIS state of
+ * light tracer's paths (kernels/integrators/lt/light_trace.cl), with the MIS state of
  * kernels/integrators/stages/vertex_mis.cl. Each surface vertex y_k with a non-delta BSDF
  *   - connects to the camera (strategy s = k + 1, t = 1) and splats its weighted share, and
  *   - is stored for the camera kernel's connections when k < max_depth (the strategies
@@ -33,12 +33,12 @@ static inline float2 bdpt_light_sample_2d(const Sampler* sampler, u32 dim) {
  * to the camera through lens point u_lens. Returns its weighted contribution to the film and
  * sets *raster to its film position; 0 when the strategy is off, the camera cannot see the vertex
  * or the shadow ray is blocked. */
-static inline float3 bdpt_camera_connection(__constant const RenderParams* p, const MisMerge* m,
+static inline float3 bdpt_camera_connection(__constant const RenderParams* p, const StrategyMis* m,
                                             const SceneView* s, const SurfaceHit* sh, float3 wo,
                                             const SubpathState* st, u32 depth, float2 u_lens,
                                             float2* raster,
                                             u32* rays, u32* connections) {
-  const float strategy = bdpt_strategy_weight(p, depth + 1u, 1u, 1.0f);
+  const float strategy = bdpt_strategy_weight(m, depth + 1u, 1u, 1.0f);
   if (strategy == 0.0f) return (float3)(0.0f);
   const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
   if (!c.valid) return (float3)(0.0f);
@@ -46,7 +46,7 @@ static inline float3 bdpt_camera_connection(__constant const RenderParams* p, co
   if (is_black(f)) return (float3)(0.0f);
   const float camera_pdf_a = c.pdf_w * fabs(dot(sh->ng, c.wi)) / (c.dist * c.dist);
   const float rev = bsdf_pdf_w(sh, c.wi, wo);
-  const float w = bdpt_strategy_weight(p, depth + 1u, 1u, bdpt_weight_camera(p, m, st, camera_pdf_a, rev));
+  const float w = bdpt_strategy_weight(m, depth + 1u, 1u, bdpt_weight_camera(p, m, st, camera_pdf_a, rev));
   ++*rays;
   ++*connections;
   const float3 org = offset_ray_origin_towards(sh->p, sh->ng, c.wi);
@@ -56,21 +56,20 @@ static inline float3 bdpt_camera_connection(__constant const RenderParams* p, co
 }
 
 /* bdpt's t = 1 strategy: the connection above, splatted. */
-static inline void bdpt_connect_camera(__constant const RenderParams* p, const SceneView* s,
-                                       const SurfaceHit* sh, float3 wo, const SubpathState* st,
+static inline void bdpt_connect_camera(__constant const RenderParams* p, const StrategyMis* m,
+                                       const SceneView* s, const SurfaceHit* sh, float3 wo, const SubpathState* st,
                                        u32 depth, float2 u_lens, __global float4* splat, u32* rays,
                                        u32* connections) {
   float2 raster = (float2)(0.0f);
-  const MisMerge none = mis_no_merging();
   const float3 L =
-      bdpt_camera_connection(p, &none, s, sh, wo, st, depth, u_lens, &raster, rays, connections);
+      bdpt_camera_connection(p, m, s, sh, wo, st, depth, u_lens, &raster, rays, connections);
   if (!is_black(L)) film_splat_at(p, splat, raster, L);
 }
 
 /* The start of a light subpath: a light, a point on it and a direction from the light stream's
  * dimensions, the subpath state at the light (vertex_mis.cl) in *st, the emission's densities
  * in *q. Returns 0 when nothing is emitted. */
-static inline int bdpt_light_start(__constant const RenderParams* p, const MisMerge* m,
+static inline int bdpt_light_start(__constant const RenderParams* p, const StrategyMis* m,
                                    const SceneView* s, const Sampler* sampler, SubpathState* st,
                                    LightPdfs* q, PathWalk* w) {
   if (s->num_lights == 0u) return 0;
@@ -100,35 +99,36 @@ static inline void bdpt_light_arrive(__constant const RenderParams* p, SubpathSt
 }
 
 /* Traces one light subpath and stores its connectable vertices: in `out` (capacity
- * p->light_vertex_capacity), or with light vertex caching (p->bdpt_lvc > 0) appended to the
+ * b->light_vertex_capacity), or with light vertex caching (b->lvc > 0) appended to the
  * tile's shared cache `pool` through the counter *pool_count. Returns how many it stored.
  * *rays counts every ray traced, *connections the shadow rays of strategies (here: t = 1). */
-static inline u32 bdpt_light_path(__constant const RenderParams* p, const SceneView* s,
+static inline u32 bdpt_light_path(__constant const RenderParams* p, __constant const BdptParams* b,
+                                  const SceneView* s,
                                   const Sampler* sampler, __global PathVertex* out,
                                   __global PathVertex* pool, volatile __global u32* pool_count,
                                   __global float4* splat, u32* rays, u32* connections) {
   SubpathState st;
   LightPdfs q;
   PathWalk w;
-  const MisMerge none = mis_no_merging();
-  if (!bdpt_light_start(p, &none, s, sampler, &st, &q, &w)) return 0u;
+  const StrategyMis mis = mis_bdpt(b);
+  if (!bdpt_light_start(p, &mis, s, sampler, &st, &q, &w)) return 0u;
   u32 stored = 0u;
   while (w.depth <= p->max_depth && walk_next(s, &w, rays)) {
     const u32 depth = w.depth;
     bdpt_light_arrive(p, &st, &w, q.finite);
     if (bsdf_has_smooth_lobe(&w.sh)) {
-      if (depth < p->max_depth && stored < p->light_vertex_capacity) {
+      if (depth < p->max_depth && stored < b->light_vertex_capacity) {
         ++stored;
-        if (p->bdpt_lvc) path_vertex_store(pool + atomic_inc(pool_count), &w.sh, w.wo, &st, depth);
+        if (b->lvc) path_vertex_store(pool + atomic_inc(pool_count), &w.sh, w.wo, &st, depth);
         else path_vertex_store(out + stored - 1u, &w.sh, w.wo, &st, depth);
       }
-      bdpt_connect_camera(p, s, &w.sh, w.wo, &st, depth,
+      bdpt_connect_camera(p, &mis, s, &w.sh, w.wo, &st, depth,
                           sample_2d(sampler, walk_dim(&w, DIM_LT_LENS)), splat, rays, connections);
     }
     if (depth >= p->max_depth) break;
     const BsdfSample bs = walk_sample_bsdf(sampler, &w);
     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
-    bdpt_mis_scatter_sample(p, &none, &st, &w.sh, w.wo, &bs);
+    bdpt_mis_scatter_sample(p, &mis, &st, &w.sh, w.wo, &bs);
   }
   return stored;
 }
