@@ -45,7 +45,7 @@ def edit_ao(old, new):
 MUTATIONS = [
     ("C99 inline", c99_inline, "nvptx", "unresolved functions"),
     # 0.1 is no float, so LLVM cannot narrow the product back to float arithmetic
-    ("a double literal", edit_ao("? 0.0f : 1.0f;", "? 0.0f : p->ao_radius * 0.1;"), "amdgcn",
+    ("a double literal", edit_ao("? 0.0f : 1.0f;", "? 0.0f : ao->radius * 0.1;"), "amdgcn",
      "computes in double"),
     ("printf", edit_ao("  Hit hit;\n", "  Hit hit;\n  printf(\"%d\", 1);\n"), "amdgcn", "printf"),
     ("__OPENCL_VERSION__ alone", edit_ao("static inline float ao_sample",
