@@ -19,6 +19,11 @@
 
 namespace clpt {
 
+// How a rank sends its devices' shares and vcm figures to rank 0 (gather_device_stats).
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DeviceShare, name, label, samples, passes, busy_seconds)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(VcmStats, light_vertices, connections, merges, passes, tiles,
+                                   grids, grid_seconds, first_radius, last_radius, device_bytes)
+
 struct Renderer::Lane {
   const cl::Context* ctx = nullptr;
   std::unique_ptr<SceneBuffers> scene;
@@ -256,17 +261,9 @@ void Renderer::gather_device_stats() {
   }
   if (cluster_->size() == 1) return;
   // Other ranks' figures, their devices labelled with their rank, as JSON text.
-  auto vcm_json = [](const VcmStats& v) {
-    return nlohmann::json::array({v.light_vertices, v.connections, v.merges, v.passes, v.tiles,
-                                  v.grids, v.grid_seconds, v.first_radius, v.last_radius,
-                                  v.device_bytes});
-  };
   if (!cluster_->root()) {
-    nlohmann::json j = {{"connections", stats_.connections},
-                        {"devices", nlohmann::json::array()},
-                        {"vcm", vcm_json(stats_.vcm)}};
-    for (const DeviceShare& d : stats_.devices)
-      j["devices"].push_back({d.name, d.label, d.samples, d.passes, d.busy_seconds});
+    const nlohmann::json j = {
+        {"connections", stats_.connections}, {"devices", stats_.devices}, {"vcm", stats_.vcm}};
     cluster_->gather_text_to_root(j.dump(), {});
     return;
   }
@@ -275,24 +272,12 @@ void Renderer::gather_device_stats() {
   cluster_->gather_text_to_root({}, [&](const std::string& text) {
     ++rank;
     const nlohmann::json j = nlohmann::json::parse(text);
-    stats_.connections += j["connections"].get<uint64_t>();
-    for (const auto& d : j["devices"])
-      stats_.devices.push_back({d[0].get<std::string>(),
-                                "rank " + std::to_string(rank) + ": " + d[1].get<std::string>(),
-                                d[2].get<uint64_t>(), d[3].get<uint64_t>(), d[4].get<double>()});
-    const auto& v = j["vcm"];
-    VcmStats theirs;
-    theirs.light_vertices = v[0].get<uint64_t>();
-    theirs.connections = v[1].get<uint64_t>();
-    theirs.merges = v[2].get<uint64_t>();
-    theirs.passes = v[3].get<uint32_t>();
-    theirs.tiles = v[4].get<uint32_t>();
-    theirs.grids = v[5].get<uint64_t>();
-    theirs.grid_seconds = v[6].get<double>();
-    theirs.first_radius = v[7].get<float>();
-    theirs.last_radius = v[8].get<float>();
-    theirs.device_bytes = v[9].get<size_t>();
-    stats_.vcm.add(theirs);
+    stats_.connections += j.at("connections").get<uint64_t>();
+    for (DeviceShare d : j.at("devices").get<std::vector<DeviceShare>>()) {
+      d.label = "rank " + std::to_string(rank) + ": " + d.label;
+      stats_.devices.push_back(std::move(d));
+    }
+    stats_.vcm.add(j.at("vcm").get<VcmStats>());
   });
 }
 
