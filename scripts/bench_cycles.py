@@ -44,7 +44,10 @@ def cycles_twin(scene, out_dir):
     Cycles as a Principled BSDF with specular 0.5 (the runner then keeps it Principled, Burley
     diffuse and a specular lobe). The twin adds specularColorFactor 0 to such materials, which
     changes nothing for clpt (specular times 0) and lets the runner make them Lambertian.
-    Scenes whose files are not all embedded (data: URIs) are used as they are."""
+    Binary .glb files and scenes whose files are not all embedded (data: URIs) are used as
+    they are."""
+    if not scene.endswith(".gltf"):
+        return scene, 0
     with open(scene) as f:
         doc = json.load(f)
     uris = [b.get("uri", "") for b in doc.get("buffers", [])] + [i.get("uri", "") for i in doc.get("images", [])]
