@@ -10,7 +10,7 @@ Layers, lowest first (a file may include its own layer and the ones below):
   core (core/, shared/, sampler/), geometry, textures and materials (texture/, material/),
   BVH, BSDF, lights, camera and film, spatial, integrator stages (integrators/stages/),
   shared estimators (integrators/estimators/), integrators (integrators/<family>/),
-  entry points (integrators/*.cl).
+  entry points (integrators/*.cl; tools/*.cl, the tools' kernels).
 Headers (*.h) hold types and trivial helpers: they count as core and may include only core.
 Rules beyond the order: an integrator family's files include no other family's; an entry
 point includes no other entry point.
@@ -37,6 +37,8 @@ def layer(path):
     parts = path.split("/")
     if path.endswith(".h"):
         return 0, None
+    if parts[0] == "tools":
+        return ENTRY, None  # the tools' entry points (clpt-raybench)
     if parts[0] != "integrators":
         for i, folders in enumerate(LOWER):
             if parts[0] in folders:

@@ -12,7 +12,7 @@ const std::vector<cl::ProgramSpec>& all() {
   static const std::vector<cl::ProgramSpec> list = {kPt,   kAo,        kLt,     kBdpt,
                                                    kPhoton, kPm,      kSppm,   kIc,
                                                    kIndirect1, kPssmlt, kMmlt, kVcm,
-                                                   kAov};
+                                                   kAov,     kRaybench};
   return list;
 }
 

@@ -24,6 +24,7 @@ inline constexpr cl::ProgramSpec kPssmlt{"pssmlt", "integrators/mlt.cl", ""};
 inline constexpr cl::ProgramSpec kMmlt{"mmlt", "integrators/mlt.cl", "-DCLPT_MLT_MULTIPLEXED=1"};
 inline constexpr cl::ProgramSpec kVcm{"vcm", "integrators/vcm.cl", ""};
 inline constexpr cl::ProgramSpec kAov{"aov", "integrators/aov.cl", ""};  // --aov, beside any integrator
+inline constexpr cl::ProgramSpec kRaybench{"raybench", "tools/raybench.cl", ""};  // clpt-raybench
 
 // All of the above, in this order.
 const std::vector<cl::ProgramSpec>& all();
