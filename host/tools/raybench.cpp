@@ -144,12 +144,16 @@ int run(int argc, char** argv) {
   app.add_option("--rays", rays, "incoherent rays [2000000]")->check(CLI::Range(size_t(1), size_t(1) << 26));
   app.add_option("--seconds", seconds, "time per ray set [2]")->check(CLI::Range(0.0, 3600.0));
   app.add_option("--json", json_file, "write the figures as JSON here");
+  BvhBuildOptions bvh_options;
+  app.add_option("--max-leaf", bvh_options.max_leaf_size, "BVH: triangles per leaf at most [4]")
+      ->check(CLI::Range(1, 64));
+  app.add_option("--bins", bvh_options.bins, "BVH: SAH bins per axis [16]")->check(CLI::Range(2, 256));
   CLI11_PARSE(app, argc, argv);
 
   const Scene scene = load_gltf(scene_file);
   if (scene.triangles.empty()) throw Error(ExitCode::BadInput, scene_file + ": no triangles");
   const auto tb = std::chrono::steady_clock::now();
-  const Bvh bvh = build_bvh(scene.positions, scene.triangles);
+  const Bvh bvh = build_bvh(scene.positions, scene.triangles, bvh_options);
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tb).count();
   const cl::Context ctx(cl::select_device(device));
   const SceneBuffers buffers(ctx, flatten_scene(scene, bvh));
@@ -165,6 +169,7 @@ int run(int argc, char** argv) {
       trace(ctx, buffers, program, "raybench_closest", "random closest", random, seconds),
       trace(ctx, buffers, program, "raybench_any", "random any", random, seconds)};
   nlohmann::json j = {{"scene", scene_file}, {"triangles", scene.triangles.size()},
+                      {"max_leaf", bvh_options.max_leaf_size}, {"bins", bvh_options.bins},
                       {"bvh_build_seconds", build_s}, {"device", ctx.device().label()},
                       {"figures", nlohmann::json::array()}};
   for (const Figure& f : figures) {
