@@ -12,6 +12,9 @@
 #      paths/s and rays/s (stats/INTEG-cornell_box.json); on NVIDIA pt once more with the
 #      driver's cache off (stats/pt-nvcache-off.json): clpt's cache holds PTX there, and this is
 #      what assembling it costs at every start without the driver's cache;
+#   3b. times the BVH traversal alone (clpt-raybench, when built): Embree's benchmark ray
+#      sets on the Cornell box and on scripts/make_spheres_1m.py's 1M triangles
+#      (stats/raybench-SCENE.json), for figures beside the CPU's in docs/BENCHMARKS.md;
 #   4. runs the device-independent tests on the GPU (CLPT_TEST_DEVICE): every program builds,
 #      the furnaces against their closed forms, the cross-integrator tests, determinism
 #      (tests.log; the gtest summary is printed);
@@ -45,7 +48,7 @@ while [ $# -gt 0 ]; do
     --no-tests) tests=0; shift ;;
     --budget) budget="$2"; shift 2 ;;
     --jobs) jobs="$2"; shift 2 ;;
-    *) sed -n '2,34p' "$0" >&2; exit 2 ;;
+    *) sed -n '2,37p' "$0" >&2; exit 2 ;;
   esac
 done
 clpt="$build/clpt"
@@ -139,6 +142,22 @@ if [ "$nvidia" = 1 ]; then
   fi
 fi
 
+# 3b. The traversal alone (clpt-raybench), on the Cornell box and on 1M generated triangles.
+raybench() {
+  local name=$1 scene=$2
+  if [ "$(left)" -lt 60 ]; then skipped+=("raybench-$name"); return 0; fi
+  timeout "$(cap 300)" "$build/clpt-raybench" "$scene" --device "$device" --seconds 2 \
+    --json "$out/stats/raybench-$name.json" >"$out/stats/raybench-$name.log" 2>&1 ||
+    failed+=("raybench-$name")
+}
+if [ -x "$build/clpt-raybench" ]; then
+  raybench cornell_box "$root/scenes/cornell_box.gltf"
+  if python3 "$root/scripts/make_spheres_1m.py" "$out/stats/spheres_1m.glb" >/dev/null 2>&1; then
+    raybench spheres_1m "$out/stats/spheres_1m.glb"
+    rm -f "$out/stats/spheres_1m.glb"
+  fi
+fi
+
 # 4. The tests read the sources through the path they were built from; a tree copied
 # elsewhere (a lent GPU machine) gets a link from that path to here when it is free.
 run_tests() {
@@ -206,6 +225,15 @@ try:
         ok, bad, "" if done else " (cut before the end: tests.log)"))
 except OSError:
     pass
+bench = [(name, load("raybench-" + name)) for name in ("cornell_box", "spheres_1m")]
+if any(b for _, b in bench):
+    print("\n| traversal alone (clpt-raybench) | triangles | BVH build s | " +
+          " | ".join(f["name"] + " M rays/s" for f in next(b for _, b in bench if b)["figures"]) + " |")
+    print("|---|---|---|---|---|---|")
+    for name, b in bench:
+        if b:
+            print("| %s | %d | %.3f | %s |" % (name, b["triangles"], b["bvh_build_seconds"], " | ".join(
+                "%.2f (hits %.3f)" % (f["mrays_per_second"], f["hit_rate"]) for f in b["figures"])))
 off = load("pt-nvcache-off")
 if off:
     print("\npt with the driver's cache off, clpt's cache warm: %.1f s to start" % off["kernel"]["seconds"])

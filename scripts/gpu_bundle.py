@@ -8,7 +8,8 @@ from Debian weigh 368 MB, nearly all of it pulled in by OpenImageIO's format plu
 through ffmpeg, DICOM, OpenVDB, OpenCV, GDAL behind them) that clpt never calls: it reads and
 writes EXR, PNG, JPEG, HDR, PFM and TIFF. The bundle holds
 
-    DIR/clpt, DIR/tests/clpt_tests      the binaries, unchanged;
+    DIR/clpt, DIR/clpt-raybench,
+    DIR/tests/clpt_tests                the binaries, unchanged;
     DIR/CMakeCache.txt                  the source path the tests were built from;
     DIR/lib/                            every shared library they load except glibc's, where
                                         those of the unused plugins are replaced by stubs.
@@ -149,6 +150,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(root, "gpu-bundle"))
     a = ap.parse_args()
     binaries = {"clpt": os.path.join(a.build, "clpt"),
+                "clpt-raybench": os.path.join(a.build, "clpt-raybench"),
                 "tests/clpt_tests": os.path.join(a.build, "tests", "clpt_tests")}
     for path in binaries.values():
         if not os.access(path, os.X_OK):
