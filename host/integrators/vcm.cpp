@@ -115,12 +115,16 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
   params_.write(&params, sizeof(params));
 }
 
-void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& film) {
-  prepare(params, film);
-  dev::VcmParams v = pass_params(config_, params.mis, config_.radius, 1, mask_);
+void VertexConnectionMerging::write_vcm_params(uint32_t mis, float r, uint32_t paths) {
+  dev::VcmParams v = pass_params(config_, mis, r, paths, mask_);
   v.light_vertex_capacity = capacity_;
   v.lvc = subpaths_.lvc;
   vcm_params_.write(&v, sizeof(v));
+}
+
+void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& film) {
+  prepare(params, film);
+  write_vcm_params(params.mis, config_.radius, 1);
   const uint32_t none = 0;
   light_kernel_.args(light_arg_, params_, vcm_params_, none, none, none, vertices_, vertex_counts_,
                      film.splat(), film.ray_counts(), connection_counts_, stored_counts_);
@@ -137,10 +141,7 @@ void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& fil
 void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t sample,
                                           uint32_t first, uint32_t count, float r, Film& film) {
   const uint32_t mode = config_.mode;
-  dev::VcmParams v = pass_params(config_, p.mis, r, count, mask_);
-  v.light_vertex_capacity = capacity_;
-  v.lvc = subpaths_.lvc;
-  vcm_params_.write(&v, sizeof(v));
+  write_vcm_params(p.mis, r, count);
   if (mode != dev::VCM_MODE_PT) {
     light_kernel_.args(light_arg_, params_, vcm_params_, sample, first, count, vertices_,
                        vertex_counts_, film.splat(), film.ray_counts(), connection_counts_,
@@ -171,17 +172,16 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
 
 void VertexConnectionMerging::render_pass(const dev::RenderParams& params, Film& film) {
   prepare(params, film);
-  const dev::RenderParams& p = params;
   const size_t pixels = film.pixels();
-  for (uint32_t i = 0; i < p.samples_per_pass; ++i) {
-    const uint32_t sample = p.sample_offset + i;
+  for (uint32_t i = 0; i < params.samples_per_pass; ++i) {
+    const uint32_t sample = params.sample_offset + i;
     const float r = radius(config_.radius, config_.alpha, sample);
     if (stats_.passes == 0) stats_.first_radius = r;
     stats_.last_radius = r;
     ++stats_.passes;
     for (size_t offset = 0; offset < pixels; offset += tile_) {
       const auto count = static_cast<uint32_t>(std::min(tile_, pixels - offset));
-      launch_tile(p, sample, static_cast<uint32_t>(offset), count, r, film);
+      launch_tile(params, sample, static_cast<uint32_t>(offset), count, r, film);
     }
   }
   stats_.tiles = static_cast<uint32_t>((pixels + tile_ - 1) / tile_);

@@ -50,6 +50,9 @@ class VertexConnectionMerging final : public Integrator {
  private:
   // Uploads the pass's parameters; buffers sized for the film and the light vertex capacity.
   void prepare(const dev::RenderParams& params, Film& film);
+  // Uploads the VcmParams of a tile of `paths` light paths at radius r (pass_params, with the
+  // light vertex capacity and --bdpt-lvc).
+  void write_vcm_params(uint32_t mis, float r, uint32_t paths);
   void launch_tile(const dev::RenderParams& p, uint32_t sample, uint32_t first, uint32_t count,
                    float r, Film& film);
 

@@ -48,18 +48,18 @@ void push(RaySet& set, glm::vec3 o, glm::vec3 d) {
   set.directions.push_back({{d.x, d.y, d.z, 0.0f}});
 }
 
+// Through the renderer's own camera set-up (right and up already scaled by tan(yfov / 2) on a
+// square film); a pinhole, as Embree's benchmark.
 RaySet primary_rays(const Camera& camera, int res) {
-  const glm::vec3 eye(camera.camera_to_world[3]);
-  const glm::vec3 fw = glm::normalize(-glm::vec3(camera.camera_to_world[2]));
-  const glm::vec3 up_hint = glm::normalize(glm::vec3(camera.camera_to_world[1]));
-  const glm::vec3 rt = glm::normalize(glm::cross(fw, up_hint));
-  const glm::vec3 up = glm::cross(rt, fw);
-  const float tan_half = std::tan(0.5f * camera.yfov);
+  const dev::CameraData c = camera_data(camera, uint32_t(res), uint32_t(res));
+  const glm::vec3 eye(c.origin[0], c.origin[1], c.origin[2]);
+  const glm::vec3 fw(c.forward[0], c.forward[1], c.forward[2]);
+  const glm::vec3 rt(c.right[0], c.right[1], c.right[2]), up(c.up[0], c.up[1], c.up[2]);
   RaySet set;
   for (int y = 0; y < res; ++y)
     for (int x = 0; x < res; ++x) {
-      const float px = ((float(x) + 0.5f) / float(res) * 2.0f - 1.0f) * tan_half;
-      const float py = (1.0f - (float(y) + 0.5f) / float(res) * 2.0f) * tan_half;
+      const float px = (float(x) + 0.5f) / float(res) * 2.0f - 1.0f;
+      const float py = 1.0f - (float(y) + 0.5f) / float(res) * 2.0f;
       push(set, eye, glm::normalize(fw + rt * px + up * py));
     }
   return set;
@@ -190,10 +190,10 @@ int main(int argc, char** argv) {
   try {
     return clpt::run(argc, argv);
   } catch (const clpt::Error& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "clpt-raybench: error: %s\n", e.what());
     return static_cast<int>(e.code());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 70;
+    std::fprintf(stderr, "clpt-raybench: internal error: %s\n", e.what());
+    return 70;  // as clpt's
   }
 }
