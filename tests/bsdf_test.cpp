@@ -57,13 +57,16 @@ struct Config {
   float iridescence_thickness = 400.0f;
   float diffuse_transmission = 0.0f;
   glm::vec3 dt_color{1.0f};
+  glm::vec3 sheen_color{0.0f};
+  float sheen_roughness = 0.0f;
 };
 
 std::vector<float> pack(const Config& c) {
   return {c.base.x,   c.base.y,    c.base.z,   c.spec_color.x, c.spec_color.y, c.spec_color.z, c.metallic,
           c.roughness, c.specular, c.transmission, c.ior,     c.clearcoat,    c.clearcoat_roughness,
           c.iridescence, c.iridescence_ior, c.iridescence_thickness, c.diffuse_transmission,
-          c.dt_color.x, c.dt_color.y, c.dt_color.z};
+          c.dt_color.x, c.dt_color.y, c.dt_color.z, c.sheen_color.x, c.sheen_color.y, c.sheen_color.z,
+          c.sheen_roughness};
 }
 
 Config lambert(glm::vec3 base = glm::vec3(0.8f, 0.5f, 0.2f)) {
@@ -128,6 +131,13 @@ Config iridescent(Config base, float k, float ior, float d) {
 Config translucent(Config base, float dt, glm::vec3 col) {
   base.diffuse_transmission = dt;
   base.dt_color = col;
+  return base;
+}
+
+// KHR_materials_sheen of colour col and roughness r over another configuration.
+Config sheened(Config base, glm::vec3 col, float r) {
+  base.sheen_color = col;
+  base.sheen_roughness = r;
   return base;
 }
 
@@ -357,6 +367,12 @@ std::vector<Chi2Case> chi2_cases() {
   add("DiffuseTransmission", translucent(plastic(0.5f), 0.6f, {0.9f, 0.5f, 0.2f}), {0.8, 0.3, 0.05, -0.7});
   add("DiffuseTransmissionCoated", coated(translucent(plastic(0.0f), 0.4f, glm::vec3(1.0f)), 0.8f, 0.3f), {0.8, 0.2});
   add("DiffuseTransmissionHalfMetal", translucent(mixed_metal(), 1.0f, {0.3f, 0.8f, 0.6f}), {0.7, -0.4});
+  // KHR_materials_sheen: a uniform lobe over the base, under a coat, on glass and on a mirror.
+  add("Sheen", sheened(plastic(0.5f), {0.9f, 0.6f, 0.3f}, 0.5f), {0.8, 0.3, 0.05});
+  add("SmoothSheenOverMetal", sheened(metal(0.3f), {0.5f, 0.5f, 1.0f}, 0.1f), {0.8, 0.05});
+  add("SheenUnderClearcoat", coated(sheened(plastic(0.6f), glm::vec3(1.0f), 0.8f), 0.7f, 0.3f), {0.8, 0.3});
+  add("SheenOnGlass", sheened(glass(0.3f), {1.0f, 0.8f, 0.8f}, 0.4f), {0.8, -0.6});
+  add("SheenOverDeltaCoat", sheened(plastic(0.0f), glm::vec3(0.7f), 0.3f), {0.8, 0.1});
   // Sharp lobes once more, on a fine grid with its pole on the lobe.
   auto add_pole = [&](const std::string& name, const Config& cfg, double cos_o, int pole, double band_min) {
     Chi2Case k{name, cfg, cos_o};
@@ -549,7 +565,12 @@ std::vector<std::pair<std::string, Config>> consistency_configs() {
           {"translucent_plastic", translucent(plastic(0.5f), 0.6f, {0.9f, 0.5f, 0.2f})},
           {"translucent_coated", coated(translucent(plastic(0.4f), 0.4f, glm::vec3(1.0f)), 0.8f, 0.3f)},
           {"translucent_half_metal", translucent(mixed_metal(), 1.0f, {0.3f, 0.8f, 0.6f})},
-          {"coated_iridescent_plastic", coated(iridescent(plastic(0.4f), 1.0f, 1.4f, 250.0f), 1.0f, 0.2f)}};
+          {"coated_iridescent_plastic", coated(iridescent(plastic(0.4f), 1.0f, 1.4f, 250.0f), 1.0f, 0.2f)},
+          {"sheen_plastic", sheened(plastic(0.5f), {0.9f, 0.6f, 0.3f}, 0.5f)},
+          {"smooth_sheen_metal", sheened(metal(0.3f), {0.5f, 0.5f, 1.0f}, 0.1f)},
+          {"sheen_coated", coated(sheened(plastic(0.6f), glm::vec3(1.0f), 0.8f), 0.7f, 0.3f)},
+          {"sheen_glass", sheened(glass(0.3f), {1.0f, 0.8f, 0.8f}, 0.4f)},
+          {"sheen_delta_coat", sheened(plastic(0.0f), glm::vec3(0.7f), 0.3f)}};
 }
 
 // rel difference of two colours, relative to the larger one's largest channel.
@@ -693,7 +714,13 @@ TEST(BsdfEnergy, AlbedoAtMostOne) {
                                  {"white_iridescent_delta_coat", iridescent(white_delta_coat, 1.0f, 1.3f, 150.0f)},
                                  {"iridescent_smooth_glass", iridescent(glass(0.0f), 1.0f, 1.5f, 500.0f)},
                                  {"white_translucent_plastic", translucent(white_plastic, 0.5f, glm::vec3(1.0f))},
-                                 {"white_translucent_delta_coat", translucent(white_delta_coat, 0.8f, glm::vec3(1.0f))}});
+                                 {"white_translucent_delta_coat", translucent(white_delta_coat, 0.8f, glm::vec3(1.0f))},
+                                 {"white_sheen_plastic_0.3", sheened(white_plastic, glm::vec3(1.0f), 0.3f)},
+                                 {"white_sheen_lambert_0.05", sheened(lambert(glm::vec3(1.0f)), glm::vec3(1.0f), 0.05f)},
+                                 {"white_sheen_lambert_1", sheened(lambert(glm::vec3(1.0f)), glm::vec3(1.0f), 1.0f)},
+                                 {"white_sheen_delta_coat", sheened(white_delta_coat, glm::vec3(1.0f), 0.6f)},
+                                 {"white_sheen_metal_0", sheened(white_metal_smooth, glm::vec3(1.0f), 0.2f)},
+                                 {"white_sheen_under_clearcoat", coated(sheened(white_plastic, glm::vec3(1.0f), 0.5f), 1.0f, 0.3f)}});
   for (const auto& [name, c] : configs) {
     double worst = 0.0;
     for (int k = 0; k < 10; ++k) {

@@ -85,7 +85,7 @@ const std::vector<StageMaterial>& materials() {
       StageMaterial::GlassAbsorbing, StageMaterial::GlassSheet,    StageMaterial::Specular,
       StageMaterial::NormalMap,     StageMaterial::AlphaMask,      StageMaterial::AlphaBlend,
       StageMaterial::EmissiveTexture, StageMaterial::Clearcoat,   StageMaterial::IridescentGlass,
-      StageMaterial::Translucent,
+      StageMaterial::Translucent,   StageMaterial::Sheen,
   };
   return list;
 }

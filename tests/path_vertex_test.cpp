@@ -1,7 +1,9 @@
 // PathVertex (kernels/shared/bdpt_types.h): what bdpt, vcm and mlt keep of a light vertex
 // between kernels reads back as the SurfaceHit it was stored from (tests/kernels/
-// path_vertex_test.cl), the film and diffuse transmission included. The clearcoat pair shares one word as unorm16, which is exact because
-// material_resolve rounds to the same steps; the front flag shares the material's word.
+// path_vertex_test.cl), the film, diffuse transmission and sheen included. The clearcoat pair
+// shares one word as unorm16 and the sheen's colour and roughness one as unorm8, which is
+// exact because material_resolve rounds to the same steps; the front flag shares the
+// material's word.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -18,9 +20,9 @@ TEST(PathVertex, StoresTheBsdfAndTheSideExactly) {
   constexpr uint32_t n = 256;
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> U(0.0f, 1.0f);
-  std::vector<float> in(24 * n);
+  std::vector<float> in(28 * n);
   for (uint32_t i = 0; i < n; ++i) {
-    float* c = &in[24 * i];
+    float* c = &in[28 * i];
     for (int k = 0; k < 13; ++k) c[k] = U(rng);
     c[10] = 1.0f + 2.0f * U(rng);  // ior
     if (i % 4 == 0) c[11] = 0.0f;  // no coat
@@ -32,6 +34,7 @@ TEST(PathVertex, StoresTheBsdfAndTheSideExactly) {
     c[18] = 1000.0f * U(rng);              // nm
     c[19] = i % 3 == 1 ? 0.0f : U(rng);    // diffuse transmission and its colour
     for (int k = 20; k < 23; ++k) c[k] = U(rng);
+    for (int k = 23; k < 27; ++k) c[k] = i % 4 == 2 ? 0.0f : U(rng);  // sheen colour, roughness
   }
   cl::Context& ctx = test::device_context();
   cl::Buffer input = cl::Buffer::from_vector(ctx, in);
@@ -42,8 +45,8 @@ TEST(PathVertex, StoresTheBsdfAndTheSideExactly) {
   k.launch(ctx, n);
   const std::vector<float> out = output.read_vector<float>(in.size());
   for (uint32_t i = 0; i < n; ++i) {
-    const float* c = &in[24 * i];
-    const float* o = &out[24 * i];
+    const float* c = &in[28 * i];
+    const float* o = &out[28 * i];
     for (int f = 0; f <= 10; ++f) EXPECT_EQ(o[f], c[f]) << "item " << i << " field " << f;
     EXPECT_EQ(o[11], 0.0f) << "item " << i << ": clearcoat " << c[11];
     EXPECT_EQ(o[12], 0.0f) << "item " << i << ": clearcoat roughness " << c[12];
@@ -51,6 +54,7 @@ TEST(PathVertex, StoresTheBsdfAndTheSideExactly) {
     EXPECT_EQ(o[14], c[14]) << "item " << i << ": front";
     EXPECT_EQ(o[15], c[14] != 0.0f ? 0.0f : 1.0f) << "item " << i << ": flipped";
     for (int f = 16; f <= 22; ++f) EXPECT_EQ(o[f], c[f]) << "item " << i << " iridescence / transmission field " << f;
+    for (int f = 23; f <= 26; ++f) EXPECT_EQ(o[f], 0.0f) << "item " << i << " sheen field " << f << ": " << c[f];
   }
 }
 

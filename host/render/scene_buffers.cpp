@@ -43,6 +43,8 @@ dev::Material to_device(const Material& m) {
   d.iridescence_thickness_max = m.iridescence_thickness_max;
   d.diffuse_transmission = m.diffuse_transmission;
   for (int i = 0; i < 3; ++i) d.diffuse_transmission_color[i] = m.diffuse_transmission_color[i];
+  d.sheen_roughness = m.sheen_roughness;
+  for (int i = 0; i < 3; ++i) d.sheen_color[i] = m.sheen_color[i];
   for (int i = 0; i < 3; ++i) d.specular_color[i] = m.specular_color[i];
   for (int i = 0; i < 3; ++i) d.attenuation_color[i] = m.attenuation_color[i];
   d.flags = 0u;
@@ -57,7 +59,8 @@ dev::Material to_device(const Material& m) {
       &m.emissive_texture,   &m.transmission_texture,       &m.specular_texture,
       &m.specular_color_texture, &m.clearcoat_texture,        &m.clearcoat_roughness_texture,
       &m.iridescence_texture,    &m.iridescence_thickness_texture,
-      &m.diffuse_transmission_texture, &m.diffuse_transmission_color_texture};
+      &m.diffuse_transmission_texture, &m.diffuse_transmission_color_texture,
+      &m.sheen_color_texture,    &m.sheen_roughness_texture};
   for (int i = 0; i < dev::TEX_SLOT_COUNT; ++i) d.tex[i] = to_device(*refs[i]);
   return d;
 }

@@ -74,11 +74,14 @@ struct Material {
   float iridescence_thickness_max = 400.0f;
   float diffuse_transmission = 0.0f;  // KHR_materials_diffuse_transmission
   glm::vec3 diffuse_transmission_color{1.0f};
+  glm::vec3 sheen_color{0.0f};        // KHR_materials_sheen: no sheen
+  float sheen_roughness = 0.0f;
 
   TextureRef base_color_texture, metallic_roughness_texture, normal_texture, emissive_texture,
       transmission_texture, specular_texture, specular_color_texture, clearcoat_texture,
       clearcoat_roughness_texture, iridescence_texture, iridescence_thickness_texture,
-      diffuse_transmission_texture, diffuse_transmission_color_texture;
+      diffuse_transmission_texture, diffuse_transmission_color_texture, sheen_color_texture,
+      sheen_roughness_texture;
 };
 
 // A KHR_lights_punctual light placed by its node, in world space.

@@ -2,7 +2,8 @@
  * vertex colour (kernels/material/material.cl fills it; kernels/bsdf/ evaluates it). One
  * struct for the whole glTF metallic-roughness model and the extensions clpt reads:
  *   KHR_materials_specular, KHR_materials_transmission, KHR_materials_ior,
- *   KHR_materials_clearcoat, KHR_materials_iridescence, KHR_materials_diffuse_transmission.
+ *   KHR_materials_clearcoat, KHR_materials_iridescence, KHR_materials_diffuse_transmission,
+ *   KHR_materials_sheen.
  * Device only: the host never builds one. */
 #ifndef CLPT_BSDF_BSDF_PARAMS_H
 #define CLPT_BSDF_BSDF_PARAMS_H
@@ -23,6 +24,9 @@ typedef struct BsdfParams {
   float iridescence_ior; /* the film's index of refraction (1.3) */
   float iridescence_thickness; /* nm: mix(minimum, maximum, thickness texture G) */
   float diffuse_transmission; /* KHR_materials_diffuse_transmission: factor x texture A, [0, 1] */
+  float3 sheen_color;    /* KHR_materials_sheen: sheenColorFactor x texture RGB (linear), [0, 1];
+                          * 0: no sheen */
+  float sheen_roughness; /* sheenRoughnessFactor x texture A */
 } BsdfParams;
 
 /* The clearcoat inputs are rounded to 16-bit unorm steps (1 / 65535) when resolved, so that
@@ -31,6 +35,11 @@ static inline float bsdf_unorm16(float x) { return rint(clamp(x, 0.0f,
                                  1.0f) * 65535.0f) * (1.0f / 65535.0f); }
 static inline uint bsdf_unorm16_bits(float x) { return (uint)rint(clamp(x, 0.0f,
                                      1.0f) * 65535.0f); }
+
+/* The sheen's inputs are rounded to 8-bit unorm steps (1 / 255, a texture's own precision),
+ * so that a PathVertex stores colour and roughness exactly in one word. */
+static inline float bsdf_unorm8(float x) { return rint(clamp(x, 0.0f, 1.0f) * 255.0f) * (1.0f / 255.0f); }
+static inline uint bsdf_unorm8_bits(float x) { return (uint)rint(clamp(x, 0.0f, 1.0f) * 255.0f); }
 
 /* Which quantity a path carries: radiance from the camera side, or importance from the
  * light side (light tracing, BDPT light subpaths). The BSDF needs it for the adjoint of

@@ -46,10 +46,18 @@
  *   diffuse layer's 1 - max F, the glass's 1 - max r). The lobe probabilities keep Schlick's
  *   estimates: the film changes what a direction carries, not how it is sampled.
  *
+ * sheen (KHR_materials_sheen): a layer of colour sc and roughness r between the clearcoat and
+ *   all of the above, the capped Charlie lobe of kernels/bsdf/sheen.cl over the base scaled by
+ *   the extension's albedo scaling, with the capped lobe's albedo E':
+ *     f = sc f'_sheen(wo, wi) + min(1 - m E'(cos_o), 1 - m E'(|cos_i|)) f_base,  m = max3(sc),
+ *   reflection only (the base's transmission is scaled alike). Symmetric, and sc E' + (1 -
+ *   m E') <= 1 at every wo. The coat, when present, attenuates the sheen as it does the base.
+ *
  * Sampling: one sample from a mixture of lobes, chosen by u_lobe with probabilities
  * proportional to estimates of each lobe's albedo at wo (Fresnel at cos_o, metallic,
- * transmission, the clearcoat's c Fc(cos_o), the base's scaled by 1 - c Fc(cos_o)):
- * clearcoat (its GGX visible normals), diffuse (cosine), reflection (GGX visible normals,
+ * transmission, the clearcoat's c Fc(cos_o), the sheen's sc E'(cos_o), the base's scaled by
+ * 1 - c Fc(cos_o) and 1 - m E'(cos_o)): clearcoat (its GGX visible normals), sheen (uniform
+ * hemisphere), diffuse (cosine), reflection (GGX visible normals,
  * Heitz 2018) and glass
  * (visible normals, then reflection with probability max r(h), else refraction, the
  * rescaled u_lobe deciding). pdf() is that mixture's density, sum_lobe p_lobe pdf_lobe, and
@@ -62,6 +70,7 @@
 #include "bsdf/bsdf_params.h"
 #include "bsdf/fresnel.cl"
 #include "bsdf/microfacet.cl"
+#include "bsdf/sheen.cl"
 #include "bsdf/thin_film.cl"
 #include "core/warp.cl"
 
@@ -85,11 +94,15 @@ typedef struct GltfLobes {
   float w_metal;     /* metallic */
   float3 f0;         /* coat: min(F0(ior) specular_color, 1) */
   float3 glass_tint; /* scales the glass's exact Fresnel */
-  float p_diffuse, p_reflect, p_glass, p_coat, p_dtrans;
+  float p_diffuse, p_reflect, p_glass, p_coat, p_dtrans, p_sheen;
   float dt;          /* diffuse transmission: the plastic's diffuse share that crosses */
   float coat;        /* clearcoat weight c in [0, 1] */
   float alpha_c;     /* clearcoat GGX alpha */
   int coat_delta;    /* alpha_c < GGX_ALPHA_DELTA */
+  float sheen_m;     /* sheen: the colour's largest component, 0 without a sheen */
+  float sheen_r;     /* sheen roughness, clamped as sheen.cl reads it */
+  float sheen_e_o;   /* the sheen lobe's uncapped albedo E at cos_o (its cap) */
+  float sheen_keep_o; /* 1 - m E'(cos_o): the base's share under the sheen, on wo's side */
   float irid;        /* iridescence weight k in [0, 1] */
   float irid_ior, irid_d; /* the film's index and thickness (nm) */
   int outside;       /* wo on the front side */
@@ -171,17 +184,33 @@ static inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outsid
   L.coat = clamp(p->clearcoat, 0.0f, 1.0f);
   L.alpha_c = ggx_alpha(p->clearcoat_roughness);
   L.coat_delta = L.alpha_c < GGX_ALPHA_DELTA;
-  /* The base lobes are seen through the coat: their estimates shrink by what it reflects. */
+  /* The sheen's albedo, and the share of the base beneath it. */
+  const float3 sc = clamp(p->sheen_color, 0.0f, 1.0f);
+  L.sheen_m = max_component(sc);
+  L.sheen_r = sheen_clamp_roughness(p->sheen_roughness);
+  L.sheen_e_o = L.sheen_keep_o = 1.0f;
+  float e_s = 0.0f;
+  if (L.sheen_m > 0.0f) {
+    const float e = sheen_albedo(cos_o, L.sheen_r);
+    L.sheen_e_o = sheen_albedo_raw(cos_o, L.sheen_r);
+    L.sheen_keep_o = fmax(1.0f - L.sheen_m * e, 0.0f);
+    e_s = fmax(avg3(sc) * e, L.sheen_m * GLTF_LOBE_FLOOR);
+  }
+  /* The base lobes are seen through the sheen and the coat: their estimates shrink by what
+   * these reflect. */
   const float pass = gltf_clearcoat_pass(&L, cos_o);
+  const float base = pass * L.sheen_keep_o;
   const float e_c = L.coat > 0.0f ? fmax(gltf_clearcoat_f(&L, cos_o), L.coat * GLTF_LOBE_FLOOR) : 0.0f;
-  const float sum = pass * (fmax(e_d, 0.0f) + fmax(e_t, 0.0f) + fmax(e_r, 0.0f) + fmax(e_g, 0.0f)) + e_c;
+  float sum = base * (fmax(e_d, 0.0f) + fmax(e_t, 0.0f) + fmax(e_r, 0.0f) + fmax(e_g, 0.0f)) + e_c;
+  if (e_s > 0.0f) sum += pass * e_s; /* (a separate sum: without a sheen, the bits of before) */
   if (!(sum > 0.0f)) {
-    L.p_diffuse = L.p_reflect = L.p_glass = L.p_coat = L.p_dtrans = 0.0f;
+    L.p_diffuse = L.p_reflect = L.p_glass = L.p_coat = L.p_dtrans = L.p_sheen = 0.0f;
   } else {
-    L.p_diffuse = pass * fmax(e_d, 0.0f) / sum;
-    L.p_dtrans = pass * fmax(e_t, 0.0f) / sum;
-    L.p_reflect = pass * fmax(e_r, 0.0f) / sum;
-    L.p_glass = pass * fmax(e_g, 0.0f) / sum;
+    L.p_diffuse = base * fmax(e_d, 0.0f) / sum;
+    L.p_dtrans = base * fmax(e_t, 0.0f) / sum;
+    L.p_reflect = base * fmax(e_r, 0.0f) / sum;
+    L.p_glass = base * fmax(e_g, 0.0f) / sum;
+    L.p_sheen = pass * e_s / sum;
     L.p_coat = e_c / sum;
   }
   return L;
@@ -260,10 +289,20 @@ static inline float3 gltf_coat_eval_up(const GltfLobes* L, float3 wo, float3 wi)
                   (4.0f * wo.z));
 }
 
-/* f |wi.z| with wo.z > 0 (mirrored): the coat, and the base seen through it. */
+/* The base's share under the sheen for the pair: min(1 - m E'(cos_o), 1 - m E'(|cos_i|)). */
+static inline float gltf_sheen_keep(const GltfLobes* L, float cos_i) {
+  if (!(L->sheen_m > 0.0f)) return 1.0f;
+  return fmin(L->sheen_keep_o, fmax(1.0f - L->sheen_m * sheen_albedo(fabs(cos_i), L->sheen_r), 0.0f));
+}
+
+/* f |wi.z| with wo.z > 0 (mirrored): the coat, and the sheen and the base seen through it. */
 static inline float3 gltf_eval_up(const BsdfParams* p, const GltfLobes* L, float3 wo, float3 wi,
                                   int mode) {
   float3 f = gltf_eval_base_up(p, L, wo, wi, mode);
+  if (L->sheen_m > 0.0f) {
+    f *= gltf_sheen_keep(L, wi.z);
+    f += clamp(p->sheen_color, 0.0f, 1.0f) * sheen_eval_cos(wo, wi, L->sheen_r, L->sheen_e_o);
+  }
   if (!(L->coat > 0.0f)) return f;
   f *= gltf_clearcoat_pass(L, wo.z) * gltf_clearcoat_pass(L, fabs(wi.z));
   return f + gltf_coat_eval_up(L, wo, wi);
@@ -303,7 +342,8 @@ static inline float gltf_pdf_up(const GltfLobes* L, float3 wo, float3 wi) {
     const float3 h = normalize(wo + wi);
     coat = L->p_coat * warp_ggx_vndf_pdf(wo, h, L->alpha_c) / (4.0f * dot(wo, h));
   }
-  return coat + gltf_pdf_base_up(L, wo, wi);
+  const float sheen = L->p_sheen > 0.0f ? L->p_sheen * sheen_pdf(wi) : 0.0f;
+  return coat + sheen + gltf_pdf_base_up(L, wo, wi);
 }
 
 /* Mirrors w through the tangent plane when flip. */
@@ -315,7 +355,8 @@ static inline float3 gltf_flip(float3 w, bool flip) { return flip ? (float3)(w.x
  * set-up (BsdfLambertLimit compares them with the closed form). */
 static inline bool gltf_is_lambert(const BsdfParams* p) {
   return !(p->specular > 0.0f) && !(p->metallic > 0.0f) && !(p->transmission > 0.0f) &&
-         !(p->clearcoat > 0.0f) && !(p->diffuse_transmission > 0.0f);
+         !(p->clearcoat > 0.0f) && !(p->diffuse_transmission > 0.0f) &&
+         !(max_component(p->sheen_color) > 0.0f);
 }
 
 /* The layered lobes' evaluation, density and sampling below are out of line (CLPT_NOINLINE):
@@ -336,9 +377,10 @@ static inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, i
   return gltf_eval_layered(p, wo, wi, mode);
 }
 
-/* The Lambertian factor kd(wo) of the diffuse layer with the coats' cos_i terms left out:
- * w_plastic (1 - max F(cos_o)) (1 - c Fc(cos_o)) base / pi, so that f_diffuse(wo, wi) =
- * kd(wo) (1 - max F(cos_i)) (1 - c Fc(cos_i)) <= kd(wo) on wo's side. The irradiance cache stands for kd E and path traces the rest,
+/* The Lambertian factor kd(wo) of the diffuse layer with the layers' cos_i terms left out:
+ * w_plastic (1 - max F(cos_o)) (1 - c Fc(cos_o)) (1 - m E'(cos_o)) base / pi, so that
+ * f_diffuse(wo, wi) = kd(wo) (1 - max F(cos_i)) (1 - c Fc(cos_i)) min(1, sheen's at cos_i)
+ * <= kd(wo) on wo's side. The irradiance cache stands for kd E and path traces the rest,
  * f - kd (kernels/integrators/ic/ic_path.cl); for a Lambertian surface the rest is 0. */
 static inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
   if (wo.z == 0.0f) return (float3)(0.0f);
@@ -346,7 +388,7 @@ static inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
   const GltfLobes L = gltf_lobes(p, fabs(wo.z), wo.z > 0.0f);
   if (!(L.w_plastic > 0.0f)) return (float3)(0.0f);
   return (L.w_plastic * (1.0f - L.dt) * (1.0f - max_component(gltf_coat(p, &L, fabs(wo.z)))) *
-          gltf_clearcoat_pass(&L, fabs(wo.z)) * INV_PI_F) *
+          gltf_clearcoat_pass(&L, fabs(wo.z)) * L.sheen_keep_o * INV_PI_F) *
          p->base_color;
 }
 
@@ -367,6 +409,7 @@ static inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
 static inline bool gltf_bsdf_has_smooth_lobe(const BsdfParams* p) {
   if (!(ggx_alpha(p->roughness) < GGX_ALPHA_DELTA)) return true;
   if (p->clearcoat > 0.0f && !(ggx_alpha(p->clearcoat_roughness) < GGX_ALPHA_DELTA)) return true;
+  if (max_component(p->sheen_color) > 0.0f) return true;
   return (1.0f - clamp(p->metallic, 0.0f, 1.0f)) * (1.0f - clamp(p->transmission, 0.0f, 1.0f)) *
              fmax(max_component(p->base_color),
                   p->diffuse_transmission * max_component(p->diffuse_transmission_color)) > 0.0f;
@@ -390,7 +433,8 @@ static inline BsdfSample gltf_mirror_sample(const BsdfParams* p, const GltfLobes
   const float base_p = L->delta ? L->p_reflect + L->p_glass * p_r : 0.0f;
   const float coat_p = L->coat_delta ? L->p_coat : 0.0f;
   const float pass_o = gltf_clearcoat_pass(L, wo.z);
-  const float3 base_f = L->delta ? gltf_reflectance(p, L, wo.z) * (pass_o * pass_o) : (float3)(0.0f);
+  const float3 base_f =
+      L->delta ? gltf_reflectance(p, L, wo.z) * (pass_o * pass_o * L->sheen_keep_o) : (float3)(0.0f);
   const float3 coat_f = (float3)(L->coat_delta ? gltf_clearcoat_f(L, wo.z) : 0.0f);
   BsdfSample bs;
   bs.pdf_w = base_p + coat_p;
@@ -413,7 +457,9 @@ CLPT_NOINLINE BsdfSample gltf_sample_layered(const BsdfParams* p, float3 wo_in, 
     if (L.coat_delta) return gltf_mirror_sample(p, &L, wo, flip);
     const float3 h = warp_ggx_vndf(u, wo, L.alpha_c);
     wi = 2.0f * dot(wo, h) * h - wo;
-  } else if ((u_lobe -= L.p_coat) < L.p_diffuse) {
+  } else if ((u_lobe -= L.p_coat) < L.p_sheen) {
+    wi = sheen_sample(u);
+  } else if ((u_lobe -= L.p_sheen) < L.p_diffuse) {
     wi = warp_cosine_hemisphere(u);
   } else if (u_lobe < L.p_diffuse + L.p_dtrans) {
     wi = warp_cosine_hemisphere(u);
@@ -439,7 +485,7 @@ CLPT_NOINLINE BsdfSample gltf_sample_layered(const BsdfParams* p, float3 wo_in, 
         bs.pdf_w = L.p_glass * (1.0f - p_r);
         bs.wi = gltf_flip(wi, flip);
         bs.weight = (L.w_glass / L.p_glass) * gltf_clearcoat_pass(&L, wo.z) *
-                    gltf_clearcoat_pass(&L, fabs(wi.z)) * p->base_color;
+                    gltf_clearcoat_pass(&L, fabs(wi.z)) * gltf_sheen_keep(&L, wi.z) * p->base_color;
         if (mode == TRANSPORT_RADIANCE) bs.weight /= L.eta * L.eta;
         bs.is_delta = 1;
         return bs;

@@ -105,6 +105,16 @@ static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
     sh->bsdf.diffuse_transmission_color *=
         texture_slot_sample(s, &m->tex[TEX_DIFFUSE_TRANSMISSION_COLOR], uv0, uv1, true, white).xyz;
   }
+  /* The sheen is rounded to 8-bit steps (bsdf_unorm8: what a PathVertex stores). */
+  sh->bsdf.sheen_color = (float3)(0.0f);
+  sh->bsdf.sheen_roughness = 0.0f;
+  if (max_component(vload3(0, m->sheen_color)) > 0.0f) {
+    const float3 c = vload3(0, m->sheen_color) *
+                     texture_slot_sample(s, &m->tex[TEX_SHEEN_COLOR], uv0, uv1, true, white).xyz;
+    sh->bsdf.sheen_color = (float3)(bsdf_unorm8(c.x), bsdf_unorm8(c.y), bsdf_unorm8(c.z));
+    sh->bsdf.sheen_roughness = bsdf_unorm8(
+        m->sheen_roughness * texture_slot_sample(s, &m->tex[TEX_SHEEN_ROUGHNESS], uv0, uv1, false, white).w);
+  }
   sh->emission = material_emission_uv(s, m, uv0, uv1);
   if (m->tex[TEX_NORMAL].texture >= 0) sh->ns = material_normal_map(s, m, sh);
 }

@@ -41,7 +41,8 @@ typedef struct PathVertex {
   float iridescence, iridescence_ior, iridescence_thickness; /* KHR_materials_iridescence */
   float diffuse_transmission;              /* KHR_materials_diffuse_transmission */
   float diffuse_transmission_color[3];
-  u32 unused;              /* free: keeps the size a multiple of 16 bytes */
+  u32 sheen;               /* KHR_materials_sheen, unorm8: colour R, G, B (bits 0-23) and
+                            * roughness (24-31), as material_resolve rounds them */
 } PathVertex;
 
 CLPT_END_SHARED

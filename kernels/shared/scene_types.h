@@ -73,7 +73,9 @@ enum TextureSlotId {
   TEX_IRIDESCENCE_THICKNESS = 10, /* linear; G: mix(thickness minimum, maximum, G) */
   TEX_DIFFUSE_TRANSMISSION = 11,  /* linear; A diffuseTransmissionFactor */
   TEX_DIFFUSE_TRANSMISSION_COLOR = 12, /* sRGB; RGB diffuseTransmissionColorFactor */
-  TEX_SLOT_COUNT = 13
+  TEX_SHEEN_COLOR = 13,       /* sRGB; RGB sheenColorFactor */
+  TEX_SHEEN_ROUGHNESS = 14,   /* linear; A sheenRoughnessFactor */
+  TEX_SLOT_COUNT = 15
 };
 
 typedef struct TextureSlot {
@@ -109,10 +111,11 @@ typedef struct Material {
   float iridescence_thickness_min; /* iridescenceThicknessMinimum, nm (100) */
   float iridescence_thickness_max; /* iridescenceThicknessMaximum, nm (400) */
   float diffuse_transmission; /* KHR_materials_diffuse_transmission factor (0) */
-  float pad;
+  float sheen_roughness;      /* KHR_materials_sheen sheenRoughnessFactor (0) */
   float specular_color[4];    /* KHR_materials_specular specularColorFactor (1,1,1), w unused */
   float attenuation_color[4]; /* KHR_materials_volume (1,1,1), w unused */
   float diffuse_transmission_color[4]; /* diffuseTransmissionColorFactor (1,1,1), w unused */
+  float sheen_color[4];       /* KHR_materials_sheen sheenColorFactor (0,0,0), w unused */
   TextureSlot tex[TEX_SLOT_COUNT];
 } Material;
 

@@ -1,8 +1,8 @@
 /* Thin wrappers around kernels/bsdf/ for tests/bsdf_test.cpp.
- * A BSDF configuration arrives as 20 floats (tests/bsdf_test.cpp `pack`): base colour[3],
+ * A BSDF configuration arrives as 24 floats (tests/bsdf_test.cpp `pack`): base colour[3],
  * specular colour[3], metallic, roughness, specular, transmission, ior, clearcoat,
  * clearcoat roughness, iridescence, its film's ior and thickness (nm), diffuse transmission
- * and its colour[3]. Directions
+ * and its colour[3], sheen colour[3] and roughness. Directions
  * are local (+z the front-face normal) unless the kernel says world. Sample outputs:
  *   dir_pdf[i]  = (wi, pdf_w): pdf_w 0 for an absorbed sample, the discrete probability for
  *                 a delta one;
@@ -25,6 +25,8 @@ inline BsdfParams test_params(__global const float* c) {
   p.iridescence_thickness = c[15];
   p.diffuse_transmission = c[16];
   p.diffuse_transmission_color = (float3)(c[17], c[18], c[19]);
+  p.sheen_color = (float3)(c[20], c[21], c[22]);
+  p.sheen_roughness = c[23];
   return p;
 }
 

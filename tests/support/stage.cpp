@@ -214,6 +214,15 @@ Material object_material(Scene& scene, StageMaterial kind) {
       m.diffuse_transmission_color = glm::vec3(0.9f, 0.5f, 0.3f);
       m.double_sided = true;
       break;
+    case StageMaterial::Sheen:
+      // Velvet: the sheen's grazing glow over a dark base. At roughness 0.25 the lobe's cap
+      // (kernels/bsdf/sheen.cl) is active at grazing angles, so its symmetry is tested too.
+      m.base_color = glm::vec4(0.35f, 0.05f, 0.05f, 1.0f);
+      m.roughness = 0.8f;
+      m.specular = 1.0f;
+      m.sheen_color = glm::vec3(1.0f, 0.7f, 0.6f);
+      m.sheen_roughness = 0.25f;
+      break;
   }
   return m;
 }
@@ -312,6 +321,7 @@ std::string stage_material_name(StageMaterial m) {
     case StageMaterial::Clearcoat: return "clearcoat";
     case StageMaterial::IridescentGlass: return "iridescent_glass";
     case StageMaterial::Translucent: return "translucent";
+    case StageMaterial::Sheen: return "sheen";
   }
   throw std::logic_error("stage material");
 }

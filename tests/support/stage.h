@@ -38,6 +38,7 @@ enum class StageMaterial {
   Clearcoat,        // rough red plastic under a glossy KHR_materials_clearcoat
   IridescentGlass,  // rough glass (as GlassRough) under a KHR_materials_iridescence film
   Translucent,      // rough plastic whose diffuse layer transmits 0.6 (KHR_materials_diffuse_transmission)
+  Sheen,            // dark red rough plastic under a pale KHR_materials_sheen (roughness 0.25)
 };
 
 enum class StageLight {

@@ -294,8 +294,9 @@ void Converter::convert_materials() {
       if (!std::isfinite(d)) fail(where + " " + ext_name + " " + key + " is not finite");
       return d;
     };
-    auto ext_color = [&](const tinygltf::Value& e, const char* ext_name, const char* key) {
-      glm::vec3 c(1.0f);
+    auto ext_color = [&](const tinygltf::Value& e, const char* ext_name, const char* key,
+                         glm::vec3 def = glm::vec3(1.0f)) {
+      glm::vec3 c = def;
       if (!e.Has(key)) return c;
       const tinygltf::Value& v = e.Get(key);
       if (!v.IsArray() || v.ArrayLen() != 3) fail(where + " " + ext_name + " " + key + " is not an array of 3 numbers");
@@ -400,6 +401,13 @@ void Converter::convert_materials() {
       mat.diffuse_transmission_texture = ext_texture(*e, n, "diffuseTransmissionTexture");
       mat.diffuse_transmission_color = glm::min(ext_color(*e, n, "diffuseTransmissionColorFactor"), glm::vec3(1.0f));
       mat.diffuse_transmission_color_texture = ext_texture(*e, n, "diffuseTransmissionColorTexture");
+    }
+    if (const tinygltf::Value* e = extension("KHR_materials_sheen")) {
+      const char* n = "KHR_materials_sheen";
+      mat.sheen_color = glm::clamp(ext_color(*e, n, "sheenColorFactor", glm::vec3(0.0f)), 0.0f, 1.0f);
+      mat.sheen_roughness = float(std::clamp(ext_number(*e, n, "sheenRoughnessFactor", 0.0), 0.0, 1.0));
+      mat.sheen_color_texture = ext_texture(*e, n, "sheenColorTexture");
+      mat.sheen_roughness_texture = ext_texture(*e, n, "sheenRoughnessTexture");
     }
     if (const tinygltf::Value* e = extension("KHR_materials_volume")) {
       const char* n = "KHR_materials_volume";

@@ -39,7 +39,8 @@ static inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* s
   v->iridescence_thickness = sh->bsdf.iridescence_thickness;
   v->diffuse_transmission = sh->bsdf.diffuse_transmission;
   vstore3(sh->bsdf.diffuse_transmission_color, 0, v->diffuse_transmission_color);
-  v->unused = 0u;
+  v->sheen = bsdf_unorm8_bits(sh->bsdf.sheen_color.x) | bsdf_unorm8_bits(sh->bsdf.sheen_color.y) << 8 |
+             bsdf_unorm8_bits(sh->bsdf.sheen_color.z) << 16 | bsdf_unorm8_bits(sh->bsdf.sheen_roughness) << 24;
 }
 
 /* The subpath state stored with a vertex. */
@@ -81,6 +82,9 @@ static inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   sh.bsdf.iridescence_thickness = v->iridescence_thickness;
   sh.bsdf.diffuse_transmission = v->diffuse_transmission;
   sh.bsdf.diffuse_transmission_color = vload3(0, v->diffuse_transmission_color);
+  sh.bsdf.sheen_color = (float3)((float)(v->sheen & 0xffu), (float)((v->sheen >> 8) & 0xffu),
+                                 (float)((v->sheen >> 16) & 0xffu)) * (1.0f / 255.0f);
+  sh.bsdf.sheen_roughness = (float)(v->sheen >> 24) * (1.0f / 255.0f);
   sh.emission = (float3)(0.0f);
   return sh;
 }

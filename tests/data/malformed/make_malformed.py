@@ -266,6 +266,12 @@ def main():
     variant("texture_too_large.gltf", textured(png_uri(png(16385, 1))))
     variant("texture_index_out_of_range.gltf", textured(png_uri(good_png), texture=5))
     variant("texture_texcoord_7.gltf", textured(png_uri(good_png), tex_coord=7))
+    # A material extension whose colour is not a colour (materials.cpp's ext_color).
+    def sheen(d):
+        d["materials"] = [{"extensions": {"KHR_materials_sheen": {"sheenColorFactor": "red"}}}]
+        d["meshes"][0]["primitives"][0]["material"] = 0
+        d["extensionsUsed"] = ["KHR_materials_sheen"]
+    variant("sheen_bad_color.gltf", sheen)
     # An image in a bufferView that runs past its buffer (tinygltf passes such a pointer on
     # unchecked; clpt reads images only through its checked bufferView accessor).
     doc, data = glb_triangle()
