@@ -100,8 +100,7 @@ typedef struct GltfLobes {
   float alpha_c;     /* clearcoat GGX alpha */
   int coat_delta;    /* alpha_c < GGX_ALPHA_DELTA */
   float sheen_m;     /* sheen: the colour's largest component, 0 without a sheen */
-  float sheen_r;     /* sheen roughness, clamped as sheen.cl reads it */
-  float sheen_e_o;   /* the sheen lobe's uncapped albedo E at cos_o (its cap) */
+  SheenLobe sheen;   /* the sheen lobe at wo (set where sheen_m > 0) */
   float sheen_keep_o; /* 1 - m E'(cos_o): the base's share under the sheen, on wo's side */
   float irid;        /* iridescence weight k in [0, 1] */
   float irid_ior, irid_d; /* the film's index and thickness (nm) */
@@ -187,14 +186,12 @@ static inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outsid
   /* The sheen's albedo, and the share of the base beneath it. */
   const float3 sc = clamp(p->sheen_color, 0.0f, 1.0f);
   L.sheen_m = max_component(sc);
-  L.sheen_r = sheen_clamp_roughness(p->sheen_roughness);
-  L.sheen_e_o = L.sheen_keep_o = 1.0f;
+  L.sheen_keep_o = 1.0f;
   float e_s = 0.0f;
   if (L.sheen_m > 0.0f) {
-    const float e = sheen_albedo(cos_o, L.sheen_r);
-    L.sheen_e_o = sheen_albedo_raw(cos_o, L.sheen_r);
-    L.sheen_keep_o = fmax(1.0f - L.sheen_m * e, 0.0f);
-    e_s = fmax(avg3(sc) * e, L.sheen_m * GLTF_LOBE_FLOOR);
+    L.sheen = sheen_lobe(cos_o, p->sheen_roughness);
+    L.sheen_keep_o = fmax(1.0f - L.sheen_m * L.sheen.e_o.y, 0.0f);
+    e_s = fmax(avg3(sc) * L.sheen.e_o.y, L.sheen_m * GLTF_LOBE_FLOOR);
   }
   /* The base lobes are seen through the sheen and the coat: their estimates shrink by what
    * these reflect. */
@@ -289,10 +286,10 @@ static inline float3 gltf_coat_eval_up(const GltfLobes* L, float3 wo, float3 wi)
                   (4.0f * wo.z));
 }
 
-/* The base's share under the sheen for the pair: min(1 - m E'(cos_o), 1 - m E'(|cos_i|)). */
-static inline float gltf_sheen_keep(const GltfLobes* L, float cos_i) {
-  if (!(L->sheen_m > 0.0f)) return 1.0f;
-  return fmin(L->sheen_keep_o, fmax(1.0f - L->sheen_m * sheen_albedo(fabs(cos_i), L->sheen_r), 0.0f));
+/* The base's share under the sheen for the pair: min(1 - m E'(cos_o), 1 - m E'(|cos_i|)),
+ * from e_i = sheen_albedos(|cos_i|). */
+static inline float gltf_sheen_keep(const GltfLobes* L, float2 e_i) {
+  return fmin(L->sheen_keep_o, fmax(1.0f - L->sheen_m * e_i.y, 0.0f));
 }
 
 /* f |wi.z| with wo.z > 0 (mirrored): the coat, and the sheen and the base seen through it. */
@@ -300,8 +297,9 @@ static inline float3 gltf_eval_up(const BsdfParams* p, const GltfLobes* L, float
                                   int mode) {
   float3 f = gltf_eval_base_up(p, L, wo, wi, mode);
   if (L->sheen_m > 0.0f) {
-    f *= gltf_sheen_keep(L, wi.z);
-    f += clamp(p->sheen_color, 0.0f, 1.0f) * sheen_eval_cos(wo, wi, L->sheen_r, L->sheen_e_o);
+    const float2 e_i = sheen_albedos(fabs(wi.z), L->sheen.r);
+    f *= gltf_sheen_keep(L, e_i);
+    f += clamp(p->sheen_color, 0.0f, 1.0f) * sheen_eval_cos(&L->sheen, wo, wi, e_i);
   }
   if (!(L->coat > 0.0f)) return f;
   f *= gltf_clearcoat_pass(L, wo.z) * gltf_clearcoat_pass(L, fabs(wi.z));
@@ -485,7 +483,8 @@ CLPT_NOINLINE BsdfSample gltf_sample_layered(const BsdfParams* p, float3 wo_in, 
         bs.pdf_w = L.p_glass * (1.0f - p_r);
         bs.wi = gltf_flip(wi, flip);
         bs.weight = (L.w_glass / L.p_glass) * gltf_clearcoat_pass(&L, wo.z) *
-                    gltf_clearcoat_pass(&L, fabs(wi.z)) * gltf_sheen_keep(&L, wi.z) * p->base_color;
+                    gltf_clearcoat_pass(&L, fabs(wi.z)) * p->base_color;
+        if (L.sheen_m > 0.0f) bs.weight *= gltf_sheen_keep(&L, sheen_albedos(fabs(wi.z), L.sheen.r));
         if (mode == TRANSPORT_RADIANCE) bs.weight /= L.eta * L.eta;
         bs.is_delta = 1;
         return bs;

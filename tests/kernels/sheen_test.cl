@@ -2,13 +2,11 @@
  * (kernels/bsdf/sheen_table.h), read through the kernels' own functions. */
 #include "bsdf/gltf_bsdf.cl"
 
-/* (E, E') at (cos, roughness) pairs: sheen_albedo_raw and sheen_albedo after the kernel's
- * roughness clamp. */
+/* (E, E') at (cos, roughness) pairs: sheen_albedos after the kernel's roughness clamp. */
 __kernel void sheen_tables_at(__global const float2* mu_r, __global float2* out, uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;
-  const float r = sheen_clamp_roughness(mu_r[i].y);
-  out[i] = (float2)(sheen_albedo_raw(mu_r[i].x, r), sheen_albedo(mu_r[i].x, r));
+  out[i] = sheen_albedos(mu_r[i].x, sheen_clamp_roughness(mu_r[i].y));
 }
 
 /* A sheen over a black base with specular 0 (so the sheen is the whole BSDF), sampled by
