@@ -43,20 +43,12 @@ fs::path write_plane(double clearcoat, double rho) {
 TEST(Clearcoat, SmoothCoatOverLambertShowsItsClosedForm) {
   constexpr double kCoat = 0.8, kRho = 0.5;
   const fs::path file = write_plane(kCoat, kRho);
-  Scene s = load_gltf(file);
-  fs::remove_all(file.parent_path());
+  Scene s = test::load_tilted_plane(file);
   ASSERT_EQ(s.materials.size(), 1u);
   ASSERT_FLOAT_EQ(s.materials[0].clearcoat, float(kCoat));
   const float yfov = 0.5f;
-  test::add_camera_on_z(s, 2.0f, yfov);
   constexpr uint32_t kSize = 16;
-  RenderSettings rs;
-  rs.width = rs.height = kSize;
-  rs.spp = 1024;
-  rs.seed = 5;
-  rs.background = glm::vec3(1.0f);
-  Renderer r(test::device_context(), s, rs);
-  const FilmResult f = r.render().film;
+  const FilmResult f = test::render_plane_under_sky(s, yfov, kSize, 1024, 5);
   ASSERT_EQ(f.dropped_samples, 0u);
 
   const glm::dvec3 n = test::tilted_plane_normal();  // towards the camera
@@ -89,15 +81,7 @@ TEST(Clearcoat, SmoothCoatOverLambertShowsItsClosedForm) {
 // the coat's absence is exact, so a file with a zero coat renders as one without it.
 TEST(Clearcoat, ZeroCoatIsTheBase) {
   const fs::path file = write_plane(0.0, 0.5);
-  Scene s = load_gltf(file);
-  fs::remove_all(file.parent_path());
-  test::add_camera_on_z(s, 2.0f, 0.5f);
-  RenderSettings rs;
-  rs.width = rs.height = 8;
-  rs.spp = 256;
-  rs.background = glm::vec3(1.0f);
-  Renderer r(test::device_context(), s, rs);
-  const FilmResult f = r.render().film;
+  const FilmResult f = test::render_plane_under_sky(test::load_tilted_plane(file), 0.5f, 8, 256);
   double m = 0.0;
   for (float x : f.mean.rgb) m += x;
   m /= double(f.mean.rgb.size());

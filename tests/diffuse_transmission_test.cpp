@@ -35,20 +35,12 @@ TEST(DiffuseTransmission, SheetUnderAConstantSkyShowsItsClosedForm) {
         {"KHR_materials_specular", {{"specularFactor", 0.0}}}}}};
   const fs::path file = test::write_tilted_plane(
       "diffuse-transmission", material, {"KHR_materials_diffuse_transmission", "KHR_materials_specular"});
-  Scene s = load_gltf(file);
-  fs::remove_all(file.parent_path());
+  Scene s = test::load_tilted_plane(file);
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_FLOAT_EQ(s.materials[0].diffuse_transmission, float(kT));
   EXPECT_FLOAT_EQ(s.materials[0].diffuse_transmission_color.y, 0.5f);
-  test::add_camera_on_z(s, 2.0f, 0.5f);
   constexpr uint32_t kSize = 12;
-  RenderSettings rs;
-  rs.width = rs.height = kSize;
-  rs.spp = 512;
-  rs.seed = 9;
-  rs.background = glm::vec3(1.0f);
-  Renderer r(test::device_context(), s, rs);
-  const FilmResult f = r.render().film;
+  const FilmResult f = test::render_plane_under_sky(s, 0.5f, kSize, 512, 9);
   ASSERT_EQ(f.dropped_samples, 0u);
   const glm::dvec3 want = (1.0 - kT) * glm::dvec3(kRho) + kT * color;
   const Image v = variance_of_mean(f.variance, f.samples_per_pixel);

@@ -42,23 +42,15 @@ TEST(Iridescence, FilmOnAMirrorShowsItsReflectance) {
           {"iridescenceThicknessMinimum", kMin},
           {"iridescenceThicknessMaximum", kMax}}}}}};
   const fs::path file = test::write_tilted_plane("iridescence", material, {"KHR_materials_iridescence"});
-  Scene s = load_gltf(file);
-  fs::remove_all(file.parent_path());
+  Scene s = test::load_tilted_plane(file);
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_FLOAT_EQ(s.materials[0].iridescence, float(kFactor));
   EXPECT_FLOAT_EQ(s.materials[0].iridescence_ior, float(kIor));
   EXPECT_FLOAT_EQ(s.materials[0].iridescence_thickness_min, float(kMin));
   EXPECT_FLOAT_EQ(s.materials[0].iridescence_thickness_max, float(kMax));
   const float yfov = 0.5f;
-  test::add_camera_on_z(s, 2.0f, yfov);
   constexpr uint32_t kSize = 16;
-  RenderSettings rs;
-  rs.width = rs.height = kSize;
-  rs.spp = 64;
-  rs.seed = 3;
-  rs.background = glm::vec3(1.0f);
-  Renderer r(test::device_context(), s, rs);
-  const FilmResult f = r.render().film;
+  const FilmResult f = test::render_plane_under_sky(s, yfov, kSize, 64, 3);
   ASSERT_EQ(f.dropped_samples, 0u);
 
   // The reflectance at a 5 x 5 grid over each pixel's footprint (box filter: uniform jitter

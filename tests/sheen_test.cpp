@@ -171,21 +171,13 @@ TEST(Sheen, PlaneUnderAConstantSkyShowsItsAlbedo) {
          {{"sheenColorFactor", {colour.x, colour.y, colour.z}}, {"sheenRoughnessFactor", kRoughness}}},
         {"KHR_materials_specular", {{"specularFactor", 0.0}}}}}};
   const fs::path file = test::write_tilted_plane("sheen", material, {"KHR_materials_sheen", "KHR_materials_specular"});
-  Scene s = load_gltf(file);
-  fs::remove_all(file.parent_path());
+  Scene s = test::load_tilted_plane(file);
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_FLOAT_EQ(s.materials[0].sheen_color.y, 0.5f);
   EXPECT_FLOAT_EQ(s.materials[0].sheen_roughness, float(kRoughness));
   const float yfov = 0.5f;
-  test::add_camera_on_z(s, 2.0f, yfov);
   constexpr uint32_t kSize = 12;
-  RenderSettings rs;
-  rs.width = rs.height = kSize;
-  rs.spp = 256;
-  rs.seed = 5;
-  rs.background = glm::vec3(1.0f);
-  Renderer r(test::device_context(), s, rs);
-  const FilmResult f = r.render().film;
+  const FilmResult f = test::render_plane_under_sky(s, yfov, kSize, 256, 5);
   ASSERT_EQ(f.dropped_samples, 0u);
   // Expected: colour x E(mu) at each pixel centre's view cosine (E is smooth across a pixel
   // at this roughness), the sheen colour as material_resolve rounds it to 8 bits.

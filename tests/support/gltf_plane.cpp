@@ -1,5 +1,9 @@
 #include "support/gltf_plane.h"
 
+#include "scene/gltf_loader.h"
+#include "support/device.h"
+#include "support/scenes.h"
+
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -15,6 +19,23 @@ constexpr double kTilt = 55.0 * M_PI / 180.0, kHalf = 3.0;
 }
 
 glm::dvec3 tilted_plane_normal() { return {0.0, std::sin(kTilt), std::cos(kTilt)}; }
+
+Scene load_tilted_plane(const fs::path& file) {
+  Scene s = load_gltf(file);
+  fs::remove_all(file.parent_path());
+  return s;
+}
+
+FilmResult render_plane_under_sky(Scene scene, float yfov, uint32_t size, uint32_t spp, uint32_t seed) {
+  add_camera_on_z(scene, 2.0f, yfov);
+  RenderSettings rs;
+  rs.width = rs.height = size;
+  rs.spp = spp;
+  rs.seed = seed;
+  rs.background = glm::vec3(1.0f);
+  Renderer r(device_context(), scene, rs);
+  return r.render().film;
+}
 
 fs::path write_tilted_plane(const std::string& tag, const nlohmann::json& material,
                             const std::vector<std::string>& extensions) {
