@@ -85,7 +85,7 @@ const std::vector<StageMaterial>& materials() {
       StageMaterial::GlassAbsorbing, StageMaterial::GlassSheet,    StageMaterial::Specular,
       StageMaterial::NormalMap,     StageMaterial::AlphaMask,      StageMaterial::AlphaBlend,
       StageMaterial::EmissiveTexture, StageMaterial::Clearcoat,   StageMaterial::IridescentGlass,
-      StageMaterial::Translucent,   StageMaterial::Sheen,
+      StageMaterial::Translucent,   StageMaterial::Sheen,          StageMaterial::Anisotropic,
   };
   return list;
 }
@@ -137,6 +137,8 @@ std::vector<std::pair<StageMaterial, StageLight>> scenes() {
   add(StageMaterial::IridescentGlass, StageLight::AreaDown);
   // Light through the translucent object into its shadow on the floor.
   add(StageMaterial::Translucent, StageLight::AreaDown);
+  // The brushed metal's stretched highlight of the area light (its row above has AreaUp).
+  add(StageMaterial::Anisotropic, StageLight::AreaDown);
   return list;
 }
 

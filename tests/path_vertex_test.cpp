@@ -20,9 +20,9 @@ TEST(PathVertex, StoresTheBsdfAndTheSideExactly) {
   constexpr uint32_t n = 256;
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> U(0.0f, 1.0f);
-  std::vector<float> in(28 * n);
+  std::vector<float> in(32 * n);
   for (uint32_t i = 0; i < n; ++i) {
-    float* c = &in[28 * i];
+    float* c = &in[32 * i];
     for (int k = 0; k < 13; ++k) c[k] = U(rng);
     c[10] = 1.0f + 2.0f * U(rng);  // ior
     if (i % 4 == 0) c[11] = 0.0f;  // no coat
@@ -35,6 +35,8 @@ TEST(PathVertex, StoresTheBsdfAndTheSideExactly) {
     c[19] = i % 3 == 1 ? 0.0f : U(rng);    // diffuse transmission and its colour
     for (int k = 20; k < 23; ++k) c[k] = U(rng);
     for (int k = 23; k < 27; ++k) c[k] = i % 4 == 2 ? 0.0f : U(rng);  // sheen colour, roughness
+    for (int k = 27; k < 30; ++k) c[k] = 2.0f * U(rng) - 1.0f;           // anisotropy direction
+    c[30] = i % 3 == 2 ? 0.0f : U(rng);                                  // and strength
   }
   cl::Context& ctx = test::device_context();
   cl::Buffer input = cl::Buffer::from_vector(ctx, in);
@@ -45,8 +47,8 @@ TEST(PathVertex, StoresTheBsdfAndTheSideExactly) {
   k.launch(ctx, n);
   const std::vector<float> out = output.read_vector<float>(in.size());
   for (uint32_t i = 0; i < n; ++i) {
-    const float* c = &in[28 * i];
-    const float* o = &out[28 * i];
+    const float* c = &in[32 * i];
+    const float* o = &out[32 * i];
     for (int f = 0; f <= 10; ++f) EXPECT_EQ(o[f], c[f]) << "item " << i << " field " << f;
     EXPECT_EQ(o[11], 0.0f) << "item " << i << ": clearcoat " << c[11];
     EXPECT_EQ(o[12], 0.0f) << "item " << i << ": clearcoat roughness " << c[12];
@@ -55,6 +57,7 @@ TEST(PathVertex, StoresTheBsdfAndTheSideExactly) {
     EXPECT_EQ(o[15], c[14] != 0.0f ? 0.0f : 1.0f) << "item " << i << ": flipped";
     for (int f = 16; f <= 22; ++f) EXPECT_EQ(o[f], c[f]) << "item " << i << " iridescence / transmission field " << f;
     for (int f = 23; f <= 26; ++f) EXPECT_EQ(o[f], 0.0f) << "item " << i << " sheen field " << f << ": " << c[f];
+    for (int f = 27; f <= 30; ++f) EXPECT_EQ(o[f], c[f]) << "item " << i << " anisotropy field " << f;
   }
 }
 

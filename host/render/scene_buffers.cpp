@@ -45,6 +45,9 @@ dev::Material to_device(const Material& m) {
   for (int i = 0; i < 3; ++i) d.diffuse_transmission_color[i] = m.diffuse_transmission_color[i];
   d.sheen_roughness = m.sheen_roughness;
   for (int i = 0; i < 3; ++i) d.sheen_color[i] = m.sheen_color[i];
+  d.anisotropy[0] = m.anisotropy_strength;
+  d.anisotropy[1] = std::cos(m.anisotropy_rotation);
+  d.anisotropy[2] = std::sin(m.anisotropy_rotation);
   for (int i = 0; i < 3; ++i) d.specular_color[i] = m.specular_color[i];
   for (int i = 0; i < 3; ++i) d.attenuation_color[i] = m.attenuation_color[i];
   d.flags = 0u;
@@ -54,13 +57,14 @@ dev::Material to_device(const Material& m) {
   if (m.alpha_mode == Material::AlphaMode::Mask) d.flags |= dev::MATERIAL_ALPHA_MASK;
   if (m.alpha_mode == Material::AlphaMode::Blend) d.flags |= dev::MATERIAL_ALPHA_BLEND;
   if (m.volume) d.flags |= dev::MATERIAL_VOLUME;
+  if (m.anisotropy_strength > 0.0f) d.flags |= dev::MATERIAL_ANISOTROPIC;
   const TextureRef* refs[dev::TEX_SLOT_COUNT] = {
       &m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
       &m.emissive_texture,   &m.transmission_texture,       &m.specular_texture,
       &m.specular_color_texture, &m.clearcoat_texture,        &m.clearcoat_roughness_texture,
       &m.iridescence_texture,    &m.iridescence_thickness_texture,
       &m.diffuse_transmission_texture, &m.diffuse_transmission_color_texture,
-      &m.sheen_color_texture,    &m.sheen_roughness_texture};
+      &m.sheen_color_texture,    &m.sheen_roughness_texture,   &m.anisotropy_texture};
   for (int i = 0; i < dev::TEX_SLOT_COUNT; ++i) d.tex[i] = to_device(*refs[i]);
   return d;
 }

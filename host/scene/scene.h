@@ -76,12 +76,14 @@ struct Material {
   glm::vec3 diffuse_transmission_color{1.0f};
   glm::vec3 sheen_color{0.0f};        // KHR_materials_sheen: no sheen
   float sheen_roughness = 0.0f;
+  float anisotropy_strength = 0.0f;   // KHR_materials_anisotropy: isotropic
+  float anisotropy_rotation = 0.0f;   // radians, counter-clockwise from the tangent
 
   TextureRef base_color_texture, metallic_roughness_texture, normal_texture, emissive_texture,
       transmission_texture, specular_texture, specular_color_texture, clearcoat_texture,
       clearcoat_roughness_texture, iridescence_texture, iridescence_thickness_texture,
       diffuse_transmission_texture, diffuse_transmission_color_texture, sheen_color_texture,
-      sheen_roughness_texture;
+      sheen_roughness_texture, anisotropy_texture;
 };
 
 // A KHR_lights_punctual light placed by its node, in world space.

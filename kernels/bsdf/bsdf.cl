@@ -25,7 +25,8 @@ static inline void bsdf_orient(SurfaceHit* sh, float3 wo) {
   }
 }
 
-/* The shading frame at sh for wo: tangents t, b and the front-face normal n. */
+/* The shading frame at sh for wo: tangents t, b and the front-face normal n; t along the
+ * anisotropy direction when the BSDF has one, else any (make_basis). */
 typedef struct BsdfFrame {
   float3 t, b, n;
   float go; /* dot(ng, wo) with ng as stored in sh */
@@ -41,6 +42,17 @@ static inline BsdfFrame bsdf_frame(const SurfaceHit* sh, float3 wo) {
   const float3 ng_front = sign * sh->ng;
   f.n = sign * sh->ns;
   if (dot(f.n, wo) * dot(ng_front, wo) <= 0.0f) f.n = ng_front;
+  if (sh->bsdf.anisotropy > 0.0f) {
+    /* An anisotropic BSDF is oriented: x along the anisotropy direction, made orthogonal
+     * to n (which may be the geometric normal here, or the stored direction rounded). */
+    const float3 t = sh->bsdf.anisotropy_t - f.n * dot(f.n, sh->bsdf.anisotropy_t);
+    const float tl2 = dot(t, t);
+    if (tl2 > 1e-12f) {
+      f.t = t * rsqrt(tl2);
+      f.b = cross(f.n, f.t);
+      return f;
+    }
+  }
   make_basis(f.n, &f.t, &f.b);
   return f;
 }

@@ -3,7 +3,7 @@
  * struct for the whole glTF metallic-roughness model and the extensions clpt reads:
  *   KHR_materials_specular, KHR_materials_transmission, KHR_materials_ior,
  *   KHR_materials_clearcoat, KHR_materials_iridescence, KHR_materials_diffuse_transmission,
- *   KHR_materials_sheen.
+ *   KHR_materials_sheen, KHR_materials_anisotropy.
  * Device only: the host never builds one. */
 #ifndef CLPT_BSDF_BSDF_PARAMS_H
 #define CLPT_BSDF_BSDF_PARAMS_H
@@ -27,6 +27,10 @@ typedef struct BsdfParams {
   float3 sheen_color;    /* KHR_materials_sheen: sheenColorFactor x texture RGB (linear), [0, 1];
                           * 0: no sheen */
   float sheen_roughness; /* sheenRoughnessFactor x texture A */
+  float3 anisotropy_t;   /* KHR_materials_anisotropy: the direction of the wider alpha, world
+                          * space, unit, in the shading normal's tangent plane (where
+                          * anisotropy > 0); bsdf_frame takes it as the local x axis */
+  float anisotropy;      /* anisotropyStrength x texture B, [0, 1]; 0: isotropic */
 } BsdfParams;
 
 /* The clearcoat inputs are rounded to 16-bit unorm steps (1 / 65535) when resolved, so that

@@ -22,6 +22,12 @@
  * All specular lobes share alpha = roughness^2 and the height-correlated Smith G2; below
  *   GGX_ALPHA_DELTA they are Dirac deltas: eval and pdf leave them out, and sampling flags
  *   them (is_delta) with the selection probability folded into the weight.
+ *
+ * anisotropy (KHR_materials_anisotropy): with strength s > 0 those lobes (the metal's, the
+ *   plastic's coat, the glass's reflection and refraction; not the clearcoat or the sheen)
+ *   are anisotropic GGX with alpha mix(alpha, 1, s^2) along the frame's x, which bsdf_frame
+ *   turns to the anisotropy direction, and alpha across it (ggx_alpha_anisotropic); sampled
+ *   by their stretched visible normals.
  * From the back (wo.z < 0) the opaque lobes are mirrored (a double-sided or closed opaque
  *   surface looks the same from both sides); the glass sees eta = 1 / ior.
  *
@@ -86,8 +92,8 @@ typedef struct BsdfSample {
 #define GLTF_LOBE_FLOOR 0.02f
 
 typedef struct GltfLobes {
-  float alpha;
-  int delta;         /* alpha < GGX_ALPHA_DELTA */
+  float2 alpha;      /* the base's GGX alphas along the frame's x and y (equal: isotropic) */
+  int delta;         /* alpha.x < GGX_ALPHA_DELTA (x is the wider axis) */
   float eta;         /* glass: index of wi's side over wo's when refracting */
   float w_plastic;   /* (1 - metallic)(1 - transmission) */
   float w_glass;     /* (1 - metallic) transmission */
@@ -154,8 +160,8 @@ static inline float3 gltf_glass_r(const GltfLobes* L, float c) {
 /* Weights and lobe probabilities at wo, given cos_o = |wo.z| and the side of wo. */
 static inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outside) {
   GltfLobes L;
-  L.alpha = ggx_alpha(p->roughness);
-  L.delta = L.alpha < GGX_ALPHA_DELTA;
+  L.alpha = ggx_alpha_anisotropic(p->roughness, p->anisotropy);
+  L.delta = L.alpha.x < GGX_ALPHA_DELTA;
   const float ior = fmax(p->ior, 1.0f);
   L.eta = outside ? ior : 1.0f / ior;
   L.outside = outside;
@@ -248,7 +254,7 @@ static inline float3 gltf_eval_base_up(const BsdfParams* p, const GltfLobes* L, 
     if (!L->delta) {
       const float3 h = normalize(wo + wi);
       f += gltf_reflectance(p, L, dot(wo, h)) *
-           (ggx_d(h, L->alpha) * ggx_g2(wo, wi, L->alpha) / (4.0f * wo.z * wi.z));
+           (ggx_d_2(h, L->alpha) * ggx_g2_2(wo, wi, L->alpha) / (4.0f * wo.z * wi.z));
     }
     return f * wi.z;
   }
@@ -270,7 +276,7 @@ static inline float3 gltf_eval_base_up(const BsdfParams* p, const GltfLobes* L, 
     const float denom = wo_h + L->eta * wi_h;
     /* Radiance: Walter's eta_o^2 / (eta_i wi.h + eta_o wo.h)^2 = 1 / (eta wi.h + wo.h)^2;
      * importance (the adjoint) has eta_i^2 in place of eta_o^2. */
-    float k = ggx_d(h, L->alpha) * ggx_g2(wo, wi, L->alpha) * fabs(wi_h) * wo_h /
+    float k = ggx_d_2(h, L->alpha) * ggx_g2_2(wo, wi, L->alpha) * fabs(wi_h) * wo_h /
               (wo.z * denom * denom);
     if (mode == TRANSPORT_IMPORTANCE) k *= L->eta * L->eta;
     f += L->w_glass * T * k;
@@ -314,7 +320,7 @@ static inline float gltf_pdf_base_up(const GltfLobes* L, float3 wo, float3 wi) {
       const float3 h = normalize(wo + wi);
       const float wo_h = dot(wo, h);
       const float p_r = L->p_glass > 0.0f ? max_component(gltf_glass_r(L, wo_h)) : 0.0f;
-      pdf += (L->p_reflect + L->p_glass * p_r) * warp_ggx_vndf_pdf(wo, h, L->alpha) /
+      pdf += (L->p_reflect + L->p_glass * p_r) * warp_ggx_vndf_pdf_2(wo, h, L->alpha) /
              (4.0f * wo_h);
     }
     return pdf;
@@ -327,7 +333,7 @@ static inline float gltf_pdf_base_up(const GltfLobes* L, float3 wo, float3 wi) {
     const float wo_h = dot(wo, h), wi_h = dot(wi, h);
     const float p_t = 1.0f - max_component(gltf_glass_r(L, wo_h));
     const float denom = wo_h + L->eta * wi_h;
-    pdf += L->p_glass * p_t * warp_ggx_vndf_pdf(wo, h, L->alpha) * L->eta * L->eta *
+    pdf += L->p_glass * p_t * warp_ggx_vndf_pdf_2(wo, h, L->alpha) * L->eta * L->eta *
            fabs(wi_h) / (denom * denom);
   }
   return pdf;
@@ -405,7 +411,7 @@ static inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
 
 /* Whether some lobe is not a Dirac delta (NEE and MIS make sense). */
 static inline bool gltf_bsdf_has_smooth_lobe(const BsdfParams* p) {
-  if (!(ggx_alpha(p->roughness) < GGX_ALPHA_DELTA)) return true;
+  if (!(ggx_alpha_anisotropic(p->roughness, p->anisotropy).x < GGX_ALPHA_DELTA)) return true;
   if (p->clearcoat > 0.0f && !(ggx_alpha(p->clearcoat_roughness) < GGX_ALPHA_DELTA)) return true;
   if (max_component(p->sheen_color) > 0.0f) return true;
   return (1.0f - clamp(p->metallic, 0.0f, 1.0f)) * (1.0f - clamp(p->transmission, 0.0f, 1.0f)) *
@@ -466,11 +472,11 @@ CLPT_NOINLINE BsdfSample gltf_sample_layered(const BsdfParams* p, float3 wo_in, 
   } else if (u_lobe < L.p_diffuse + L.p_dtrans + L.p_reflect || !(L.p_glass > 0.0f)) {
     if (!(L.p_reflect > 0.0f)) return bs;
     if (L.delta) return gltf_mirror_sample(p, &L, wo, flip); /* the glass's share too */
-    const float3 h = warp_ggx_vndf(u, wo, L.alpha);
+    const float3 h = warp_ggx_vndf_2(u, wo, L.alpha);
     wi = 2.0f * dot(wo, h) * h - wo;
   } else {
     const float v = fmin((u_lobe - L.p_diffuse - L.p_dtrans - L.p_reflect) / L.p_glass, 0x1.fffffep-1f);
-    const float3 h = L.delta ? (float3)(0.0f, 0.0f, 1.0f) : warp_ggx_vndf(u, wo, L.alpha);
+    const float3 h = L.delta ? (float3)(0.0f, 0.0f, 1.0f) : warp_ggx_vndf_2(u, wo, L.alpha);
     const float wo_h = dot(wo, h);
     const float p_r = max_component(gltf_glass_r(&L, wo_h));
     if (v < p_r) {

@@ -57,6 +57,38 @@ static inline float3 material_normal_map(const SceneView* s, __global const Mate
   return p;
 }
 
+/* KHR_materials_anisotropy: the strength, and the direction in world space: (1, 0) or the
+ * texture's RG x 2 - 1 in the tangent frame (interpolated tangent, bitangent sign x cross(n,
+ * t), n the interpolated normal), turned counter-clockwise by anisotropyRotation. Without a
+ * usable tangent (the loader generates one from the UVs; a mesh without UVs has none) or
+ * with a zero texture direction the BSDF stays isotropic. */
+static inline void material_anisotropy(const SceneView* s, __global const Material* m,
+                                       SurfaceHit* sh) {
+  sh->bsdf.anisotropy = 0.0f;
+  sh->bsdf.anisotropy_t = (float3)(0.0f);
+  if (!(m->flags & MATERIAL_ANISOTROPIC)) return;
+  float2 d = (float2)(1.0f, 0.0f);
+  float strength = m->anisotropy[0];
+  if (m->tex[TEX_ANISOTROPY].texture >= 0) {
+    const float3 a = texture_slot_sample(s, &m->tex[TEX_ANISOTROPY], sh->uv, sh->uv1, false,
+                                         (float4)(1.0f)).xyz;
+    d = a.xy * 2.0f - 1.0f;
+    strength *= a.z;
+  }
+  const float c = m->anisotropy[1], sn = m->anisotropy[2];
+  d = (float2)(c * d.x - sn * d.y, sn * d.x + c * d.y);
+  const float3 n = sh->ns;
+  float3 t = sh->tangent.xyz - n * dot(n, sh->tangent.xyz);
+  const float tl = length(t);
+  if (!(tl > 1e-8f) || !(strength > 0.0f)) return;
+  t /= tl;
+  const float3 dir = d.x * t + d.y * (sh->tangent.w * cross(n, t));
+  const float dl = length(dir);
+  if (!(dl > 1e-6f) || !isfinite(dl)) return;
+  sh->bsdf.anisotropy = fmin(strength, 1.0f);
+  sh->bsdf.anisotropy_t = dir / dl;
+}
+
 static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
   __global const Material* m = &s->materials[sh->material];
   const float2 uv0 = sh->uv, uv1 = sh->uv1;
@@ -115,6 +147,7 @@ static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
     sh->bsdf.sheen_roughness = bsdf_unorm8(
         m->sheen_roughness * texture_slot_sample(s, &m->tex[TEX_SHEEN_ROUGHNESS], uv0, uv1, false, white).w);
   }
+  material_anisotropy(s, m, sh);
   sh->emission = material_emission_uv(s, m, uv0, uv1);
   if (m->tex[TEX_NORMAL].texture >= 0) sh->ns = material_normal_map(s, m, sh);
 }

@@ -75,7 +75,8 @@ enum TextureSlotId {
   TEX_DIFFUSE_TRANSMISSION_COLOR = 12, /* sRGB; RGB diffuseTransmissionColorFactor */
   TEX_SHEEN_COLOR = 13,       /* sRGB; RGB sheenColorFactor */
   TEX_SHEEN_ROUGHNESS = 14,   /* linear; A sheenRoughnessFactor */
-  TEX_SLOT_COUNT = 15
+  TEX_ANISOTROPY = 15,        /* linear; RG direction in tangent space (x 2 - 1), B strength */
+  TEX_SLOT_COUNT = 16
 };
 
 typedef struct TextureSlot {
@@ -89,7 +90,8 @@ enum MaterialFlags {
   MATERIAL_EMISSIVE = 2u,
   MATERIAL_ALPHA_MASK = 4u,  /* alphaMode MASK: alpha < alpha_cutoff is a hole */
   MATERIAL_ALPHA_BLEND = 8u, /* alphaMode BLEND: stochastic transparency with probability 1 - alpha */
-  MATERIAL_VOLUME = 16u      /* KHR_materials_volume attenuation inside (closed meshes) */
+  MATERIAL_VOLUME = 16u,     /* KHR_materials_volume attenuation inside (closed meshes) */
+  MATERIAL_ANISOTROPIC = 32u /* KHR_materials_anisotropy with a strength > 0 */
 };
 
 typedef struct Material {
@@ -116,6 +118,8 @@ typedef struct Material {
   float attenuation_color[4]; /* KHR_materials_volume (1,1,1), w unused */
   float diffuse_transmission_color[4]; /* diffuseTransmissionColorFactor (1,1,1), w unused */
   float sheen_color[4];       /* KHR_materials_sheen sheenColorFactor (0,0,0), w unused */
+  float anisotropy[4];        /* KHR_materials_anisotropy: anisotropyStrength (0), then cos and
+                               * sin of anisotropyRotation (1, 0), w unused */
   TextureSlot tex[TEX_SLOT_COUNT];
 } Material;
 

@@ -1,8 +1,8 @@
 /* Thin wrappers around kernels/bsdf/ for tests/bsdf_test.cpp.
- * A BSDF configuration arrives as 24 floats (tests/bsdf_test.cpp `pack`): base colour[3],
+ * A BSDF configuration arrives as 25 floats (tests/bsdf_test.cpp `pack`): base colour[3],
  * specular colour[3], metallic, roughness, specular, transmission, ior, clearcoat,
  * clearcoat roughness, iridescence, its film's ior and thickness (nm), diffuse transmission
- * and its colour[3], sheen colour[3] and roughness. Directions
+ * and its colour[3], sheen colour[3] and roughness, anisotropy strength (along local x). Directions
  * are local (+z the front-face normal) unless the kernel says world. Sample outputs:
  *   dir_pdf[i]  = (wi, pdf_w): pdf_w 0 for an absorbed sample, the discrete probability for
  *                 a delta one;
@@ -27,6 +27,8 @@ inline BsdfParams test_params(__global const float* c) {
   p.diffuse_transmission_color = (float3)(c[17], c[18], c[19]);
   p.sheen_color = (float3)(c[20], c[21], c[22]);
   p.sheen_roughness = c[23];
+  p.anisotropy_t = (float3)(1.0f, 0.0f, 0.0f); /* local frames: x is the direction */
+  p.anisotropy = c[24];
   return p;
 }
 
@@ -115,33 +117,34 @@ __kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
   out[4u * i + 3u] = (float4)(bs.wi, bsdf_pdf_w(&sh, bs.wi, wo));
 }
 
-/* The GGX visible-normal warp: h for wo with its pdf; pdf at points; invert. */
-__kernel void ggx_vndf_sample_random(float4 wo, float alpha, uint seed, __global float4* out,
+/* The GGX visible-normal warp, alpha = (along x, along y) (equal: the isotropic path): h for
+ * wo with its pdf; pdf at points; invert. */
+__kernel void ggx_vndf_sample_random(float4 wo, float2 alpha, uint seed, __global float4* out,
                                      uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;
-  const float3 h = warp_ggx_vndf(test_random_4d(seed, i).xy, wo.xyz, alpha);
-  out[i] = (float4)(h, warp_ggx_vndf_pdf(wo.xyz, h, alpha));
+  const float3 h = warp_ggx_vndf_2(test_random_4d(seed, i).xy, wo.xyz, alpha);
+  out[i] = (float4)(h, warp_ggx_vndf_pdf_2(wo.xyz, h, alpha));
 }
 
-__kernel void ggx_vndf_sample_at(float4 wo, float alpha, __global const float2* u,
+__kernel void ggx_vndf_sample_at(float4 wo, float2 alpha, __global const float2* u,
                                  __global float4* out, uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;
-  const float3 h = warp_ggx_vndf(u[i], wo.xyz, alpha);
-  out[i] = (float4)(h, warp_ggx_vndf_pdf(wo.xyz, h, alpha));
+  const float3 h = warp_ggx_vndf_2(u[i], wo.xyz, alpha);
+  out[i] = (float4)(h, warp_ggx_vndf_pdf_2(wo.xyz, h, alpha));
 }
 
-__kernel void ggx_vndf_pdf_at(float4 wo, float alpha, __global const float4* h,
+__kernel void ggx_vndf_pdf_at(float4 wo, float2 alpha, __global const float4* h,
                               __global float* out, uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;
-  out[i] = warp_ggx_vndf_pdf(wo.xyz, h[i].xyz, alpha);
+  out[i] = warp_ggx_vndf_pdf_2(wo.xyz, h[i].xyz, alpha);
 }
 
-__kernel void ggx_vndf_invert_at(float4 wo, float alpha, __global const float4* h,
+__kernel void ggx_vndf_invert_at(float4 wo, float2 alpha, __global const float4* h,
                                  __global float2* out, uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;
-  out[i] = warp_ggx_vndf_invert(wo.xyz, h[i].xyz, alpha);
+  out[i] = warp_ggx_vndf_invert_2(wo.xyz, h[i].xyz, alpha);
 }

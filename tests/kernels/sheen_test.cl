@@ -28,6 +28,8 @@ __kernel void sheen_only_samples(float cos_o, float roughness, float4 colour, ui
   p.diffuse_transmission = 0.0f;
   p.sheen_color = colour.xyz;
   p.sheen_roughness = roughness;
+  p.anisotropy_t = (float3)(0.0f);
+  p.anisotropy = 0.0f;
   const float2 u = (float2)(((float)(i % k) + 0.5f) / (float)k, ((float)(i / k) + 0.5f) / (float)k);
   const float3 wo = (float3)(sqrt(fmax(0.0f, 1.0f - cos_o * cos_o)), 0.0f, cos_o);
   const BsdfSample bs = gltf_bsdf_sample(&p, wo, u, 0.5f, TRANSPORT_RADIANCE);

@@ -85,7 +85,7 @@ void add_uv_sphere(Scene& scene, glm::vec3 c, float r, const Material& m, int se
   const uint32_t base = uint32_t(scene.positions.size());
   const uint32_t mat = uint32_t(scene.materials.size());
   scene.materials.push_back(m);
-  const bool tangents = !scene.tangents.empty() || m.normal_texture.used();
+  const bool tangents = !scene.tangents.empty() || m.normal_texture.used() || m.anisotropy_strength > 0.0f;
   if (tangents && scene.tangents.empty()) scene.tangents.assign(scene.positions.size(), glm::vec4(0.0f));
   for (int i = 0; i <= rings; ++i) {
     const float theta = kPi * float(i) / float(rings);
@@ -223,6 +223,15 @@ Material object_material(Scene& scene, StageMaterial kind) {
       m.sheen_color = glm::vec3(1.0f, 0.7f, 0.6f);
       m.sheen_roughness = 0.25f;
       break;
+    case StageMaterial::Anisotropic:
+      // Brushed metal: alpha 0.09 across the brushing, mix(0.09, 1, 0.64) = 0.67 along it,
+      // turned 0.5 rad from the sphere's tangent (along u) towards its bitangent.
+      m.base_color = glm::vec4(0.9f, 0.75f, 0.55f, 1.0f);
+      m.metallic = 1.0f;
+      m.roughness = 0.3f;
+      m.anisotropy_strength = 0.8f;
+      m.anisotropy_rotation = 0.5f;
+      break;
   }
   return m;
 }
@@ -322,6 +331,7 @@ std::string stage_material_name(StageMaterial m) {
     case StageMaterial::IridescentGlass: return "iridescent_glass";
     case StageMaterial::Translucent: return "translucent";
     case StageMaterial::Sheen: return "sheen";
+    case StageMaterial::Anisotropic: return "anisotropic";
   }
   throw std::logic_error("stage material");
 }

@@ -22,6 +22,7 @@ const char* const kSupportedExtensions[] = {
     "KHR_materials_iridescence",  // materials.cpp, kernels/bsdf/thin_film.cl
     "KHR_materials_diffuse_transmission",  // materials.cpp, kernels/bsdf/gltf_bsdf.cl
     "KHR_materials_sheen",  // materials.cpp, kernels/bsdf/sheen.cl
+    "KHR_materials_anisotropy",  // materials.cpp, material.cl, kernels/bsdf/microfacet.cl
     "KHR_texture_transform",
     "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",

@@ -409,6 +409,13 @@ void Converter::convert_materials() {
       mat.sheen_color_texture = ext_texture(*e, n, "sheenColorTexture");
       mat.sheen_roughness_texture = ext_texture(*e, n, "sheenRoughnessTexture");
     }
+    if (const tinygltf::Value* e = extension("KHR_materials_anisotropy")) {
+      const char* n = "KHR_materials_anisotropy";
+      mat.anisotropy_strength = float(std::clamp(ext_number(*e, n, "anisotropyStrength", 0.0), 0.0, 1.0));
+      // Radians, counter-clockwise from the tangent; any finite angle.
+      mat.anisotropy_rotation = float(std::remainder(ext_number(*e, n, "anisotropyRotation", 0.0), 2.0 * M_PI));
+      mat.anisotropy_texture = ext_texture(*e, n, "anisotropyTexture");
+    }
     if (const tinygltf::Value* e = extension("KHR_materials_volume")) {
       const char* n = "KHR_materials_volume";
       const double inf = std::numeric_limits<double>::infinity();

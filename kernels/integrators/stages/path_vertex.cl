@@ -41,6 +41,8 @@ static inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* s
   vstore3(sh->bsdf.diffuse_transmission_color, 0, v->diffuse_transmission_color);
   v->sheen = bsdf_unorm8_bits(sh->bsdf.sheen_color.x) | bsdf_unorm8_bits(sh->bsdf.sheen_color.y) << 8 |
              bsdf_unorm8_bits(sh->bsdf.sheen_color.z) << 16 | bsdf_unorm8_bits(sh->bsdf.sheen_roughness) << 24;
+  vstore3(sh->bsdf.anisotropy_t, 0, v->anisotropy_t);
+  v->anisotropy = sh->bsdf.anisotropy;
 }
 
 /* The subpath state stored with a vertex. */
@@ -85,6 +87,8 @@ static inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   sh.bsdf.sheen_color = (float3)((float)(v->sheen & 0xffu), (float)((v->sheen >> 8) & 0xffu),
                                  (float)((v->sheen >> 16) & 0xffu)) * (1.0f / 255.0f);
   sh.bsdf.sheen_roughness = (float)(v->sheen >> 24) * (1.0f / 255.0f);
+  sh.bsdf.anisotropy_t = vload3(0, v->anisotropy_t);
+  sh.bsdf.anisotropy = v->anisotropy;
   sh.emission = (float3)(0.0f);
   return sh;
 }

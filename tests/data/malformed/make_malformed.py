@@ -272,6 +272,12 @@ def main():
         d["meshes"][0]["primitives"][0]["material"] = 0
         d["extensionsUsed"] = ["KHR_materials_sheen"]
     variant("sheen_bad_color.gltf", sheen)
+    # An anisotropy whose rotation is not a number (materials.cpp's ext_number).
+    def anisotropy(d):
+        d["materials"] = [{"extensions": {"KHR_materials_anisotropy": {"anisotropyRotation": "north"}}}]
+        d["meshes"][0]["primitives"][0]["material"] = 0
+        d["extensionsUsed"] = ["KHR_materials_anisotropy"]
+    variant("anisotropy_bad_rotation.gltf", anisotropy)
     # An image in a bufferView that runs past its buffer (tinygltf passes such a pointer on
     # unchecked; clpt reads images only through its checked bufferView accessor).
     doc, data = glb_triangle()
