@@ -125,6 +125,10 @@ struct Parser {
                    "Pixel filter: box|tent|gaussian|blackman-harris (filter importance sampling; "
                    "lt, bdpt, vcm, mlt filter their splats) [box]")
         ->type_name("NAME");
+    app.add_option("--texture-filter", o.texture_filter,
+                   "Texture minification: trilinear (mip maps, a ray cone's footprint on camera "
+                   "paths) or bilinear (full resolution always; distant textures alias) [trilinear]")
+        ->type_name("NAME");
     app.add_option("--filter-radius", o.filter_radius,
                    "Filter radius in pixels [box 0.5, tent 1, gaussian 1.5, blackman-harris 2]")
         ->type_name("PX")
@@ -459,6 +463,7 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
   };
   one_of("--sampler", o.sampler, {"independent", "stratified", "lhs", "sobol"});
   one_of("--filter", o.filter, {"box", "tent", "gaussian", "blackman-harris"});
+  one_of("--texture-filter", o.texture_filter, {"trilinear", "bilinear"});
   for (const std::string& a : o.aovs) {
     one_of("--aov", a, {"albedo", "normal", "depth", "position", "material-id", "variance"});
     if (std::count(o.aovs.begin(), o.aovs.end(), a) > 1)

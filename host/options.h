@@ -36,6 +36,7 @@ struct Options {
   std::string sampler = "independent";
   std::string filter = "box";     // pixel reconstruction filter (camera/pixel_filter.cl)
   float filter_radius = 0.0f;     // pixels; 0: the filter's default (filter_default_radius)
+  std::string texture_filter = "trilinear";  // trilinear (mip maps, ray cones) | bilinear
   std::string direct = "mis";
   std::string mis = "power";
   uint32_t light_samples = 1;

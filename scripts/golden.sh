@@ -4,11 +4,13 @@
 # rough glass, volumes, punctual lights and textures) and records the SHA-1 of each image's
 # pixels. `check` renders the same list again and names every image whose pixels changed.
 #
-#   scripts/golden.sh record DIR [--clpt BIN] [--kernel-dir DIR]
-#   scripts/golden.sh check  DIR [--clpt BIN] [--kernel-dir DIR]
+#   scripts/golden.sh record DIR [--clpt BIN] [--kernel-dir DIR] [--extra "ARGS"]
+#   scripts/golden.sh check  DIR [--clpt BIN] [--kernel-dir DIR] [--extra "ARGS"]
 #
 # DIR holds hashes.txt (one "name sha1" line per image) and the images of the last run.
 # --kernel-dir lets a kernel change be checked without rebuilding (clpt --kernel-dir).
+# --extra adds clpt options to every render (e.g. a new feature's off switch, to show that
+# with it off the images are the old ones).
 # Shared assets (../shared beside the checkout) are skipped, with a message, where absent.
 # Exit status: 0 all identical (check) or recorded (record), 1 some image changed or failed.
 set -euo pipefail
@@ -18,11 +20,12 @@ mode="${1:-}"; dir="${2:-}"
 [[ "$mode" == record || "$mode" == check ]] && [[ -n "$dir" ]] || {
   sed -n '2,13p' "$0" >&2; exit 2; }
 shift 2
-clpt="$root/build/clpt"; kdir=()
+clpt="$root/build/clpt"; kdir=(); extra=
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --clpt) clpt="$2"; shift 2 ;;
     --kernel-dir) kdir=(--kernel-dir "$2"); shift 2 ;;
+    --extra) extra="$2"; shift 2 ;;
     *) echo "golden: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -128,7 +131,7 @@ while IFS='|' read -r name scene args; do
   fi
   out="$dir/images/$name.exr"
   # shellcheck disable=SC2086
-  if ! "$clpt" --device pocl -q "${kdir[@]}" "$scene" -o "$out" --resolution 48x36 --spp 4 $args; then
+  if ! "$clpt" --device pocl -q "${kdir[@]}" "$scene" -o "$out" --resolution 48x36 --spp 4 $args $extra; then
     echo "golden: $name: render failed"; echo "$name FAILED" >> "$new"; status=1; continue
   fi
   hash=$(oiiotool --hash "$out" | sed -n 's/.*SHA-1: *//p' | head -1)

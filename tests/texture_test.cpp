@@ -1,6 +1,9 @@
 // Textures on the device (kernels/texture/texture.cl through tests/kernels/texture_test.cl):
 // texel placement, bilinear and nearest filtering, the sRGB decode, the three wrap modes and
 // the texture slot's UV set and transform; and the loader's KHR_texture_transform matrix.
+// Mip maps: the levels host/render/mipmaps.cpp builds (sizes, means in linear light) and the
+// kernel's trilinear lookup between them (TextureLod); the footprint end to end is in
+// tests/texture_lod_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "bvh/bvh.h"
+#include "render/mipmaps.h"
 #include "render/scene_buffers.h"
 #include "scene/scene.h"
 #include "support/device.h"
@@ -227,6 +231,89 @@ TEST(Texture, SlotTransformAndTexCoord) {
     EXPECT_EQ(emissive[i].x, uvs[i].x) << i;
     EXPECT_EQ(emissive[i].y, uvs[i].y) << i;
   }
+}
+
+// The mip chain of a 5 x 3 image: 2 x 1, then 1 x 1 (3 levels); each texel the mean of the
+// texels it covers (2 or 3 per axis), sRGB images averaged in linear light: black and white
+// give sRGB 188 (linear 0.5), not 128.
+TEST(Mipmaps, LevelsAverageInLinearLight) {
+  std::vector<uint32_t> texels(15);
+  for (uint32_t j = 0; j < 3; ++j)
+    for (uint32_t i = 0; i < 5; ++i) texels[j * 5 + i] = (i + j) % 2 ? rgba(255, 255, 255, 255) : rgba(0, 99, 0, 0);
+  uint32_t levels = 0;
+  const std::vector<uint32_t> lin = build_mip_levels(texels, 5, 3, false, &levels);
+  EXPECT_EQ(levels, 3u);
+  ASSERT_EQ(lin.size(), 2u + 1u);
+  // Level 1 texel 0 covers x 0-1, y 0-2 (6 texels: 3 white); texel 1 covers x 2-4 (9: 4 white).
+  auto mean = [](double white, double n, double other) { return uint32_t(std::lround((white * 255.0 + (n - white) * other) / n)); };
+  EXPECT_EQ(lin[0] & 255u, mean(3, 6, 0));
+  EXPECT_EQ((lin[0] >> 8) & 255u, mean(3, 6, 99));
+  EXPECT_EQ(lin[0] >> 24, mean(3, 6, 0));
+  EXPECT_EQ(lin[1] & 255u, mean(4, 9, 0));
+  // Level 2: the mean of level 1's two texels.
+  EXPECT_EQ(lin[2] & 255u, uint32_t(std::lround(0.5 * ((lin[0] & 255u) + (lin[1] & 255u)))));
+  // sRGB: a 2 x 2 checker of black and white is linear 0.5, sRGB 0.7354 = 188 / 255; alpha
+  // (here 255 and 0) is averaged as it is, 128.
+  const std::vector<uint32_t> checker = {rgba(0, 0, 0, 0), rgba(255, 255, 255, 255), rgba(255, 255, 255, 255),
+                                         rgba(0, 0, 0, 0)};
+  const std::vector<uint32_t> srgb = build_mip_levels(checker, 2, 2, true, &levels);
+  EXPECT_EQ(levels, 2u);
+  ASSERT_EQ(srgb.size(), 1u);
+  EXPECT_EQ(srgb[0] & 255u, 188u);
+  EXPECT_EQ(srgb[0] >> 24, 128u);
+  // A 1 x 1 image has no levels below it; a 16384 x 1 one has 15.
+  EXPECT_TRUE(build_mip_levels({rgba(1, 2, 3)}, 1, 1, false, &levels).empty());
+  EXPECT_EQ(levels, 1u);
+  EXPECT_EQ(build_mip_levels(std::vector<uint32_t>(16384, 0u), 16384, 1, false, &levels).size(), 16383u);
+  EXPECT_EQ(levels, 15u);
+}
+
+// Only colour slots make a texture sRGB for its mip chain.
+TEST(Mipmaps, SrgbFromTheSlotsThatReadATexture) {
+  Scene scene;
+  scene.textures.resize(3);
+  Material m;
+  m.base_color_texture.texture = 0;
+  m.metallic_roughness_texture.texture = 1;
+  m.normal_texture.texture = 2;
+  m.sheen_color_texture.texture = 2;  // read by a colour slot too: sRGB
+  scene.materials.push_back(m);
+  const std::vector<bool> srgb = textures_read_as_srgb(scene);
+  EXPECT_EQ(srgb, (std::vector<bool>{true, false, true}));
+}
+
+// The kernel's levels: lambda <= 0 is the bilinear lookup of level 0 (the same value as
+// texture_sample); lambda 1 and 2 read levels 1 and 2 (uniform there: the checker's mean);
+// lambda 0.5 is halfway between level 0's bilinear value and level 1's; lambda past the
+// last level stays at the 1 x 1 level.
+TEST(TextureLod, TrilinearBetweenLevels) {
+  std::vector<uint32_t> texels(16);
+  for (uint32_t j = 0; j < 4; ++j)
+    for (uint32_t i = 0; i < 4; ++i) texels[j * 4 + i] = (i + j) % 2 ? rgba(200, 40, 0) : rgba(0, 40, 200);
+  Scene scene;
+  scene.textures.push_back(make_texture(4, 4, texels));
+  TextureScene ts(scene);
+  const glm::vec2 at(0.375f, 0.125f);  // texel (1, 0)'s centre: level 0 reads texel (1, 0) alone
+  const std::vector<glm::vec4> q = {{at, -1.0f, 0}, {at, 0.0f, 0}, {at, 1.0f, 0}, {at, 2.0f, 0},
+                                    {at, 0.5f, 0},  {at, 7.0f, 0}};
+  cl::Context& ctx = test::device_context();
+  cl::Buffer in = cl::Buffer::from_vector(ctx, q);
+  cl::Buffer out(ctx, q.size() * sizeof(glm::vec4), CL_MEM_WRITE_ONLY, nullptr, "lod lookups");
+  cl::Kernel k(texture_program(), "texture_lookup_lod");
+  const cl_uint next = ts.buffers->bind(k, 0);
+  k.args(next, int32_t(0), uint32_t(0), in, out, uint32_t(q.size()));
+  k.launch(ctx, q.size());
+  ctx.finish();
+  const std::vector<glm::vec4> got = out.read_vector<glm::vec4>(q.size());
+  const glm::vec4 l0 = unorm(texels[1]), mid = unorm(rgba(100, 40, 100));
+  EXPECT_VEC4_NEAR(got[0], l0, 1e-6f);
+  EXPECT_VEC4_NEAR(got[1], l0, 1e-6f);
+  EXPECT_VEC4_NEAR(got[2], mid, 1e-6f);
+  EXPECT_VEC4_NEAR(got[3], mid, 1e-6f);
+  EXPECT_VEC4_NEAR(got[4], 0.5f * (l0 + mid), 1e-6f);
+  EXPECT_VEC4_NEAR(got[5], mid, 1e-6f);
+  EXPECT_EQ(ts.flat.mip_texels, 4u + 1u);
+  EXPECT_EQ((ts.flat.textures[0].flags >> dev::TEXTURE_LEVELS_SHIFT) & 31u, 3u);
 }
 
 }  // namespace

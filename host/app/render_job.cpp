@@ -83,6 +83,7 @@ RenderSettings render_settings(const Options& opt) {
                     : opt.filter == "blackman-harris" ? dev::FILTER_BLACKMAN_HARRIS
                                                       : dev::FILTER_BOX;
   settings.filter_radius = opt.filter_radius > 0.0f ? opt.filter_radius : filter_default_radius(opt.filter);
+  settings.mipmaps = opt.texture_filter == "trilinear";
   for (const std::string& a : opt.aovs) settings.aovs |= aov_bit(a);
   if (opt.aov_pfm) settings.aovs |= AOV_ALBEDO | AOV_NORMAL;
   settings.direct = opt.direct == "light" ? dev::DIRECT_LIGHT

@@ -181,6 +181,7 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
   // Per triangle: the geometry's share (BVH, triangles, vertices, lights), textures apart.
   j["memory"] = {{"scene_device_bytes", st.scene_device_bytes},
                  {"texture_device_bytes", st.texture_device_bytes},
+                 {"texture_mip_bytes", st.texture_mip_bytes},
                  {"scene_device_bytes_per_triangle",
                   st.triangles ? double(st.scene_device_bytes - st.texture_device_bytes) /
                                      double(st.triangles)

@@ -81,7 +81,8 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
     loaded.background = settings_.background;
     env = &loaded;
   }
-  const FlatScene flat = flatten_scene(scene, bvh, *env);
+  const FlatScene flat = flatten_scene(scene, bvh, *env, settings_.mipmaps);
+  stats_.texture_mip_bytes = flat.mip_texels * sizeof(uint32_t);
   stats_.emitters = flat.emissive_triangles;
   stats_.lights = static_cast<uint32_t>(flat.lights.size());
   const IntegratorInfo& row = integrator_info(settings_.integrator);
@@ -117,6 +118,7 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
   // Integrators that splat apply the filter where they add (film/splat_filter.cl), the others
   // by drawing their camera samples from it (camera/pixel_filter.cl).
   params_.filter_splat = row.film == FilmKind::Splats ? 1u : 0u;
+  params_.texture_cones = settings_.mipmaps ? 1u : 0u;
   params_.direct = settings_.direct;
   params_.mis = settings_.mis;
   params_.light_samples = std::max<uint32_t>(1, settings_.light_samples);

@@ -33,6 +33,7 @@ struct RenderSettings {
   uint32_t sampler = 0;        // dev::SamplerType
   uint32_t filter = 0;         // dev::PixelFilter of camera samples
   float filter_radius = 0.5f;  // pixels
+  bool mipmaps = true;         // textures with mip chains, read with ray cones (--texture-filter)
   uint32_t aovs = 0;           // AovBits (render/aov.h): first-hit AOVs to render beside the image
   uint32_t direct = 0;         // dev::DirectStrategy
   uint32_t mis = 0;            // dev::MisHeuristic
@@ -89,7 +90,8 @@ struct RenderStats {
   size_t triangles = 0;
   uint32_t emitters = 0;         // emissive triangles
   uint32_t lights = 0;           // all lights: emissive triangles, punctual, environment
-  size_t texture_device_bytes = 0;
+  size_t texture_device_bytes = 0;  // textures with their mip levels
+  size_t texture_mip_bytes = 0;     // of those, the mip levels'
   size_t scene_device_bytes = 0;
   size_t film_device_bytes = 0;
   uint64_t connections = 0;      // bdpt: shadow rays of connection strategies

@@ -2,6 +2,8 @@
 // device buffers. The lights in them are built by render/light_table.cpp.
 #include "render/scene_buffers.h"
 
+#include "render/mipmaps.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -65,13 +67,16 @@ dev::Material to_device(const Material& m) {
       &m.iridescence_texture,    &m.iridescence_thickness_texture,
       &m.diffuse_transmission_texture, &m.diffuse_transmission_color_texture,
       &m.sheen_color_texture,    &m.sheen_roughness_texture,   &m.anisotropy_texture};
-  for (int i = 0; i < dev::TEX_SLOT_COUNT; ++i) d.tex[i] = to_device(*refs[i]);
+  for (int i = 0; i < dev::TEX_SLOT_COUNT; ++i) {
+    d.tex[i] = to_device(*refs[i]);
+    if (refs[i]->used() && i != dev::TEX_EMISSIVE) d.flags |= dev::MATERIAL_TEXTURED;
+  }
   return d;
 }
 
 }  // namespace
 
-FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& env) {
+FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& env, bool mipmaps) {
   FlatScene flat;
   flat.nodes = bvh.nodes;
   flat.bvh_depth = bvh.depth;
@@ -106,16 +111,24 @@ FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& e
     flat.materials.push_back(to_device(m));
     if (m.alpha_mode != Material::AlphaMode::Opaque) flat.info.flags |= dev::SCENE_ALPHA;
   }
-  for (const Texture& t : scene.textures) {
+  const std::vector<bool> srgb = textures_read_as_srgb(scene);
+  for (size_t i = 0; i < scene.textures.size(); ++i) {
+    const Texture& t = scene.textures[i];
     dev::Texture d{};
     d.offset = static_cast<dev::u32>(flat.texels.size());
     d.width = t.width;
     d.height = t.height;
+    uint32_t levels = 1;
+    std::vector<uint32_t> mips;
+    if (mipmaps) mips = build_mip_levels(t.texels, t.width, t.height, srgb[i], &levels);
     d.flags = static_cast<dev::u32>(t.wrap_s) |
               (static_cast<dev::u32>(t.wrap_t) << dev::TEXTURE_WRAP_T_SHIFT) |
-              (t.nearest ? static_cast<dev::u32>(dev::TEXTURE_NEAREST) : 0u);
+              (t.nearest ? static_cast<dev::u32>(dev::TEXTURE_NEAREST) : 0u) |
+              (levels << dev::TEXTURE_LEVELS_SHIFT);
     flat.textures.push_back(d);
     flat.texels.insert(flat.texels.end(), t.texels.begin(), t.texels.end());
+    flat.texels.insert(flat.texels.end(), mips.begin(), mips.end());
+    flat.mip_texels += mips.size();
   }
   const Bounds b = scene.bounds();
   const glm::vec3 c = b.empty() ? glm::vec3(0.0f) : b.center();

@@ -34,6 +34,19 @@ static inline float2 camera_film_of_direction(__constant const CameraData* cam, 
   return (float2)(dot(q, r) / dot(r, r), dot(q, u) / dot(u, u));
 }
 
+/* A pixel's ray cone (--texture-filter trilinear; the textures' footprint): a width of
+ * *width + *spread d at distance d along a camera ray, one pixel across: 2 |up| d / height for
+ * a perspective camera (|up| = tan(fov_y / 2)), 2 |up| / height throughout for an
+ * orthographic one (Akenine-Moller et al. 2019; a thin lens's aperture is left out). Both 0
+ * without cones (p->texture_cones 0). */
+static inline void camera_pixel_cone(__constant const RenderParams* p, float* width, float* spread) {
+  *width = *spread = 0.0f;
+  if (!p->texture_cones) return;
+  const float pixel = 2.0f * length(vload3(0, p->camera.up)) / (float)p->height;
+  if (p->camera.type == CAMERA_ORTHOGRAPHIC) *width = pixel;
+  else *spread = pixel;
+}
+
 /* The ray through film point `film`; `lens` in [0,1)^2 picks the point on the aperture. */
 static inline void camera_ray(__constant const CameraData* cam, float2 film, float2 lens,
                               float3* org,

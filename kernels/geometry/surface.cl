@@ -16,6 +16,8 @@ typedef struct SurfaceHit {
   float2 uv1;         /* TEXCOORD_1 (0 without) */
   float4 color;       /* COLOR_0, linear RGBA (1 without) */
   float4 tangent;     /* interpolated tangent xyz and bitangent sign w; zero: none */
+  float2 tex_lod;     /* per UV set, log2 of the texture footprint's width in UV units
+                       * (surface_texture_lod); -INFINITY: none (full resolution) */
   u32 triangle;
   u32 material;
   u32 front;          /* 1 when the ray arrived on the front (winding) side */
@@ -61,11 +63,39 @@ static inline SurfaceHit surface_at(const SceneView* s, const Hit* hit, float3 o
   sh.uv = b0 * (float2)(v0.u, v0.v) + b1 * (float2)(v1.u, v1.v) + b2 * (float2)(v2.u, v2.v);
   hit_extra(s, &t, b1, b2, &sh.uv1, &sh.color);
   sh.tangent = hit_tangent(s, &t, b1, b2);
+  sh.tex_lod = (float2)(-INFINITY);
   sh.triangle = hit->triangle;
   sh.material = t.material;
   sh.front = dot(sh.ng, dir) < 0.0f ? 1u : 0u;
   sh.flipped = 0u;
   return sh;
+}
+
+/* The texture footprint at sh of a ray cone `width` wide there (world units, across the
+ * ray of direction dir): per UV set, log2 of its width in UV units (Akenine-Moller et al.
+ * 2019, "Texture Level of Detail Strategies for Real-Time Ray Tracing", Ray Tracing Gems
+ * ch. 20). On the surface the cone's section is an ellipse 1 / |cos| longer along the
+ * slope; the level follows its area, a width of width / sqrt(|cos|). The UV scale is the
+ * triangle's, sqrt(UV area / world area); a triangle without UV area gives -INFINITY. */
+static inline float2 surface_texture_lod(const SceneView* s, const SurfaceHit* sh, float3 dir,
+                                         float width) {
+  const Triangle t = s->triangles[sh->triangle];
+  const Vertex v0 = s->vertices[t.v[0]], v1 = s->vertices[t.v[1]], v2 = s->vertices[t.v[2]];
+  const float3 p0 = vload3(0, v0.p);
+  const float world2 = length(cross(vload3(0, v1.p) - p0, vload3(0, v2.p) - p0));
+  const float cos_t = fmax(fabs(dot(sh->ng, dir)), 1e-4f);
+  if (!(world2 > 0.0f) || !(width > 0.0f)) return (float2)(-INFINITY);
+  const float base = log2(width) - 0.5f * log2(cos_t) - 0.5f * log2(world2);
+  const float2 a0 = (float2)(v1.u - v0.u, v1.v - v0.v), b0 = (float2)(v2.u - v0.u, v2.v - v0.v);
+  float2 lod;
+  lod.x = base + 0.5f * log2(fabs(a0.x * b0.y - a0.y * b0.x));
+  lod.y = -INFINITY;
+  if (scene_has_vertex_extra(s)) {
+    const float2 u0 = vload2(0, s->vertex_extra[t.v[0]].uv1);
+    const float2 a1 = vload2(0, s->vertex_extra[t.v[1]].uv1) - u0, b1 = vload2(0, s->vertex_extra[t.v[2]].uv1) - u0;
+    lod.y = base + 0.5f * log2(fabs(a1.x * b1.y - a1.y * b1.x));
+  }
+  return lod;
 }
 
 #endif

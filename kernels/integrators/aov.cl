@@ -44,7 +44,9 @@ __kernel void aov_render(SCENE_KERNEL_ARGS __constant const RenderParams* params
     const bool hit_any = intersect_closest(&scene, org, dir, INFINITY, &hit);
     if (first + i == 0u) sums.material = AOV_NO_MATERIAL;
     if (!hit_any) continue;
-    SurfaceHit sh = surface_shade(&scene, &hit, org, dir);
+    float cone_width, cone_spread;
+    camera_pixel_cone(params, &cone_width, &cone_spread);
+    SurfaceHit sh = surface_shade_cone(&scene, &hit, org, dir, cone_width + cone_spread * hit.t);
     bsdf_orient(&sh, -dir);
     ++sums.hits;
     albedo += aov_albedo(&sh.bsdf);

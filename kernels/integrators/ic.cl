@@ -30,7 +30,7 @@ __kernel void ic_place(SCENE_KERNEL_ARGS __constant const RenderParams* params, 
   float3 org, dir;
   jittered_pixel_ray(params, &sampler, x, y,
                      ic->jitter ? sample_2d(&sampler, DIM_PIXEL) : (float2)(0.5f), &org, &dir);
-  PathWalk w = walk_from_camera(org, dir, 0u, 0u);
+  PathWalk w = walk_from_camera(params, org, dir, 0u, 0u);
   float3 L = (float3)(0.0f);
   float travelled = 0.0f;
   u32 rays = 0;

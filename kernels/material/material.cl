@@ -15,7 +15,9 @@ static inline float3 material_emission_uv(const SceneView* s, __global const Mat
                                           float2 uv1) {
   if (!(m->flags & MATERIAL_EMISSIVE)) return (float3)(0.0f);
   const float3 e = vload3(0, m->emission);
-  return e * texture_slot_sample(s, &m->tex[TEX_EMISSIVE], uv0, uv1, true, (float4)(1.0f)).xyz;
+  /* Emission is read at full resolution: light sampling sees it so, and must agree. */
+  const TexPoint q = {uv0, uv1, (float2)(-INFINITY)};
+  return e * texture_slot_sample(s, &m->tex[TEX_EMISSIVE], &q, true, (float4)(1.0f)).xyz;
 }
 
 /* Emitted radiance at a point of leaf-order triangle `triangle` (front side), for lights
@@ -36,14 +38,14 @@ static inline float3 material_emission_at(const SceneView* s, u32 triangle, floa
  * usable tangent the shading normal is left as it is. The result stays on the geometric
  * normal's side. */
 static inline float3 material_normal_map(const SceneView* s, __global const Material* m,
-                                         const SurfaceHit* sh) {
+                                         const SurfaceHit* sh, const TexPoint* q) {
   const float3 n = sh->ns;
   float3 t = sh->tangent.xyz - n * dot(n, sh->tangent.xyz);
   const float tl = length(t);
   if (!(tl > 1e-8f)) return n;
   t /= tl;
   const float3 b = sh->tangent.w * cross(n, t);
-  float3 c = texture_slot_sample(s, &m->tex[TEX_NORMAL], sh->uv, sh->uv1, false, (float4)(0.5f, 0.5f, 1.0f, 1.0f)).xyz;
+  float3 c = texture_slot_sample(s, &m->tex[TEX_NORMAL], q, false, (float4)(0.5f, 0.5f, 1.0f, 1.0f)).xyz;
   c = c * 2.0f - 1.0f;
   c.xy *= m->normal_scale;
   float3 p = c.x * t + c.y * b + c.z * n;
@@ -63,14 +65,14 @@ static inline float3 material_normal_map(const SceneView* s, __global const Mate
  * usable tangent (the loader generates one from the UVs; a mesh without UVs has none) or
  * with a zero texture direction the BSDF stays isotropic. */
 static inline void material_anisotropy(const SceneView* s, __global const Material* m,
-                                       SurfaceHit* sh) {
+                                       SurfaceHit* sh, const TexPoint* q) {
   sh->bsdf.anisotropy = 0.0f;
   sh->bsdf.anisotropy_t = (float3)(0.0f);
   if (!(m->flags & MATERIAL_ANISOTROPIC)) return;
   float2 d = (float2)(1.0f, 0.0f);
   float strength = m->anisotropy[0];
   if (m->tex[TEX_ANISOTROPY].texture >= 0) {
-    const float3 a = texture_slot_sample(s, &m->tex[TEX_ANISOTROPY], sh->uv, sh->uv1, false,
+    const float3 a = texture_slot_sample(s, &m->tex[TEX_ANISOTROPY], q, false,
                                          (float4)(1.0f)).xyz;
     d = a.xy * 2.0f - 1.0f;
     strength *= a.z;
@@ -92,69 +94,81 @@ static inline void material_anisotropy(const SceneView* s, __global const Materi
 static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
   __global const Material* m = &s->materials[sh->material];
   const float2 uv0 = sh->uv, uv1 = sh->uv1;
+  const TexPoint q = {uv0, uv1, sh->tex_lod};
   const float4 white = (float4)(1.0f);
   const float4 base = vload4(0, m->base_color) * sh->color *
-                      texture_slot_sample(s, &m->tex[TEX_BASE_COLOR], uv0, uv1, true, white);
+                      texture_slot_sample(s, &m->tex[TEX_BASE_COLOR], &q, true, white);
   sh->bsdf.base_color = base.xyz;
-  const float4 mr = texture_slot_sample(s, &m->tex[TEX_METALLIC_ROUGHNESS], uv0, uv1, false, white);
+  const float4 mr = texture_slot_sample(s, &m->tex[TEX_METALLIC_ROUGHNESS], &q, false, white);
   sh->bsdf.metallic = m->metallic * mr.z;
   sh->bsdf.roughness = m->roughness * mr.y;
   sh->bsdf.transmission =
-      m->transmission * texture_slot_sample(s, &m->tex[TEX_TRANSMISSION], uv0, uv1, false, white).x;
+      m->transmission * texture_slot_sample(s, &m->tex[TEX_TRANSMISSION], &q, false, white).x;
   sh->bsdf.specular =
-      m->specular * texture_slot_sample(s, &m->tex[TEX_SPECULAR], uv0, uv1, false, white).w;
+      m->specular * texture_slot_sample(s, &m->tex[TEX_SPECULAR], &q, false, white).w;
   sh->bsdf.specular_color =
       vload3(0, m->specular_color) *
-      texture_slot_sample(s, &m->tex[TEX_SPECULAR_COLOR], uv0, uv1, true, white).xyz;
+      texture_slot_sample(s, &m->tex[TEX_SPECULAR_COLOR], &q, true, white).xyz;
   sh->bsdf.ior = m->ior;
   /* The layers' textures are read only where their factor makes them matter (most
    * materials have neither layer: their four slot look-ups would be spent for nothing). */
   sh->bsdf.clearcoat = sh->bsdf.clearcoat_roughness = 0.0f;
   if (m->clearcoat > 0.0f) {
     sh->bsdf.clearcoat = bsdf_unorm16(
-        m->clearcoat * texture_slot_sample(s, &m->tex[TEX_CLEARCOAT], uv0, uv1, false, white).x);
+        m->clearcoat * texture_slot_sample(s, &m->tex[TEX_CLEARCOAT], &q, false, white).x);
     sh->bsdf.clearcoat_roughness = bsdf_unorm16(
         m->clearcoat_roughness *
-        texture_slot_sample(s, &m->tex[TEX_CLEARCOAT_ROUGHNESS], uv0, uv1, false, white).y);
+        texture_slot_sample(s, &m->tex[TEX_CLEARCOAT_ROUGHNESS], &q, false, white).y);
   }
   sh->bsdf.iridescence = 0.0f;
   sh->bsdf.iridescence_ior = m->iridescence_ior;
   sh->bsdf.iridescence_thickness = m->iridescence_thickness_max;
   if (m->iridescence > 0.0f) {
     sh->bsdf.iridescence =
-        m->iridescence * texture_slot_sample(s, &m->tex[TEX_IRIDESCENCE], uv0, uv1, false, white).x;
+        m->iridescence * texture_slot_sample(s, &m->tex[TEX_IRIDESCENCE], &q, false, white).x;
     /* Without a thickness texture G reads 1: the maximum, as the extension says. */
     sh->bsdf.iridescence_thickness =
         mix(m->iridescence_thickness_min, m->iridescence_thickness_max,
-            texture_slot_sample(s, &m->tex[TEX_IRIDESCENCE_THICKNESS], uv0, uv1, false, white).y);
+            texture_slot_sample(s, &m->tex[TEX_IRIDESCENCE_THICKNESS], &q, false, white).y);
   }
   sh->bsdf.diffuse_transmission = 0.0f;
   sh->bsdf.diffuse_transmission_color = vload3(0, m->diffuse_transmission_color);
   if (m->diffuse_transmission > 0.0f) {
     sh->bsdf.diffuse_transmission =
         m->diffuse_transmission *
-        texture_slot_sample(s, &m->tex[TEX_DIFFUSE_TRANSMISSION], uv0, uv1, false, white).w;
+        texture_slot_sample(s, &m->tex[TEX_DIFFUSE_TRANSMISSION], &q, false, white).w;
     sh->bsdf.diffuse_transmission_color *=
-        texture_slot_sample(s, &m->tex[TEX_DIFFUSE_TRANSMISSION_COLOR], uv0, uv1, true, white).xyz;
+        texture_slot_sample(s, &m->tex[TEX_DIFFUSE_TRANSMISSION_COLOR], &q, true, white).xyz;
   }
   /* The sheen is rounded to 8-bit steps (bsdf_unorm8: what a PathVertex stores). */
   sh->bsdf.sheen_color = (float3)(0.0f);
   sh->bsdf.sheen_roughness = 0.0f;
   if (max_component(vload3(0, m->sheen_color)) > 0.0f) {
     const float3 c = vload3(0, m->sheen_color) *
-                     texture_slot_sample(s, &m->tex[TEX_SHEEN_COLOR], uv0, uv1, true, white).xyz;
+                     texture_slot_sample(s, &m->tex[TEX_SHEEN_COLOR], &q, true, white).xyz;
     sh->bsdf.sheen_color = (float3)(bsdf_unorm8(c.x), bsdf_unorm8(c.y), bsdf_unorm8(c.z));
     sh->bsdf.sheen_roughness = bsdf_unorm8(
-        m->sheen_roughness * texture_slot_sample(s, &m->tex[TEX_SHEEN_ROUGHNESS], uv0, uv1, false, white).w);
+        m->sheen_roughness * texture_slot_sample(s, &m->tex[TEX_SHEEN_ROUGHNESS], &q, false, white).w);
   }
-  material_anisotropy(s, m, sh);
+  material_anisotropy(s, m, sh, &q);
   sh->emission = material_emission_uv(s, m, uv0, uv1);
-  if (m->tex[TEX_NORMAL].texture >= 0) sh->ns = material_normal_map(s, m, sh);
+  if (m->tex[TEX_NORMAL].texture >= 0) sh->ns = material_normal_map(s, m, sh, &q);
 }
 
 /* The hit's surface with its material resolved: what integrators shade with. */
 static inline SurfaceHit surface_shade(const SceneView* s, const Hit* hit, float3 org, float3 dir) {
   SurfaceHit sh = surface_at(s, hit, org, dir);
+  material_resolve(s, &sh);
+  return sh;
+}
+
+/* The same, its textures read over the footprint of a ray cone `cone_width` wide at the hit
+ * (0: none, full resolution; surface_texture_lod). */
+static inline SurfaceHit surface_shade_cone(const SceneView* s, const Hit* hit, float3 org, float3 dir,
+                                            float cone_width) {
+  SurfaceHit sh = surface_at(s, hit, org, dir);
+  if (cone_width > 0.0f && (s->materials[sh.material].flags & MATERIAL_TEXTURED))
+    sh.tex_lod = surface_texture_lod(s, &sh, dir, cone_width);
   material_resolve(s, &sh);
   return sh;
 }

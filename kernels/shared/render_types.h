@@ -71,7 +71,8 @@ typedef struct RenderParams {
                          * that splat: camera samples jitter in their pixel and every
                          * contribution is spread over the pixels whose filters reach it);
                          * 0: camera samples are drawn from it (filter importance sampling) */
-  u32 pad;
+  u32 texture_cones;    /* 1: camera walks carry a ray cone whose footprint picks the textures'
+                         * mip level (--texture-filter trilinear); 0: level 0 everywhere */
 } RenderParams;
 
 CLPT_END_SHARED

@@ -46,7 +46,10 @@ typedef struct VertexExtra {
 enum TextureFlags {
   TEXTURE_WRAP_S_MASK = 3u, /* bits 0-1: TextureWrap for u */
   TEXTURE_WRAP_T_SHIFT = 2u, /* bits 2-3: TextureWrap for v */
-  TEXTURE_NEAREST = 16u      /* magnification filter NEAREST (default: bilinear) */
+  TEXTURE_NEAREST = 16u,     /* magnification filter NEAREST (default: bilinear) */
+  TEXTURE_LEVELS_SHIFT = 8u  /* bits 8-12: mip levels, level 0 included (1: none); level k + 1
+                              * is max(1, w / 2) x max(1, h / 2) of level k's w x h, its texels
+                              * right after level k's (host/render/mipmaps.h) */
 };
 enum TextureWrap { WRAP_REPEAT = 0u, WRAP_CLAMP = 1u, WRAP_MIRROR = 2u };
 
@@ -91,7 +94,9 @@ enum MaterialFlags {
   MATERIAL_ALPHA_MASK = 4u,  /* alphaMode MASK: alpha < alpha_cutoff is a hole */
   MATERIAL_ALPHA_BLEND = 8u, /* alphaMode BLEND: stochastic transparency with probability 1 - alpha */
   MATERIAL_VOLUME = 16u,     /* KHR_materials_volume attenuation inside (closed meshes) */
-  MATERIAL_ANISOTROPIC = 32u /* KHR_materials_anisotropy with a strength > 0 */
+  MATERIAL_ANISOTROPIC = 32u, /* KHR_materials_anisotropy with a strength > 0 */
+  MATERIAL_TEXTURED = 64u     /* a slot other than the emissive one has a texture (the
+                               * footprint of a lookup matters) */
 };
 
 typedef struct Material {

@@ -3,8 +3,15 @@
  *
  * Conventions: a texture is width x height RGBA8 texels, row 0 at the top; texel (i, j) has
  * its centre at uv = ((i + 0.5) / width, (j + 0.5) / height), so u = 0 is the left edge and
- * v = 0 the top edge (glTF). No mipmaps: minification is point sampling of the bilinear
- * filter, and the path tracer's pixel jitter averages it. */
+ * v = 0 the top edge (glTF).
+ *
+ * Minification: a texture carries its mip levels (TEXTURE_LEVELS_SHIFT; host/render/
+ * mipmaps.h). A lookup with a footprint (TexPoint.lod: log2 of the footprint's width in UV
+ * units, per UV set) reads level lambda = lod + log2(sqrt(w h |det M|)) (M the slot's
+ * KHR_texture_transform), trilinear between the two nearest levels; without one (lod
+ * -INFINITY: light paths, paths after a rough bounce, --texture-filter bilinear) or where
+ * lambda <= 0 it is the bilinear lookup of level 0, the same operations as with no mip
+ * levels at all. */
 #ifndef CLPT_TEXTURE_TEXTURE_CL
 #define CLPT_TEXTURE_TEXTURE_CL
 
@@ -106,34 +113,72 @@ static inline float texture_reduce(float x, u32 mode) {
   return x - period * floor(x / period);
 }
 
-/* One texel as RGBA in [0, 1]; `srgb` decodes RGB from sRGB to linear (alpha is linear). */
-static inline float4 texel_load(const SceneView* s, __global const Texture* t, int x, int y,
-                                bool srgb) {
-  const u32 c = s->texels[t->offset + (u32)y * t->width + (u32)x];
+/* One texel of the level starting at texel `offset` with rows `width` wide, as RGBA in
+ * [0, 1]; `srgb` decodes RGB from sRGB to linear (alpha is linear). */
+static inline float4 texel_load(const SceneView* s, u32 offset, u32 width, int x, int y, bool srgb) {
+  const u32 c = s->texels[offset + (u32)y * width + (u32)x];
   const u32 r = c & 255u, g = (c >> 8) & 255u, b = (c >> 16) & 255u, a = c >> 24;
   if (srgb) return (float4)(SRGB_TO_LINEAR[r], SRGB_TO_LINEAR[g], SRGB_TO_LINEAR[b], (float)a / 255.0f);
   return (float4)((float)r, (float)g, (float)b, (float)a) / 255.0f;
 }
 
-/* Texture `index` at uv: bilinear between the four nearest texel centres (decoded first, so
- * sRGB textures are filtered in linear space), or the nearest texel with TEXTURE_NEAREST. */
-static inline float4 texture_sample(const SceneView* s, int index, float2 uv, bool srgb) {
-  __global const Texture* t = &s->textures[index];
-  const int w = (int)t->width, h = (int)t->height;
+/* One level (first texel `offset`, w x h) of texture t at uv: bilinear between the four
+ * nearest texel centres (decoded first, so sRGB textures are filtered in linear space), or
+ * the nearest texel when `nearest`. */
+static inline float4 texture_level_sample(const SceneView* s, __global const Texture* t, u32 offset,
+                                          int w, int h, float2 uv, bool srgb, bool nearest) {
   const u32 ws = t->flags & TEXTURE_WRAP_S_MASK, wt = (t->flags >> TEXTURE_WRAP_T_SHIFT) & 3u;
   const float x = texture_reduce(uv.x, ws) * (float)w, y = texture_reduce(uv.y, wt) * (float)h;
-  if (t->flags & TEXTURE_NEAREST) {
+  if (nearest) {
     const int i = texture_wrap((int)floor(x), w, ws), j = texture_wrap((int)floor(y), h, wt);
-    return texel_load(s, t, i, j, srgb);
+    return texel_load(s, offset, (u32)w, i, j, srgb);
   }
   const float fx = x - 0.5f, fy = y - 0.5f;
   const float x0 = floor(fx), y0 = floor(fy);
   const float ax = fx - x0, ay = fy - y0;
   const int i0 = texture_wrap((int)x0, w, ws), i1 = texture_wrap((int)x0 + 1, w, ws);
   const int j0 = texture_wrap((int)y0, h, wt), j1 = texture_wrap((int)y0 + 1, h, wt);
-  const float4 top = mix(texel_load(s, t, i0, j0, srgb), texel_load(s, t, i1, j0, srgb), ax);
-  const float4 bottom = mix(texel_load(s, t, i0, j1, srgb), texel_load(s, t, i1, j1, srgb), ax);
+  const float4 top = mix(texel_load(s, offset, (u32)w, i0, j0, srgb), texel_load(s, offset, (u32)w, i1, j0, srgb), ax);
+  const float4 bottom =
+      mix(texel_load(s, offset, (u32)w, i0, j1, srgb), texel_load(s, offset, (u32)w, i1, j1, srgb), ax);
   return mix(top, bottom, ay);
+}
+
+/* Texture `index` at uv, level 0: bilinear, or the nearest texel with TEXTURE_NEAREST. */
+static inline float4 texture_sample(const SceneView* s, int index, float2 uv, bool srgb) {
+  __global const Texture* t = &s->textures[index];
+  return texture_level_sample(s, t, t->offset, (int)t->width, (int)t->height, uv, srgb,
+                              (t->flags & TEXTURE_NEAREST) != 0u);
+}
+
+static inline u32 texture_levels(__global const Texture* t) {
+  return (t->flags >> TEXTURE_LEVELS_SHIFT) & 31u;
+}
+
+/* Texture `index` at uv with mip level `lambda` (fractional): level 0 where lambda <= 0 or
+ * the texture has no levels (texture_sample), else trilinear between levels floor(lambda)
+ * and the next, bilinear within each (TEXTURE_NEAREST is a magnification filter: it does
+ * not apply here), clamped at the 1 x 1 level. */
+static inline float4 texture_sample_lod(const SceneView* s, int index, float2 uv, bool srgb,
+                                        float lambda) {
+  __global const Texture* t = &s->textures[index];
+  const u32 levels = texture_levels(t);
+  if (!(lambda > 0.0f) || levels <= 1u) return texture_sample(s, index, uv, srgb);
+  lambda = fmin(lambda, (float)(levels - 1u));
+  const int k = (int)floor(lambda);
+  const float f = lambda - (float)k;
+  u32 offset = t->offset;
+  int w = (int)t->width, h = (int)t->height;
+  for (int i = 0; i < k; ++i) {
+    offset += (u32)w * (u32)h;
+    w = max(1, w >> 1);
+    h = max(1, h >> 1);
+  }
+  const float4 a = texture_level_sample(s, t, offset, w, h, uv, srgb, false);
+  if (!(f > 0.0f)) return a;
+  const u32 next = offset + (u32)w * (u32)h;
+  const float4 b = texture_level_sample(s, t, next, max(1, w >> 1), max(1, h >> 1), uv, srgb, false);
+  return mix(a, b, f);
 }
 
 /* The UV a texture slot reads: its UV set, then its KHR_texture_transform matrix. */
@@ -143,12 +188,25 @@ static inline float2 texture_slot_uv(__global const TextureSlot* slot, float2 uv
                   slot->m[3] * uv.x + slot->m[4] * uv.y + slot->m[5]);
 }
 
+/* Where a material's textures are read: both UV sets, and per set the footprint's width in
+ * UV units as log2 (-INFINITY: none, level 0). */
+typedef struct TexPoint {
+  float2 uv0, uv1;
+  float2 lod;
+} TexPoint;
+
 /* A material's texture in one slot, or `fallback` when the slot has no texture. */
 static inline float4 texture_slot_sample(const SceneView* s, __global const TextureSlot* slot,
-                                         float2 uv0,
-                                         float2 uv1, bool srgb, float4 fallback) {
+                                         const TexPoint* q, bool srgb, float4 fallback) {
   if (slot->texture < 0) return fallback;
-  return texture_sample(s, slot->texture, texture_slot_uv(slot, uv0, uv1), srgb);
+  const float2 uv = texture_slot_uv(slot, q->uv0, q->uv1);
+  const float lod = slot->texcoord == 1u ? q->lod.y : q->lod.x;
+  if (!(lod > -INFINITY)) return texture_sample(s, slot->texture, uv, srgb);
+  /* The slot's texels per UV unit: sqrt(w h |det M|), M the transform's linear part. */
+  __global const Texture* t = &s->textures[slot->texture];
+  const float det = fabs(slot->m[0] * slot->m[4] - slot->m[1] * slot->m[3]);
+  const float lambda = lod + 0.5f * log2((float)t->width * (float)t->height * det);
+  return texture_sample_lod(s, slot->texture, uv, srgb, lambda);
 }
 
 #endif

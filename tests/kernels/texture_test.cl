@@ -13,6 +13,15 @@ __kernel void texture_lookup(SCENE_KERNEL_ARGS int texture, u32 srgb, __global c
   out[i] = texture_sample(&s, texture, uv[i], srgb != 0u);
 }
 
+/* out[i] = texture_sample_lod(texture, uv[i].xy, level uv[i].z) (srgb: decoded). */
+__kernel void texture_lookup_lod(SCENE_KERNEL_ARGS int texture, u32 srgb, __global const float4* uv,
+                                 __global float4* out, u32 n) {
+  const u32 i = get_global_id(0);
+  if (i >= n) return;
+  const SceneView s = SCENE_VIEW();
+  out[i] = texture_sample_lod(&s, texture, uv[i].xy, srgb != 0u, uv[i].z);
+}
+
 /* out[i] = srgb_to_linear(in[i]) (the formula; the table is read through texture_lookup). */
 __kernel void srgb_formula(__global const float* in, __global float* out, u32 n) {
   const u32 i = get_global_id(0);

@@ -14,14 +14,15 @@
 #include "integrators/stages/direct_light.cl"
 #include "integrators/stages/walk.cl"
 
-/* Continues a path from vertex `sh` (normals oriented to wo, at bounce `depth`, with the
- * throughput up to it folded out: the result is to be multiplied by the caller's beta).
+/* Continues a path from vertex `sh` (normals oriented to wo, at bounce `depth`, reached
+ * with the ray cone `cone`, with the throughput up to it folded out: the result is to be
+ * multiplied by the caller's beta).
  * Returns the radiance it gathers from bounce depth+1 on. */
 static inline float3 pt_continue(__constant const RenderParams* p, const SceneView* s,
                                  const Sampler* sampler, const SurfaceHit* sh, float3 wo, u32 depth,
-                                 u32 stream, u32* rays) {
+                                 float2 cone, u32 stream, u32* rays) {
   float3 L = (float3)(0.0f);
-  PathWalk w = walk_at_vertex(sh, wo, depth, stream);
+  PathWalk w = walk_at_vertex(sh, wo, depth, cone, stream);
   for (;;) {
     const BsdfSample bs = camera_scatter_sample(p, s, &w.sh, w.wo,
                                                 sample_2d(sampler, walk_dim(&w, DIM_BSDF_DIR)),
@@ -41,7 +42,7 @@ static inline float3 pt_continue(__constant const RenderParams* p, const SceneVi
 
 static inline float3 pt_radiance(const SceneView* s, __constant const RenderParams* p,
                                  const Sampler* sampler, float3 org, float3 dir, u32* rays) {
-  PathWalk w = walk_from_camera(org, dir, 0u, 0u);
+  PathWalk w = walk_from_camera(p, org, dir, 0u, 0u);
   /* Emission seen by the camera ray, surface or environment, has only one technique: no
    * weight. */
   if (!walk_next(s, &w, rays)) return env_radiance(s, dir);
@@ -51,7 +52,8 @@ static inline float3 pt_radiance(const SceneView* s, __constant const RenderPara
   const u32 k = max(p->branching, 1u);
   float3 indirect = (float3)(0.0f);
   for (u32 b = 0; b < k; ++b)
-    indirect += pt_continue(p, s, sampler, &w.sh, w.wo, 0u, b * DIM_STREAMS_PER_BRANCH, rays);
+    indirect += pt_continue(p, s, sampler, &w.sh, w.wo, 0u, (float2)(w.cone_width, w.cone_spread),
+                            b * DIM_STREAMS_PER_BRANCH, rays);
   return L + indirect / (float)k;
 }
 

@@ -53,7 +53,8 @@ static inline float3 ic_indirect_at(__constant const RenderParams* p, const Scen
   if (w->depth >= p->max_depth) return (float3)(0.0f);
   return nee_direct(p, s, sampler, &w->sh, w->wo, offset_ray_origin(w->sh.p, w->sh.ng), w->depth,
                     w->stream, rays) +
-         pt_continue(p, s, sampler, &w->sh, w->wo, w->depth, w->stream, rays);
+         pt_continue(p, s, sampler, &w->sh, w->wo, w->depth, (float2)(w->cone_width, w->cone_spread),
+                     w->stream, rays);
 }
 
 /* The pixel footprint at the end of a camera path `travelled` long. */
@@ -66,7 +67,7 @@ static inline float3 ic_radiance(__constant const RenderParams* p, const SceneVi
                                  const IcCache* cache, const Sampler* sampler, float3 org,
                                  float3 dir,
                                  u32* rays, IcCounts* counts) {
-  PathWalk w = walk_from_camera(org, dir, 0u, 0u);
+  PathWalk w = walk_from_camera(p, org, dir, 0u, 0u);
   float3 L = (float3)(0.0f);
   float travelled = 0.0f;
   if (!ic_first_vertex(p, s, sampler, &w, &L, &travelled, rays)) return L;

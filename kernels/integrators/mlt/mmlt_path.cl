@@ -76,7 +76,7 @@ static inline float3 mmlt_camera_strategy(__constant const RenderParams* p, cons
   float3 org, dir;
   *pixel = film_sample_ray(p, sampler, &org, &dir, raster);
   SubpathState st = bdpt_camera_start(p, dir);
-  PathWalk w = walk_from_camera(org, dir, 0u, 0u);
+  PathWalk w = walk_from_camera(p, org, dir, 0u, 0u);
   w.roulette = WALK_RR_NONE;
   const u32 last = t_count - 1u; /* the index of the camera subpath's last vertex */
   float3 L = (float3)(0.0f);

@@ -66,6 +66,7 @@ static inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   sh.uv1 = (float2)(0.0f);
   sh.color = (float4)(1.0f);
   sh.tangent = (float4)(0.0f);
+  sh.tex_lod = (float2)(-INFINITY);
   sh.triangle = 0u;
   sh.material = v->material & 0x7fffffffu;
   sh.front = v->material >> 31;

@@ -1,6 +1,7 @@
 /* The random walk: the one loop every integrator that follows a path runs, camera side
  * (radiance) or light side (importance), with the rules written once:
- *   trace    walk_next: closest hit; the medium's transmittance; shade; normals to wo;
+ *   trace    walk_next: closest hit; the medium's transmittance; shade (textures over the
+ *            walk's ray cone, camera side); normals to wo;
  *   scatter  walk_scatter: a BSDF sample taken with the walk's dimensions, its weight (times
  *            Veach's shading correction on the light side), Russian roulette, the next ray's
  *            offset origin and the medium it enters.
@@ -39,6 +40,7 @@
 
 #include "bsdf/bsdf.cl"
 #include "bvh/intersect.cl"
+#include "camera/camera.cl"
 #include "core/ray.cl"
 #include "integrators/stages/russian_roulette.cl"
 #include "integrators/stages/shading_correction.cl"
@@ -69,6 +71,8 @@ typedef struct PathWalk {
   u32 stream;       /* the dimension stream */
   u32 mode;         /* TRANSPORT_RADIANCE (camera side) or TRANSPORT_IMPORTANCE (light side) */
   u32 roulette;     /* WALK_RR_PATH, WALK_RR_ALBEDO or WALK_RR_NONE */
+  float cone_width;  /* the ray cone (textures' footprint): its width at the ray's origin, */
+  float cone_spread; /* and its growth per unit of distance; both 0: no cone */
 } PathWalk;
 
 /* A walk whose next ray is org, dir, towards its vertex of bounce `depth`, in `medium`. */
@@ -87,13 +91,19 @@ static inline PathWalk walk_from_ray(float3 from, float3 org, float3 dir, float3
   w.stream = stream;
   w.mode = mode;
   w.roulette = roulette;
+  w.cone_width = 0.0f;
+  w.cone_spread = 0.0f;
   return w;
 }
 
-/* A camera-side walk from a camera ray (its first hit is bounce `depth`, 0 for a pixel). */
-static inline PathWalk walk_from_camera(float3 org, float3 dir, u32 depth, u32 stream) {
-  return walk_from_ray(org, org, dir, (float3)(1.0f), MEDIUM_NONE, depth, stream,
-                       TRANSPORT_RADIANCE, WALK_RR_PATH);
+/* A camera-side walk from a camera ray (its first hit is bounce `depth`, 0 for a pixel),
+ * with a pixel's ray cone (camera_pixel_cone). */
+static inline PathWalk walk_from_camera(__constant const RenderParams* p, float3 org, float3 dir,
+                                        u32 depth, u32 stream) {
+  PathWalk w = walk_from_ray(org, org, dir, (float3)(1.0f), MEDIUM_NONE, depth, stream,
+                             TRANSPORT_RADIANCE, WALK_RR_PATH);
+  camera_pixel_cone(p, &w.cone_width, &w.cone_spread);
+  return w;
 }
 
 /* A light-side walk from a ray emitted at `from` (its first hit is bounce 1) carrying beta. */
@@ -103,13 +113,17 @@ static inline PathWalk walk_from_light(float3 from, float3 org, float3 dir, floa
                        roulette);
 }
 
-/* A camera-side walk standing at vertex sh (normals oriented to wo, bounce depth), to be
- * scattered first: pt's continuation from its first hit, one per branch. */
-static inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth, u32 stream) {
+/* A camera-side walk standing at vertex sh (normals oriented to wo, bounce depth) with the
+ * ray cone `cone` (width there, spread) of the walk that reached it, to be scattered first:
+ * pt's continuation from its first hit, one per branch. */
+static inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth, float2 cone,
+                                      u32 stream) {
   PathWalk w = walk_from_ray(sh->p, sh->p, -wo, (float3)(1.0f), MEDIUM_NONE, depth, stream,
                              TRANSPORT_RADIANCE, WALK_RR_PATH);
   w.sh = *sh;
   w.wo = wo;
+  w.cone_width = cone.x;
+  w.cone_spread = cone.y;
   return w;
 }
 
@@ -128,7 +142,8 @@ CLPT_INLINE bool walk_next(const SceneView* s, PathWalk* w, u32* rays) {
     w->beta *= tr;
     w->rr_weight *= tr;
   }
-  w->sh = surface_shade(s, &w->hit, w->org, w->dir);
+  w->cone_width += w->cone_spread * w->hit.t;
+  w->sh = surface_shade_cone(s, &w->hit, w->org, w->dir, w->cone_width);
   w->wo = -w->dir;
   bsdf_orient(&w->sh, w->wo);
   return true;
@@ -164,6 +179,9 @@ CLPT_INLINE int walk_scatter(__constant const RenderParams* p, const SceneView* 
   }
   w->pdf_w = bs->pdf_w;
   w->delta = bs->is_delta;
+  /* The cone goes on through a mirror or a refraction (their curvature left out); after a
+   * rough bounce the footprint is the BSDF's, not a pixel's: full resolution from there. */
+  if (!bs->is_delta) w->cone_width = w->cone_spread = 0.0f;
   w->medium = volume_medium(s, &w->sh, bs->wi);
   w->from = w->sh.p;
   w->org = offset_ray_origin_towards(w->sh.p, w->sh.ng, bs->wi); /* transmission goes through */

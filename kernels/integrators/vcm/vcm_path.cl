@@ -148,7 +148,7 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
   /* ppm sees emitters only through delta vertices (else merging found that light); on such
    * a path dVCM and dVC are 0, so bdpt's emitter weights are 1 there. */
   bool specular = true;
-  PathWalk w = walk_from_camera(org, dir, 0u, 0u);
+  PathWalk w = walk_from_camera(p, org, dir, 0u, 0u);
   for (;;) {
     const u32 k = w.depth + 1u;
     if (!walk_next(s, &w, rays)) {

@@ -149,7 +149,7 @@ static inline float3 bdpt_camera_path(__constant const RenderParams* p,
   SubpathState st = bdpt_camera_start(p, dir);
   const StrategyMis mis = mis_bdpt(b);
   float3 L = (float3)(0.0f);
-  PathWalk w = walk_from_camera(org, dir, 0u, 0u);
+  PathWalk w = walk_from_camera(p, org, dir, 0u, 0u);
   for (;;) {
     const u32 k = w.depth + 1u; /* the vertex's index on the camera subpath */
     if (!walk_next(s, &w, rays)) {

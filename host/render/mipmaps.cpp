@@ -1,0 +1,91 @@
+#include "render/mipmaps.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace clpt {
+
+namespace {
+
+// The sRGB transfer function (IEC 61966-2-1) and its inverse, as kernels/texture/texture.cl.
+const std::array<float, 256>& srgb_table() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) {
+      const double c = i / 255.0;
+      t[size_t(i)] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+    }
+    return t;
+  }();
+  return table;
+}
+
+uint32_t encode(double linear, bool srgb) {
+  double c = std::clamp(linear, 0.0, 1.0);
+  if (srgb) c = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+  return uint32_t(std::lround(std::clamp(c, 0.0, 1.0) * 255.0));
+}
+
+// Level k + 1 from level k (w x h), averaged in linear values.
+std::vector<uint32_t> halve(const std::vector<uint32_t>& src, uint32_t w, uint32_t h, bool srgb) {
+  const uint32_t w2 = std::max(1u, w / 2), h2 = std::max(1u, h / 2);
+  const std::array<float, 256>& lut = srgb_table();
+  std::vector<uint32_t> out(size_t(w2) * h2);
+  for (uint32_t j = 0; j < h2; ++j) {
+    const uint32_t y0 = uint32_t(uint64_t(j) * h / h2), y1 = uint32_t(uint64_t(j + 1) * h / h2);
+    for (uint32_t i = 0; i < w2; ++i) {
+      const uint32_t x0 = uint32_t(uint64_t(i) * w / w2), x1 = uint32_t(uint64_t(i + 1) * w / w2);
+      double sum[4] = {0.0, 0.0, 0.0, 0.0};
+      for (uint32_t y = y0; y < y1; ++y)
+        for (uint32_t x = x0; x < x1; ++x) {
+          const uint32_t c = src[size_t(y) * w + x];
+          for (int k = 0; k < 3; ++k) {
+            const uint32_t v = (c >> (8 * k)) & 255u;
+            sum[k] += srgb ? double(lut[v]) : v / 255.0;
+          }
+          sum[3] += (c >> 24) / 255.0;
+        }
+      const double n = double(x1 - x0) * double(y1 - y0);
+      out[size_t(j) * w2 + i] = encode(sum[0] / n, srgb) | encode(sum[1] / n, srgb) << 8 |
+                                encode(sum[2] / n, srgb) << 16 | encode(sum[3] / n, false) << 24;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<uint32_t> build_mip_levels(const std::vector<uint32_t>& texels, uint32_t width, uint32_t height,
+                                       bool srgb, uint32_t* levels) {
+  std::vector<uint32_t> all;
+  *levels = 1;
+  if (width == 0 || height == 0 || texels.size() != size_t(width) * height) return all;
+  std::vector<uint32_t> level = texels;
+  uint32_t w = width, h = height;
+  while (w > 1 || h > 1) {
+    level = halve(level, w, h, srgb);
+    w = std::max(1u, w / 2);
+    h = std::max(1u, h / 2);
+    all.insert(all.end(), level.begin(), level.end());
+    ++*levels;
+  }
+  return all;
+}
+
+std::vector<bool> textures_read_as_srgb(const Scene& scene) {
+  std::vector<bool> srgb(scene.textures.size(), false);
+  auto mark = [&](const TextureRef& r) {
+    if (r.used() && size_t(r.texture) < srgb.size()) srgb[size_t(r.texture)] = true;
+  };
+  for (const Material& m : scene.materials) {
+    mark(m.base_color_texture);
+    mark(m.emissive_texture);
+    mark(m.specular_color_texture);
+    mark(m.sheen_color_texture);
+    mark(m.diffuse_transmission_color_texture);
+  }
+  return srgb;
+}
+
+}  // namespace clpt
