@@ -33,6 +33,18 @@ static inline float3 material_emission_at(const SceneView* s, u32 triangle, floa
   return material_emission_uv(s, m, hit_uv0(s, &t, b1, b2), uv1);
 }
 
+/* The tangent frame of the hit's shading normal n: the interpolated tangent made orthogonal
+ * to n (t) and bitangent = sign * cross(n, t) (b). False without a usable tangent. */
+static inline bool material_tangent_frame(const SurfaceHit* sh, float3* t, float3* b) {
+  const float3 n = sh->ns;
+  *t = sh->tangent.xyz - n * dot(n, sh->tangent.xyz);
+  const float tl = length(*t);
+  if (!(tl > 1e-8f)) return false;
+  *t /= tl;
+  *b = sh->tangent.w * cross(n, *t);
+  return true;
+}
+
 /* The normal map: tangent-space normal (x, y scaled by normal_scale) in the frame of the
  * interpolated tangent, bitangent = sign * cross(n, t) and the shading normal. Without a
  * usable tangent the shading normal is left as it is. The result stays on the geometric
@@ -40,11 +52,8 @@ static inline float3 material_emission_at(const SceneView* s, u32 triangle, floa
 static inline float3 material_normal_map(const SceneView* s, __global const Material* m,
                                          const SurfaceHit* sh, const TexPoint* q) {
   const float3 n = sh->ns;
-  float3 t = sh->tangent.xyz - n * dot(n, sh->tangent.xyz);
-  const float tl = length(t);
-  if (!(tl > 1e-8f)) return n;
-  t /= tl;
-  const float3 b = sh->tangent.w * cross(n, t);
+  float3 t, b;
+  if (!material_tangent_frame(sh, &t, &b)) return n;
   float3 c = texture_slot_sample(s, &m->tex[TEX_NORMAL], q, false, (float4)(0.5f, 0.5f, 1.0f, 1.0f)).xyz;
   c = c * 2.0f - 1.0f;
   c.xy *= m->normal_scale;
@@ -79,12 +88,9 @@ static inline void material_anisotropy(const SceneView* s, __global const Materi
   }
   const float c = m->anisotropy[1], sn = m->anisotropy[2];
   d = (float2)(c * d.x - sn * d.y, sn * d.x + c * d.y);
-  const float3 n = sh->ns;
-  float3 t = sh->tangent.xyz - n * dot(n, sh->tangent.xyz);
-  const float tl = length(t);
-  if (!(tl > 1e-8f) || !(strength > 0.0f)) return;
-  t /= tl;
-  const float3 dir = d.x * t + d.y * (sh->tangent.w * cross(n, t));
+  float3 t, b;
+  if (!(strength > 0.0f) || !material_tangent_frame(sh, &t, &b)) return;
+  const float3 dir = d.x * t + d.y * b;
   const float dl = length(dir);
   if (!(dl > 1e-6f) || !isfinite(dl)) return;
   sh->bsdf.anisotropy = fmin(strength, 1.0f);
