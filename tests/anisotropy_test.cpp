@@ -115,8 +115,9 @@ Stretch render_stretch(const nlohmann::json& anisotropy, uint32_t seed,
   log::set_level(log::Level::Quiet);
   Scene scene = load_gltf(file);
   fs::remove_all(file.parent_path());
-  if (anisotropy.value("anisotropyStrength", 0.0) > 0.0)
+  if (anisotropy.value("anisotropyStrength", 0.0) > 0.0) {
     EXPECT_FALSE(scene.tangents.empty()) << "the loader generates tangents for an anisotropic material";
+  }
   test::add_camera_on_z(scene, 2.0f, 1.0f);  // sees x, y in [-1.09, 1.09]: the square fills it
   RenderSettings rs;
   rs.width = rs.height = kSize;

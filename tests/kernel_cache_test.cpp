@@ -1,5 +1,6 @@
 // KernelCache and BuildFailure: the on-disk program cache hits, misses when the key
-// changes, survives corrupt entries; a broken kernel reports its build log.
+// changes, survives corrupt entries; a broken kernel reports its build log;
+// and a context hands a program it has to the next Program with the same key.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -38,8 +39,11 @@ class KernelCache : public ::testing::Test {
     s.disk_dir = dir_ / "src";
     return s;
   }
+  // A context of its own per build: the disk cache is under test, not the context's reuse.
   cl::BuildInfo build(const std::string& options = "") {
-    cl::Program p(test::device_context(), "probe.cl", options, sources());
+    const cl::Context ctx(test::device_context().device());
+    cl::Program p(ctx, "probe.cl", options, sources());
+    EXPECT_FALSE(p.build_info().from_memory);
     cl::Kernel k(p, "k");  // the program is usable either way
     return p.build_info();
   }
@@ -115,6 +119,37 @@ TEST_F(KernelCache, CorruptEntryIsRebuilt) {
   for (const auto& e : fs::directory_iterator(dir_ / "cache")) fs::resize_file(e.path(), 20);
   EXPECT_FALSE(build().from_cache);
   EXPECT_TRUE(build().from_cache);
+}
+
+// One context: the second Program with the same key is the first one's cl_program, whatever
+// the disk cache holds (here: nothing that could be read); another key or another context
+// does not share it, and the program outlives the Program objects that asked for it.
+TEST_F(KernelCache, ContextReusesItsPrograms) {
+  ::setenv("CLPT_CACHE_DIR", "/proc/clpt-cannot-write-here", 1);
+  const cl::Context ctx(test::device_context().device());
+  cl_program first_handle = nullptr;
+  {
+    cl::Program first(ctx, "probe.cl", "", sources());
+    EXPECT_FALSE(first.build_info().from_cache);
+    EXPECT_FALSE(first.build_info().from_memory);
+    first_handle = first.get();
+  }
+  cl::Program again(ctx, "probe.cl", "", sources());
+  EXPECT_TRUE(again.build_info().from_memory);
+  EXPECT_FALSE(again.build_info().from_cache);
+  EXPECT_EQ(again.get(), first_handle);
+  cl::Kernel k(again, "k");  // usable after the first Program let go of it
+
+  cl::Program other_options(ctx, "probe.cl", "-DCLPT_PROBE=1", sources());
+  EXPECT_FALSE(other_options.build_info().from_memory);
+  EXPECT_NE(other_options.get(), first_handle);
+  write_source("__kernel void k(__global int* x) { x[0] = 5; }\n");
+  cl::Program other_source(ctx, "probe.cl", "", sources());
+  EXPECT_FALSE(other_source.build_info().from_memory);
+
+  const cl::Context other_ctx(test::device_context().device());
+  cl::Program elsewhere(other_ctx, "probe.cl", "", sources());
+  EXPECT_FALSE(elsewhere.build_info().from_memory);
 }
 
 TEST_F(KernelCache, UnwritableCacheIsNotFatal) {

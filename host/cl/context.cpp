@@ -26,11 +26,27 @@ Context::Context(const DeviceInfo& device) : device_(device) {
 }
 
 Context::~Context() {
+  for (const auto& [key, program] : programs_) clReleaseProgram(program);
   if (queue_) {
     clFinish(queue_);
     clReleaseCommandQueue(queue_);
   }
   if (context_) clReleaseContext(context_);
+}
+
+cl_program Context::find_program(const std::string& key) const {
+  std::lock_guard<std::mutex> lock(programs_mutex_);
+  const auto it = programs_.find(key);
+  if (it == programs_.end()) return nullptr;
+  clRetainProgram(it->second);
+  return it->second;
+}
+
+void Context::keep_program(const std::string& key, cl_program program) const {
+  std::lock_guard<std::mutex> lock(programs_mutex_);
+  if (programs_.count(key)) return;
+  clRetainProgram(program);
+  programs_.emplace(key, program);
 }
 
 void Context::finish() const { check(clFinish(queue_), "clFinish"); }

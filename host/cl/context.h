@@ -37,6 +37,14 @@ class Context {
   void note_buffer(cl_mem mem, const char* what, size_t bytes) const;
   void forget_buffer(cl_mem mem) const;
 
+  // Programs already built on this context, by the kernel cache's key (device, options,
+  // resolved source): a second Program with the same key takes the first one's cl_program
+  // (retained) instead of loading or building it again. Renderers made one after another
+  // on one context (the Python module, the test suite's batches) build each program once.
+  // find_program returns a retained program or nullptr; keep_program retains its own.
+  cl_program find_program(const std::string& key) const;
+  void keep_program(const std::string& key, cl_program program) const;
+
  private:
   struct BufferNote {
     std::string what;
@@ -49,6 +57,8 @@ class Context {
   mutable std::unordered_map<cl_mem, BufferNote> buffers_;
   mutable std::string last_kernel_;
   mutable size_t last_work_items_ = 0;
+  mutable std::mutex programs_mutex_;
+  mutable std::unordered_map<std::string, cl_program> programs_;
 };
 
 }  // namespace clpt::cl

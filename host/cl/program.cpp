@@ -236,6 +236,13 @@ Program::Program(const Context& ctx, const std::string& entry_file, const std::s
   const fs::path cache_file = cache_dir.empty() ? fs::path() : cache_dir / key.file_name;
   info_.cache_file = cache_file.string();
 
+  // 0. This context's own programs: built or loaded before in this process.
+  if ((program_ = ctx.find_program(key.file_name))) {
+    info_.from_memory = true;
+    info_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return;
+  }
+
   // 1. The cache, when an entry exists and the driver accepts it.
   std::vector<unsigned char> binary;
   if (!cache_file.empty() && read_cache(cache_file, key.check, &binary)) {
@@ -275,6 +282,7 @@ Program::Program(const Context& ctx, const std::string& entry_file, const std::s
       if (!bin.empty()) write_cache(cache_file, key.check, bin);
     }
   }
+  ctx.keep_program(key.file_name, program_);
   info_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   log::verbose("kernel program " + entry_file + " (options '" + options + "'): " +
                (info_.from_cache ? "loaded from cache" : "built") + " in " +

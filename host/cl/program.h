@@ -42,7 +42,8 @@ struct ProgramSpec {
 std::string build_options(const std::string& extra);
 
 struct BuildInfo {
-  bool from_cache = false;
+  bool from_cache = false;   // loaded from the on-disk cache
+  bool from_memory = false;  // the context had it already (Context::find_program)
   double seconds = 0.0;  // wall time to get a usable program (cache load or full build)
   std::string cache_file;
 };

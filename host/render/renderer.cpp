@@ -162,7 +162,9 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
   stats_.scene_device_bytes = first.scene->device_bytes();
   stats_.film_device_bytes = first.film->device_bytes() + (first.aov ? first.aov->device_bytes() : 0);
   stats_.texture_device_bytes = first.scene->texture_bytes();
-  stats_.kernel_from_cache = first.integrator->build_info().from_cache;
+  // Not built from source this time: from the disk cache, or reused from the context.
+  stats_.kernel_from_cache =
+      first.integrator->build_info().from_cache || first.integrator->build_info().from_memory;
 }
 
 Renderer::~Renderer() = default;
