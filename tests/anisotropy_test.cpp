@@ -14,14 +14,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
 
-#include <OpenImageIO/imageio.h>
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
@@ -29,75 +26,27 @@
 #include "scene/gltf_loader.h"
 #include "stats/image_stats.h"
 #include "support/device.h"
+#include "support/gltf_square.h"
 #include "support/scenes.h"
 #include "util/log.h"
-
-#include <unistd.h>
 
 namespace clpt {
 namespace {
 
 namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kHalf = 1.5;  // the square's half side (m)
 
-// A folder with square.gltf: the square [-1.5, 1.5]^2 in the plane z = 0 facing +z, UV u
-// along +x and v along -y (glTF's convention: the generated tangent is +x), a white metal of
-// roughness 0.3 with `anisotropy` as its KHR_materials_anisotropy object, and a point light
-// 1 m above the centre. With `texture_rgb`, aniso.png (one texel of that colour) is written
-// beside it for the anisotropy object to name as image 0.
+// square.gltf (tests/support/gltf_square.h) with a white metal of roughness 0.3 and
+// `anisotropy` as its KHR_materials_anisotropy object; with `texture_rgb`, aniso.png (one
+// texel of that colour) for the anisotropy object to name as texture 0.
 fs::path write_square(const std::string& tag, const nlohmann::json& anisotropy,
                       const std::vector<unsigned char>& texture_rgb = {}) {
-  const fs::path dir = fs::temp_directory_path() / ("clpt-aniso-" + tag + "-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const float h = float(kHalf);
-  const float pos[12] = {-h, -h, 0, h, -h, 0, h, h, 0, -h, h, 0};
-  const float nrm[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-  const float uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
-  const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
-  std::string bin;
-  bin.append(reinterpret_cast<const char*>(pos), sizeof pos);
-  bin.append(reinterpret_cast<const char*>(nrm), sizeof nrm);
-  bin.append(reinterpret_cast<const char*>(uv), sizeof uv);
-  bin.append(reinterpret_cast<const char*>(idx), sizeof idx);
-  bin.append(2, '\0');
-  std::ofstream(dir / "square.bin", std::ios::binary) << bin;
-  nlohmann::json material = {
+  const nlohmann::json material = {
       {"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.3}}},
       {"extensions", {{"KHR_materials_anisotropy", anisotropy}}}};
-  nlohmann::json d = {
-      {"asset", {{"version", "2.0"}}},
-      {"extensionsUsed", {"KHR_materials_anisotropy", "KHR_lights_punctual"}},
-      {"extensions", {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 4.0}}}}}}}},
-      {"scene", 0},
-      {"scenes", {{{"nodes", {0, 1}}}}},
-      {"nodes", {{{"mesh", 0}},
-                 {{"translation", {0.0, 0.0, 1.0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}}},
-      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}},
-                                    {"indices", 3}, {"material", 0}}}}}}},
-      {"materials", {material}},
-      {"buffers", {{{"uri", "square.bin"}, {"byteLength", bin.size()}}}},
-      {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
-                       {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 48}},
-                       {{"buffer", 0}, {"byteOffset", 96}, {"byteLength", 32}},
-                       {{"buffer", 0}, {"byteOffset", 128}, {"byteLength", 12}}}},
-      {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"},
-                      {"min", {-kHalf, -kHalf, 0.0}}, {"max", {kHalf, kHalf, 0.0}}},
-                     {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
-                     {{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
-                     {{"bufferView", 3}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
-  };
-  if (!texture_rgb.empty()) {
-    auto out = OIIO::ImageOutput::create("aniso.png");
-    OIIO::ImageSpec spec(1, 1, 3, OIIO::TypeDesc::UINT8);
-    EXPECT_TRUE(out && out->open((dir / "aniso.png").string(), spec));
-    EXPECT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, texture_rgb.data()));
-    out->close();
-    d["images"] = {{{"uri", "aniso.png"}}};
-    d["textures"] = {{{"source", 0}}};
-  }
-  std::ofstream(dir / "square.gltf") << d.dump(1);
-  return dir / "square.gltf";
+  test::SquareImages images;
+  if (!texture_rgb.empty()) images.push_back({"aniso.png", {texture_rgb[0], texture_rgb[1], texture_rgb[2]}});
+  return test::write_square("aniso-" + tag, material, {"KHR_materials_anisotropy"}, images);
 }
 
 // The stretch of the highlight: A = sum over pixels of I (x^2 - y^2) (x, y the pixel centre

@@ -59,7 +59,7 @@ TEST(SharedLayout, FixedSizes) {
   EXPECT_EQ(sizeof(dev::Vertex), 32u);
   EXPECT_EQ(sizeof(dev::VertexExtra), 48u);
   EXPECT_EQ(sizeof(dev::Light), 96u);
-  EXPECT_EQ(sizeof(dev::Material), 688u);
+  EXPECT_EQ(sizeof(dev::Material), 736u);
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 
 namespace clpt {
 
-static_assert(sizeof(dev::PathVertex) == 176, "PathVertex: 176 bytes, a multiple of 16");
+static_assert(sizeof(dev::PathVertex) == 192, "PathVertex: 192 bytes, a multiple of 16");
 
 BidirectionalPathTracer::BidirectionalPathTracer(const cl::Context& ctx, const SceneBuffers& scene,
                                                  const BdptConfig& config)

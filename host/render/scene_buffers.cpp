@@ -39,6 +39,7 @@ dev::Material to_device(const Material& m) {
   d.attenuation_distance = m.attenuation_distance;
   d.clearcoat = m.clearcoat;
   d.clearcoat_roughness = m.clearcoat_roughness;
+  d.clearcoat_normal_scale = m.clearcoat_normal_scale;
   d.iridescence = m.iridescence;
   d.iridescence_ior = m.iridescence_ior;
   d.iridescence_thickness_min = m.iridescence_thickness_min;
@@ -66,7 +67,8 @@ dev::Material to_device(const Material& m) {
       &m.specular_color_texture, &m.clearcoat_texture,        &m.clearcoat_roughness_texture,
       &m.iridescence_texture,    &m.iridescence_thickness_texture,
       &m.diffuse_transmission_texture, &m.diffuse_transmission_color_texture,
-      &m.sheen_color_texture,    &m.sheen_roughness_texture,   &m.anisotropy_texture};
+      &m.sheen_color_texture,    &m.sheen_roughness_texture,   &m.anisotropy_texture,
+      &m.clearcoat_normal_texture};
   for (int i = 0; i < dev::TEX_SLOT_COUNT; ++i) {
     d.tex[i] = to_device(*refs[i]);
     if (refs[i]->used() && i != dev::TEX_EMISSIVE) d.flags |= dev::MATERIAL_TEXTURED;

@@ -68,6 +68,7 @@ struct Material {
   bool volume = false;          // KHR_materials_volume with a finite attenuation distance
   float clearcoat = 0.0f;       // KHR_materials_clearcoat
   float clearcoat_roughness = 0.0f;
+  float clearcoat_normal_scale = 1.0f;  // clearcoatNormalTexture.scale
   float iridescence = 0.0f;     // KHR_materials_iridescence
   float iridescence_ior = 1.3f;
   float iridescence_thickness_min = 100.0f;  // nm
@@ -83,7 +84,7 @@ struct Material {
       transmission_texture, specular_texture, specular_color_texture, clearcoat_texture,
       clearcoat_roughness_texture, iridescence_texture, iridescence_thickness_texture,
       diffuse_transmission_texture, diffuse_transmission_color_texture, sheen_color_texture,
-      sheen_roughness_texture, anisotropy_texture;
+      sheen_roughness_texture, anisotropy_texture, clearcoat_normal_texture;
 };
 
 // A KHR_lights_punctual light placed by its node, in world space.

@@ -29,8 +29,24 @@ static inline void bsdf_orient(SurfaceHit* sh, float3 wo) {
  * anisotropy direction when the BSDF has one, else any (make_basis). */
 typedef struct BsdfFrame {
   float3 t, b, n;
-  float go; /* dot(ng, wo) with ng as stored in sh */
+  float3 nc; /* the clearcoat's normal in this frame, nc.z > 0; exactly +z where it is n */
+  float go;  /* dot(ng, wo) with ng as stored in sh */
 } BsdfFrame;
+
+static inline float3 bsdf_to_local(const BsdfFrame* f, float3 w) {
+  return (float3)(dot(w, f->t), dot(w, f->b), dot(w, f->n));
+}
+
+/* The clearcoat's normal in frame f: (0, 0, 1) exactly when it is the frame's normal (no coat,
+ * or no map on the coat's normal and none on the base's), else the stored normal in f, kept
+ * above the tangent plane as a normal map is. */
+static inline float3 bsdf_coat_normal(const SurfaceHit* sh, const BsdfFrame* f) {
+  if (!(sh->bsdf.clearcoat > 0.0f) || all(sh->bsdf.clearcoat_n == f->n)) return (float3)(0.0f, 0.0f, 1.0f);
+  float3 nc = bsdf_to_local(f, sh->bsdf.clearcoat_n);
+  if (nc.z < 1e-3f) nc.z = 1e-3f;
+  nc = normalize(nc);
+  return nc.x == 0.0f && nc.y == 0.0f ? (float3)(0.0f, 0.0f, 1.0f) : nc;
+}
 
 static inline BsdfFrame bsdf_frame(const SurfaceHit* sh, float3 wo) {
   BsdfFrame f;
@@ -42,6 +58,7 @@ static inline BsdfFrame bsdf_frame(const SurfaceHit* sh, float3 wo) {
   const float3 ng_front = sign * sh->ng;
   f.n = sign * sh->ns;
   if (dot(f.n, wo) * dot(ng_front, wo) <= 0.0f) f.n = ng_front;
+  bool oriented = false;
   if (sh->bsdf.anisotropy > 0.0f) {
     /* An anisotropic BSDF is oriented: x along the anisotropy direction, made orthogonal
      * to n (which may be the geometric normal here, or the stored direction rounded). */
@@ -50,15 +67,12 @@ static inline BsdfFrame bsdf_frame(const SurfaceHit* sh, float3 wo) {
     if (tl2 > 1e-12f) {
       f.t = t * rsqrt(tl2);
       f.b = cross(f.n, f.t);
-      return f;
+      oriented = true;
     }
   }
-  make_basis(f.n, &f.t, &f.b);
+  if (!oriented) make_basis(f.n, &f.t, &f.b);
+  f.nc = bsdf_coat_normal(sh, &f);
   return f;
-}
-
-static inline float3 bsdf_to_local(const BsdfFrame* f, float3 w) {
-  return (float3)(dot(w, f->t), dot(w, f->b), dot(w, f->n));
 }
 
 static inline float3 bsdf_to_world(const BsdfFrame* f, float3 w) {
@@ -78,7 +92,7 @@ static inline float3 bsdf_eval_cos(const SurfaceHit* sh, float3 wo, float3 wi, i
   const BsdfFrame f = bsdf_frame(sh, wo);
   const float3 wo_l = bsdf_to_local(&f, wo), wi_l = bsdf_to_local(&f, wi);
   if (!bsdf_sides_agree(&f, sh, wo_l, wi_l, wi)) return (float3)(0.0f);
-  return gltf_bsdf_eval(&sh->bsdf, wo_l, wi_l, mode);
+  return gltf_bsdf_eval(&sh->bsdf, f.nc, wo_l, wi_l, mode);
 }
 
 /* f(wo, wi) of the non-delta lobes without the cosine: photon density estimation, whose
@@ -90,20 +104,20 @@ static inline float3 bsdf_eval_in_frame(const SurfaceHit* sh, const BsdfFrame* f
   const float3 wi_l = bsdf_to_local(f, wi);
   const float c = fabs(wi_l.z);
   if (!(c > 1e-6f) || !bsdf_sides_agree(f, sh, wo_l, wi_l, wi)) return (float3)(0.0f);
-  return gltf_bsdf_eval(&sh->bsdf, wo_l, wi_l, mode) / c;
+  return gltf_bsdf_eval(&sh->bsdf, f->nc, wo_l, wi_l, mode) / c;
 }
 
 /* gltf_diffuse_factor at wo: the diffuse layer's f for directions on wo's side, its coat
  * term at wi left out. */
 static inline float3 bsdf_diffuse_factor(const SurfaceHit* sh, float3 wo) {
   const BsdfFrame f = bsdf_frame(sh, wo);
-  return gltf_diffuse_factor(&sh->bsdf, bsdf_to_local(&f, wo));
+  return gltf_diffuse_factor(&sh->bsdf, f.nc, bsdf_to_local(&f, wo));
 }
 
 /* Density of bsdf_sample at wi (solid angle), the delta lobes left out. */
 static inline float bsdf_pdf_w(const SurfaceHit* sh, float3 wo, float3 wi) {
   const BsdfFrame f = bsdf_frame(sh, wo);
-  return gltf_bsdf_pdf(&sh->bsdf, bsdf_to_local(&f, wo), bsdf_to_local(&f, wi));
+  return gltf_bsdf_pdf(&sh->bsdf, f.nc, bsdf_to_local(&f, wo), bsdf_to_local(&f, wi));
 }
 
 /* Whether the BSDF has a non-delta lobe: NEE and MIS apply only then. */
@@ -117,7 +131,7 @@ static inline BsdfSample bsdf_sample(const SurfaceHit* sh, float3 wo, float2 u, 
                                      int mode) {
   const BsdfFrame f = bsdf_frame(sh, wo);
   const float3 wo_l = bsdf_to_local(&f, wo);
-  BsdfSample bs = gltf_bsdf_sample(&sh->bsdf, wo_l, u, u_lobe, mode);
+  BsdfSample bs = gltf_bsdf_sample(&sh->bsdf, f.nc, wo_l, u, u_lobe, mode);
   const float3 wi_l = bs.wi;
   bs.wi = bsdf_to_world(&f, wi_l);
   if (!bsdf_sides_agree(&f, sh, wo_l, wi_l, bs.wi)) bs.weight = (float3)(0.0f);

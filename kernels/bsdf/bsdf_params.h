@@ -20,6 +20,10 @@ typedef struct BsdfParams {
   float ior;             /* KHR_materials_ior: index of refraction inside the surface (1.5) */
   float clearcoat;       /* KHR_materials_clearcoat: clearcoatFactor x texture R, [0, 1] (0) */
   float clearcoat_roughness; /* clearcoatRoughnessFactor x texture G (perceptual) */
+  float3 clearcoat_n;    /* the clearcoat's normal, world space, unit, on the front face's side:
+                          * clearcoatNormalTexture, else the interpolated normal (the base's
+                          * normal map does not reach the coat); where it equals the shading
+                          * normal bit for bit the coat shares the base's frame */
   float iridescence;     /* KHR_materials_iridescence: iridescenceFactor x texture R, [0, 1] (0) */
   float iridescence_ior; /* the film's index of refraction (1.3) */
   float iridescence_thickness; /* nm: mix(minimum, maximum, thickness texture G) */

@@ -36,8 +36,20 @@
  *     f = c Fc(wo.h) D_c G2_c / (4 cos_o cos_i)  +  (1 - c Fc(cos_o)) (1 - c Fc(|cos_i|)) f_base,
  *   Fc Schlick's. The specification writes mix(base, coat, c Fc(NdotV)); attenuating the base
  *   once per crossing of the coat, as the plastic's own coat above, keeps f reciprocal and the
- *   albedo <= 1 (BsdfEnergy) and equals it at normal incidence up to (c F0)^2. The coat shares
- *   the shading normal (clearcoatNormalTexture is not read: README "glTF extensions").
+ *   albedo <= 1 (BsdfEnergy) and equals it at normal incidence up to (c F0)^2.
+ *   The coat has its own normal nc (local, nc.z > 0: clearcoatNormalTexture, else the
+ *   interpolated normal, which the base's normal map does not move): Fc, D_c, G2_c and the
+ *   crossings' Fc take cosines with nc. nc is a shading normal of the coat's own: its lobe
+ *   f_c = c Fc(wo.h) D_c(h) G2_c / (4 (wo.nc)(wi.nc)) is weighted by wi.nc, not by the base's
+ *   |wi.z|, so the coat looks the same whatever normal map the base has (the specification's
+ *   intent; a shared map is the coat's map alone). Light paths get Veach's adjoint of such a
+ *   shading normal (1997 §5.3) once the caller's correction for the base's normal is
+ *   applied, as refraction gets its eta by mode:
+ *     radiance:   f_c (wi.nc)                          = c Fc D_c G2_c / (4 wo.nc),
+ *     importance: f_c (wo.nc) |wi.z| / |wo.z|          = c Fc D_c G2_c |wi.z| / (4 wi.nc |wo.z|),
+ *   so f_importance(a, b) / |b.z| = f_radiance(b, a) / |a.z| (BsdfReciprocity). In radiance
+ *   mode the coat's albedo is its own in its frame (<= c). With nc = +z (bit for bit: no map
+ *   anywhere) both are the form above.
  *
  * diffuse transmission (KHR_materials_diffuse_transmission): a share dt of the plastic's
  *   diffuse layer leaves through the far side instead, Lambertian with its own colour,
@@ -105,6 +117,9 @@ typedef struct GltfLobes {
   float coat;        /* clearcoat weight c in [0, 1] */
   float alpha_c;     /* clearcoat GGX alpha */
   int coat_delta;    /* alpha_c < GGX_ALPHA_DELTA */
+  int coat_tilted;   /* the coat's normal is not +z (gltf_coat_frame) */
+  float3 nc, tc, bc; /* the coat's frame: its normal, and tangents where tilted */
+  float cos_oc;      /* wo's cosine with the coat's normal, clamped to [0, 1] */
   float sheen_m;     /* sheen: the colour's largest component, 0 without a sheen */
   SheenLobe sheen;   /* the sheen lobe at wo (set where sheen_m > 0) */
   float sheen_keep_o; /* 1 - m E'(cos_o): the base's share under the sheen, on wo's side */
@@ -131,12 +146,30 @@ static inline float3 gltf_metal(const BsdfParams* p, const GltfLobes* L, float c
   return gltf_iridescent(L, fresnel_schlick(p->base_color, c), p->base_color, c);
 }
 
-/* The clearcoat's reflectance c Fc(x), and the share 1 - c Fc(x) of light that crosses it. */
+/* The clearcoat's reflectance c Fc(x), and the share 1 - c Fc(x) of light that crosses it;
+ * x is a cosine with the coat's normal (gltf_coat_cos). */
 static inline float gltf_clearcoat_f(const GltfLobes* L, float x) {
   return L->coat * (0.04f + 0.96f * fresnel_schlick_weight(x));
 }
 static inline float gltf_clearcoat_pass(const GltfLobes* L,
                                         float x) { return 1.0f - gltf_clearcoat_f(L, x); }
+
+/* The cosine of w (either side, mirrored up) with the coat's normal, clamped to [0, 1]: a
+ * direction the tilted coat sees edge-on or from behind crosses it at grazing incidence. */
+static inline float gltf_coat_cos(const GltfLobes* L, float3 w) {
+  if (!L->coat_tilted) return fabs(w.z);
+  return clamp(dot((float3)(w.x, w.y, fabs(w.z)), L->nc), 0.0f, 1.0f);
+}
+
+/* w in the coat's frame (its normal as +z). */
+static inline float3 gltf_to_coat(const GltfLobes* L, float3 w) {
+  if (!L->coat_tilted) return w;
+  return (float3)(dot(w, L->tc), dot(w, L->bc), dot(w, L->nc));
+}
+static inline float3 gltf_from_coat(const GltfLobes* L, float3 w) {
+  if (!L->coat_tilted) return w;
+  return w.x * L->tc + w.y * L->bc + w.z * L->nc;
+}
 
 /* The glass's reflectance at cos(wo, h) = c on wo's side. A film sits on the outside: seen
  * from inside, it is evaluated at the cosine of the same wave outside, so that reflectance
@@ -157,9 +190,17 @@ static inline float3 gltf_glass_r(const GltfLobes* L, float c) {
   return fmin(L->glass_tint * r, (float3)(1.0f));
 }
 
-/* Weights and lobe probabilities at wo, given cos_o = |wo.z| and the side of wo. */
-static inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outside) {
+/* Weights and lobe probabilities at wo (mirrored up: wo.z = |wo.z|), on the given side, with
+ * the coat's normal nc (local, nc.z > 0; +z when the coat shares the shading normal). */
+static inline GltfLobes gltf_lobes(const BsdfParams* p, float3 nc, float3 wo, bool outside) {
   GltfLobes L;
+  const float cos_o = wo.z;
+  L.coat_tilted = nc.x != 0.0f || nc.y != 0.0f;
+  L.nc = L.coat_tilted ? nc : (float3)(0.0f, 0.0f, 1.0f);
+  L.tc = (float3)(1.0f, 0.0f, 0.0f);
+  L.bc = (float3)(0.0f, 1.0f, 0.0f);
+  if (L.coat_tilted) make_basis(L.nc, &L.tc, &L.bc);
+  L.cos_oc = gltf_coat_cos(&L, wo);
   L.alpha = ggx_alpha_anisotropic(p->roughness, p->anisotropy);
   L.delta = L.alpha.x < GGX_ALPHA_DELTA;
   const float ior = fmax(p->ior, 1.0f);
@@ -201,9 +242,12 @@ static inline GltfLobes gltf_lobes(const BsdfParams* p, float cos_o, bool outsid
   }
   /* The base lobes are seen through the sheen and the coat: their estimates shrink by what
    * these reflect. */
-  const float pass = gltf_clearcoat_pass(&L, cos_o);
+  const float pass = gltf_clearcoat_pass(&L, L.cos_oc);
   const float base = pass * L.sheen_keep_o;
-  const float e_c = L.coat > 0.0f ? fmax(gltf_clearcoat_f(&L, cos_o), L.coat * GLTF_LOBE_FLOOR) : 0.0f;
+  /* A coat wo sees from behind (tilted away) reflects nothing: never chosen then. */
+  const float e_c = L.coat > 0.0f && L.cos_oc > 0.0f
+                        ? fmax(gltf_clearcoat_f(&L, L.cos_oc), L.coat * GLTF_LOBE_FLOOR)
+                        : 0.0f;
   float sum = base * (fmax(e_d, 0.0f) + fmax(e_t, 0.0f) + fmax(e_r, 0.0f) + fmax(e_g, 0.0f)) + e_c;
   if (e_s > 0.0f) sum += pass * e_s; /* (a separate sum: without a sheen, the bits of before) */
   if (!(sum > 0.0f)) {
@@ -284,12 +328,19 @@ static inline float3 gltf_eval_base_up(const BsdfParams* p, const GltfLobes* L, 
   return f;
 }
 
-/* The clearcoat's GGX reflection f_coat |wi.z| (non-delta coats), wo.z > 0. */
-static inline float3 gltf_coat_eval_up(const GltfLobes* L, float3 wo, float3 wi) {
+/* The clearcoat's GGX reflection f_coat |wi.z| (non-delta coats), wo.z > 0; with a normal of
+ * its own, the mode's form above. */
+static inline float3 gltf_coat_eval_up(const GltfLobes* L, float3 wo, float3 wi, int mode) {
   if (!(L->coat > 0.0f) || L->coat_delta || !(wi.z > 0.0f)) return (float3)(0.0f);
   const float3 h = normalize(wo + wi);
-  return (float3)(gltf_clearcoat_f(L, dot(wo, h)) * ggx_d(h, L->alpha_c) * ggx_g2(wo, wi, L->alpha_c) /
-                  (4.0f * wo.z));
+  if (!L->coat_tilted)
+    return (float3)(gltf_clearcoat_f(L, dot(wo, h)) * ggx_d(h, L->alpha_c) *
+                    ggx_g2(wo, wi, L->alpha_c) / (4.0f * wo.z));
+  const float3 wo_c = gltf_to_coat(L, wo), wi_c = gltf_to_coat(L, wi);
+  if (!(wo_c.z > 0.0f) || !(wi_c.z > 0.0f)) return (float3)(0.0f);
+  const float x = gltf_clearcoat_f(L, dot(wo, h)) * ggx_d(gltf_to_coat(L, h), L->alpha_c) *
+                  ggx_g2(wo_c, wi_c, L->alpha_c);
+  return (float3)(mode == TRANSPORT_IMPORTANCE ? x * wi.z / (4.0f * wi_c.z * wo.z) : x / (4.0f * wo_c.z));
 }
 
 /* The base's share under the sheen for the pair: min(1 - m E'(cos_o), 1 - m E'(|cos_i|)),
@@ -308,8 +359,8 @@ static inline float3 gltf_eval_up(const BsdfParams* p, const GltfLobes* L, float
     f += clamp(p->sheen_color, 0.0f, 1.0f) * sheen_eval_cos(&L->sheen, wo, wi, e_i);
   }
   if (!(L->coat > 0.0f)) return f;
-  f *= gltf_clearcoat_pass(L, wo.z) * gltf_clearcoat_pass(L, fabs(wi.z));
-  return f + gltf_coat_eval_up(L, wo, wi);
+  f *= gltf_clearcoat_pass(L, L->cos_oc) * gltf_clearcoat_pass(L, gltf_coat_cos(L, wi));
+  return f + gltf_coat_eval_up(L, wo, wi, mode);
 }
 
 /* The base lobes' part of the mixture's density, wo.z > 0. */
@@ -344,7 +395,8 @@ static inline float gltf_pdf_up(const GltfLobes* L, float3 wo, float3 wi) {
   float coat = 0.0f;
   if (L->p_coat > 0.0f && !L->coat_delta && wi.z > 0.0f) {
     const float3 h = normalize(wo + wi);
-    coat = L->p_coat * warp_ggx_vndf_pdf(wo, h, L->alpha_c) / (4.0f * dot(wo, h));
+    coat = L->p_coat * warp_ggx_vndf_pdf(gltf_to_coat(L, wo), gltf_to_coat(L, h), L->alpha_c) /
+           (4.0f * dot(wo, h));
   }
   const float sheen = L->p_sheen > 0.0f ? L->p_sheen * sheen_pdf(wi) : 0.0f;
   return coat + sheen + gltf_pdf_base_up(L, wo, wi);
@@ -367,18 +419,21 @@ static inline bool gltf_is_lambert(const BsdfParams* p) {
  * a kernel evaluates the BSDF at many call sites (next-event estimation, MIS, bdpt's
  * connections and reverse densities), and NVIDIA's compiler, which inlines every call, made a
  * copy of the whole layer stack at each of them. The Lambertian shortcuts stay inline. */
-CLPT_NOINLINE float3 gltf_eval_layered(const BsdfParams* p, float3 wo, float3 wi, int mode) {
+CLPT_NOINLINE float3 gltf_eval_layered(const BsdfParams* p, float3 nc, float3 wo, float3 wi,
+                                       int mode) {
   const bool flip = wo.z < 0.0f;
-  const GltfLobes L = gltf_lobes(p, fabs(wo.z), !flip);
+  const GltfLobes L = gltf_lobes(p, nc, gltf_flip(wo, flip), !flip);
   return gltf_eval_up(p, &L, gltf_flip(wo, flip), gltf_flip(wi, flip), mode);
 }
 
-/* f(wo, wi) |wi.z| of the non-delta lobes. */
-static inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, int mode) {
+/* f(wo, wi) |wi.z| of the non-delta lobes; nc is the coat's normal in the local frame
+ * (nc.z > 0; (0, 0, 1) when the coat shares the shading normal or there is no coat). From the
+ * back (wo.z < 0) the mirrored surface keeps nc: the back is the front's mirror image. */
+static inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 nc, float3 wo, float3 wi, int mode) {
   if (wo.z == 0.0f) return (float3)(0.0f);
   if (gltf_is_lambert(p))
     return wo.z * wi.z > 0.0f ? p->base_color * (INV_PI_F * fabs(wi.z)) : (float3)(0.0f);
-  return gltf_eval_layered(p, wo, wi, mode);
+  return gltf_eval_layered(p, nc, wo, wi, mode);
 }
 
 /* The Lambertian factor kd(wo) of the diffuse layer with the layers' cos_i terms left out:
@@ -386,27 +441,27 @@ static inline float3 gltf_bsdf_eval(const BsdfParams* p, float3 wo, float3 wi, i
  * f_diffuse(wo, wi) = kd(wo) (1 - max F(cos_i)) (1 - c Fc(cos_i)) min(1, sheen's at cos_i)
  * <= kd(wo) on wo's side. The irradiance cache stands for kd E and path traces the rest,
  * f - kd (kernels/integrators/ic/ic_path.cl); for a Lambertian surface the rest is 0. */
-static inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 wo) {
+static inline float3 gltf_diffuse_factor(const BsdfParams* p, float3 nc, float3 wo) {
   if (wo.z == 0.0f) return (float3)(0.0f);
   if (gltf_is_lambert(p)) return p->base_color * INV_PI_F;
-  const GltfLobes L = gltf_lobes(p, fabs(wo.z), wo.z > 0.0f);
+  const GltfLobes L = gltf_lobes(p, nc, gltf_flip(wo, wo.z < 0.0f), wo.z > 0.0f);
   if (!(L.w_plastic > 0.0f)) return (float3)(0.0f);
   return (L.w_plastic * (1.0f - L.dt) * (1.0f - max_component(gltf_coat(p, &L, fabs(wo.z)))) *
-          gltf_clearcoat_pass(&L, fabs(wo.z)) * L.sheen_keep_o * INV_PI_F) *
+          gltf_clearcoat_pass(&L, L.cos_oc) * L.sheen_keep_o * INV_PI_F) *
          p->base_color;
 }
 
-CLPT_NOINLINE float gltf_pdf_layered(const BsdfParams* p, float3 wo, float3 wi) {
+CLPT_NOINLINE float gltf_pdf_layered(const BsdfParams* p, float3 nc, float3 wo, float3 wi) {
   const bool flip = wo.z < 0.0f;
-  const GltfLobes L = gltf_lobes(p, fabs(wo.z), !flip);
+  const GltfLobes L = gltf_lobes(p, nc, gltf_flip(wo, flip), !flip);
   return gltf_pdf_up(&L, gltf_flip(wo, flip), gltf_flip(wi, flip));
 }
 
 /* Density of gltf_bsdf_sample at wi, per steradian, the delta lobes left out. */
-static inline float gltf_bsdf_pdf(const BsdfParams* p, float3 wo, float3 wi) {
+static inline float gltf_bsdf_pdf(const BsdfParams* p, float3 nc, float3 wo, float3 wi) {
   if (wo.z == 0.0f) return 0.0f;
   if (gltf_is_lambert(p)) return wo.z * wi.z > 0.0f ? warp_cosine_hemisphere_pdf(fabs(wi.z)) : 0.0f;
-  return gltf_pdf_layered(p, wo, wi);
+  return gltf_pdf_layered(p, nc, wo, wi);
 }
 
 /* Whether some lobe is not a Dirac delta (NEE and MIS make sense). */
@@ -429,37 +484,58 @@ static inline BsdfSample gltf_absorbed(void) {
 }
 
 /* The mirror direction of wo (mirrored frame), carrying every Dirac reflection at once: the
- * delta coat's c Fc(cos_o) and, for a delta base, its reflection seen through the coat twice.
- * They share one discrete probability, whichever of their lobes u_lobe picked. */
+ * delta coat's c Fc(cos_o) (when it shares the normal) and, for a delta base, its reflection
+ * seen through the coat twice. They share one discrete probability, whichever of their lobes
+ * u_lobe picked. */
 static inline BsdfSample gltf_mirror_sample(const BsdfParams* p, const GltfLobes* L, float3 wo,
                                             bool flip) {
   const float p_r = L->delta && L->p_glass > 0.0f ? max_component(gltf_glass_r(L, wo.z)) : 0.0f;
   const float base_p = L->delta ? L->p_reflect + L->p_glass * p_r : 0.0f;
-  const float coat_p = L->coat_delta ? L->p_coat : 0.0f;
-  const float pass_o = gltf_clearcoat_pass(L, wo.z);
-  const float3 base_f =
-      L->delta ? gltf_reflectance(p, L, wo.z) * (pass_o * pass_o * L->sheen_keep_o) : (float3)(0.0f);
-  const float3 coat_f = (float3)(L->coat_delta ? gltf_clearcoat_f(L, wo.z) : 0.0f);
+  const bool coat_here = L->coat_delta && !L->coat_tilted;
+  const float coat_p = coat_here ? L->p_coat : 0.0f;
+  const float3 wi = (float3)(-wo.x, -wo.y, wo.z);
+  const float3 base_f = L->delta ? gltf_reflectance(p, L, wo.z) *
+                                       (gltf_clearcoat_pass(L, L->cos_oc) *
+                                        gltf_clearcoat_pass(L, gltf_coat_cos(L, wi)) * L->sheen_keep_o)
+                                 : (float3)(0.0f);
+  const float3 coat_f = (float3)(coat_here ? gltf_clearcoat_f(L, wo.z) : 0.0f);
   BsdfSample bs;
   bs.pdf_w = base_p + coat_p;
-  bs.wi = gltf_flip((float3)(-wo.x, -wo.y, wo.z), flip);
+  bs.wi = gltf_flip(wi, flip);
   bs.weight = (base_f + coat_f) / bs.pdf_w;
   bs.is_delta = 1;
   return bs;
 }
 
+/* A delta coat with a normal of its own: wo mirrored about nc, with the rough coat's limit
+ * (gltf_coat_eval_up; wi.nc = wo.nc): c Fc(wo.nc), and in importance mode that times
+ * wi.z / wo.z. A mirror direction under the surface is absorbed. */
+static inline BsdfSample gltf_coat_mirror_sample(const GltfLobes* L, float3 wo, bool flip, int mode) {
+  const float3 wi = 2.0f * dot(wo, L->nc) * L->nc - wo;
+  if (!(wi.z > 0.0f) || !(L->cos_oc > 0.0f)) return gltf_absorbed();
+  BsdfSample bs;
+  bs.pdf_w = L->p_coat;
+  bs.wi = gltf_flip(wi, flip);
+  float w = gltf_clearcoat_f(L, L->cos_oc) / L->p_coat;
+  if (mode == TRANSPORT_IMPORTANCE) w *= wi.z / wo.z;
+  bs.weight = (float3)(w);
+  bs.is_delta = 1;
+  return bs;
+}
+
 /* The layered lobes' sampling, wo_in.z != 0 (gltf_bsdf_sample). */
-CLPT_NOINLINE BsdfSample gltf_sample_layered(const BsdfParams* p, float3 wo_in, float2 u,
-                                             float u_lobe, int mode) {
+CLPT_NOINLINE BsdfSample gltf_sample_layered(const BsdfParams* p, float3 nc, float3 wo_in,
+                                             float2 u, float u_lobe, int mode) {
   const bool flip = wo_in.z < 0.0f;
-  const GltfLobes L = gltf_lobes(p, fabs(wo_in.z), !flip);
   const float3 wo = gltf_flip(wo_in, flip);
+  const GltfLobes L = gltf_lobes(p, nc, wo, !flip);
   BsdfSample bs = gltf_absorbed();
   float3 wi;
   bool reflect = true; /* the side wi must end on; the other side absorbs the sample */
   if (u_lobe < L.p_coat) {
-    if (L.coat_delta) return gltf_mirror_sample(p, &L, wo, flip);
-    const float3 h = warp_ggx_vndf(u, wo, L.alpha_c);
+    if (L.coat_delta)
+      return L.coat_tilted ? gltf_coat_mirror_sample(&L, wo, flip, mode) : gltf_mirror_sample(p, &L, wo, flip);
+    const float3 h = gltf_from_coat(&L, warp_ggx_vndf(u, gltf_to_coat(&L, wo), L.alpha_c));
     wi = 2.0f * dot(wo, h) * h - wo;
   } else if ((u_lobe -= L.p_coat) < L.p_sheen) {
     wi = sheen_sample(u);
@@ -488,8 +564,8 @@ CLPT_NOINLINE BsdfSample gltf_sample_layered(const BsdfParams* p, float3 wo_in, 
       if (L.delta) {
         bs.pdf_w = L.p_glass * (1.0f - p_r);
         bs.wi = gltf_flip(wi, flip);
-        bs.weight = (L.w_glass / L.p_glass) * gltf_clearcoat_pass(&L, wo.z) *
-                    gltf_clearcoat_pass(&L, fabs(wi.z)) * p->base_color;
+        bs.weight = (L.w_glass / L.p_glass) * gltf_clearcoat_pass(&L, L.cos_oc) *
+                    gltf_clearcoat_pass(&L, gltf_coat_cos(&L, wi)) * p->base_color;
         if (L.sheen_m > 0.0f) bs.weight *= gltf_sheen_keep(&L, sheen_albedos(fabs(wi.z), L.sheen.r));
         if (mode == TRANSPORT_RADIANCE) bs.weight /= L.eta * L.eta;
         bs.is_delta = 1;
@@ -508,8 +584,8 @@ CLPT_NOINLINE BsdfSample gltf_sample_layered(const BsdfParams* p, float3 wo_in, 
 
 /* One direction from the lobe mixture: u picks the direction within the lobe, u_lobe the
  * lobe (and, rescaled, reflection or refraction within the glass lobe). */
-static inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, float2 u, float u_lobe,
-                                          int mode) {
+static inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 nc, float3 wo_in, float2 u,
+                                          float u_lobe, int mode) {
   if (wo_in.z == 0.0f) return gltf_absorbed();
   if (gltf_is_lambert(p)) {
     const float3 wi = warp_cosine_hemisphere(u);
@@ -520,7 +596,7 @@ static inline BsdfSample gltf_bsdf_sample(const BsdfParams* p, float3 wo_in, flo
     bs.weight = p->base_color;
     return bs;
   }
-  return gltf_sample_layered(p, wo_in, u, u_lobe, mode);
+  return gltf_sample_layered(p, nc, wo_in, u, u_lobe, mode);
 }
 
 #endif

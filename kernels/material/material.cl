@@ -45,18 +45,18 @@ static inline bool material_tangent_frame(const SurfaceHit* sh, float3* t, float
   return true;
 }
 
-/* The normal map: tangent-space normal (x, y scaled by normal_scale) in the frame of the
- * interpolated tangent, bitangent = sign * cross(n, t) and the shading normal. Without a
- * usable tangent the shading normal is left as it is. The result stays on the geometric
- * normal's side. */
-static inline float3 material_normal_map(const SceneView* s, __global const Material* m,
+/* A normal map (the base's TEX_NORMAL or the clearcoat's TEX_CLEARCOAT_NORMAL): tangent-space
+ * normal (x, y scaled by `scale`) in the frame of the interpolated tangent, bitangent = sign *
+ * cross(n, t) and the interpolated normal. Without a usable tangent the interpolated normal
+ * is returned. The result stays on the geometric normal's side. */
+static inline float3 material_normal_map(const SceneView* s, __global const TextureSlot* slot, float scale,
                                          const SurfaceHit* sh, const TexPoint* q) {
   const float3 n = sh->ns;
   float3 t, b;
   if (!material_tangent_frame(sh, &t, &b)) return n;
-  float3 c = texture_slot_sample(s, &m->tex[TEX_NORMAL], q, false, (float4)(0.5f, 0.5f, 1.0f, 1.0f)).xyz;
+  float3 c = texture_slot_sample(s, slot, q, false, (float4)(0.5f, 0.5f, 1.0f, 1.0f)).xyz;
   c = c * 2.0f - 1.0f;
-  c.xy *= m->normal_scale;
+  c.xy *= scale;
   float3 p = c.x * t + c.y * b + c.z * n;
   const float pl = length(p);
   if (!(pl > 1e-8f) || !isfinite(pl)) return n;
@@ -119,12 +119,16 @@ static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
   /* The layers' textures are read only where their factor makes them matter (most
    * materials have neither layer: their four slot look-ups would be spent for nothing). */
   sh->bsdf.clearcoat = sh->bsdf.clearcoat_roughness = 0.0f;
+  sh->bsdf.clearcoat_n = sh->ns; /* the interpolated normal: the base's map is applied below */
   if (m->clearcoat > 0.0f) {
     sh->bsdf.clearcoat = bsdf_unorm16(
         m->clearcoat * texture_slot_sample(s, &m->tex[TEX_CLEARCOAT], &q, false, white).x);
     sh->bsdf.clearcoat_roughness = bsdf_unorm16(
         m->clearcoat_roughness *
         texture_slot_sample(s, &m->tex[TEX_CLEARCOAT_ROUGHNESS], &q, false, white).y);
+    if (m->tex[TEX_CLEARCOAT_NORMAL].texture >= 0)
+      sh->bsdf.clearcoat_n = material_normal_map(s, &m->tex[TEX_CLEARCOAT_NORMAL],
+                                                 m->clearcoat_normal_scale, sh, &q);
   }
   sh->bsdf.iridescence = 0.0f;
   sh->bsdf.iridescence_ior = m->iridescence_ior;
@@ -158,7 +162,8 @@ static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
   }
   material_anisotropy(s, m, sh, &q);
   sh->emission = material_emission_uv(s, m, uv0, uv1);
-  if (m->tex[TEX_NORMAL].texture >= 0) sh->ns = material_normal_map(s, m, sh, &q);
+  if (m->tex[TEX_NORMAL].texture >= 0)
+    sh->ns = material_normal_map(s, &m->tex[TEX_NORMAL], m->normal_scale, sh, &q);
 }
 
 /* The hit's surface with its material resolved: what integrators shade with. */

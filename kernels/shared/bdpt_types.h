@@ -1,7 +1,7 @@
 /* What bidirectional path tracing keeps of a light subpath between its two kernels
  * (kernels/integrators/bdpt.cl): one PathVertex per stored light vertex, a fixed number of
  * slots per light path (BdptParams.light_vertex_capacity). Plain floats, so the host
- * knows its size (176 bytes) for the buffer it allocates. */
+ * knows its size (192 bytes) for the buffer it allocates. */
 #ifndef CLPT_SHARED_BDPT_TYPES_H
 #define CLPT_SHARED_BDPT_TYPES_H
 
@@ -45,6 +45,8 @@ typedef struct PathVertex {
                             * roughness (24-31), as material_resolve rounds them */
   float anisotropy_t[3];   /* KHR_materials_anisotropy: direction (world) and strength */
   float anisotropy;
+  float clearcoat_n[3];    /* the clearcoat's normal (world, front face; BsdfParams) */
+  u32 pad;
 } PathVertex;
 
 CLPT_END_SHARED

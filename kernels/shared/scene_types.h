@@ -79,7 +79,8 @@ enum TextureSlotId {
   TEX_SHEEN_COLOR = 13,       /* sRGB; RGB sheenColorFactor */
   TEX_SHEEN_ROUGHNESS = 14,   /* linear; A sheenRoughnessFactor */
   TEX_ANISOTROPY = 15,        /* linear; RG direction in tangent space (x 2 - 1), B strength */
-  TEX_SLOT_COUNT = 16
+  TEX_CLEARCOAT_NORMAL = 16,  /* linear tangent-space normal map of the clearcoat */
+  TEX_SLOT_COUNT = 17
 };
 
 typedef struct TextureSlot {
@@ -125,6 +126,8 @@ typedef struct Material {
   float sheen_color[4];       /* KHR_materials_sheen sheenColorFactor (0,0,0), w unused */
   float anisotropy[4];        /* KHR_materials_anisotropy: anisotropyStrength (0), then cos and
                                * sin of anisotropyRotation (1, 0), w unused */
+  float clearcoat_normal_scale; /* clearcoatNormalTexture.scale (1) */
+  u32 pad[3];
   TextureSlot tex[TEX_SLOT_COUNT];
 } Material;
 

@@ -1,8 +1,9 @@
 /* Thin wrappers around kernels/bsdf/ for tests/bsdf_test.cpp.
- * A BSDF configuration arrives as 25 floats (tests/bsdf_test.cpp `pack`): base colour[3],
+ * A BSDF configuration arrives as 28 floats (tests/bsdf_test.cpp `pack`): base colour[3],
  * specular colour[3], metallic, roughness, specular, transmission, ior, clearcoat,
  * clearcoat roughness, iridescence, its film's ior and thickness (nm), diffuse transmission
- * and its colour[3], sheen colour[3] and roughness, anisotropy strength (along local x). Directions
+ * and its colour[3], sheen colour[3] and roughness, anisotropy strength (along local x), the
+ * clearcoat's normal[3] (local, normalised here; (0, 0, 1): the shading normal). Directions
  * are local (+z the front-face normal) unless the kernel says world. Sample outputs:
  *   dir_pdf[i]  = (wi, pdf_w): pdf_w 0 for an absorbed sample, the discrete probability for
  *                 a delta one;
@@ -29,7 +30,14 @@ inline BsdfParams test_params(__global const float* c) {
   p.sheen_roughness = c[23];
   p.anisotropy_t = (float3)(1.0f, 0.0f, 0.0f); /* local frames: x is the direction */
   p.anisotropy = c[24];
+  p.clearcoat_n = (float3)(0.0f, 0.0f, 1.0f); /* world-space kernels set their own */
   return p;
+}
+
+/* The clearcoat's normal of the configuration, local: exactly (0, 0, 1) when untilted. */
+inline float3 test_coat_normal(__global const float* c) {
+  const float3 n = (float3)(c[25], c[26], c[27]);
+  return n.x == 0.0f && n.y == 0.0f ? (float3)(0.0f, 0.0f, 1.0f) : normalize(n);
 }
 
 /* The test's own random numbers (as warp_test.cl): SplitMix64 at position i of stream
@@ -56,7 +64,7 @@ __kernel void bsdf_sample_random(__global const float* cfg, int mode, __global c
   if (i >= n) return;
   const BsdfParams p = test_params(cfg);
   const float4 u = test_random_4d(seed, i);
-  const BsdfSample bs = gltf_bsdf_sample(&p, wo[i * wo_stride].xyz, u.xy, u.z, mode);
+  const BsdfSample bs = gltf_bsdf_sample(&p, test_coat_normal(cfg), wo[i * wo_stride].xyz, u.xy, u.z, mode);
   dir_pdf[i] = (float4)(bs.wi, bs.pdf_w);
   weight[i] = (float4)(bs.weight, (float)bs.is_delta);
 }
@@ -69,7 +77,8 @@ __kernel void bsdf_eval_pairs(__global const float* cfg, int mode, __global cons
   if (i >= n) return;
   const BsdfParams p = test_params(cfg);
   const float3 o = wo[i * wo_stride].xyz, d = wi[i].xyz;
-  out[i] = (float4)(gltf_bsdf_eval(&p, o, d, mode), gltf_bsdf_pdf(&p, o, d));
+  const float3 nc = test_coat_normal(cfg);
+  out[i] = (float4)(gltf_bsdf_eval(&p, nc, o, d, mode), gltf_bsdf_pdf(&p, nc, o, d));
 }
 
 /* The world-space wrapper (bsdf.cl) on random surface frames: ng uniform, ns tilted from it
@@ -94,6 +103,13 @@ __kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
   sh.triangle = 0u;
   sh.material = 0u;
   sh.bsdf = test_params(cfg);
+  /* The coat's normal: the configuration's, in the frame of ns (front face). */
+  {
+    float3 t, b;
+    make_basis(sh.ns, &t, &b);
+    const float3 nc = test_coat_normal(cfg);
+    sh.bsdf.clearcoat_n = nc.x == 0.0f && nc.y == 0.0f ? sh.ns : normalize(nc.x * t + nc.y * b + nc.z * sh.ns);
+  }
   sh.emission = (float3)(0.0f);
   float3 wo = warp_uniform_sphere(r1.xy);
   if (fabs(dot(wo, sh.ng)) < 1e-3f) wo = sh.ng;

@@ -1,10 +1,11 @@
 /* tests/path_vertex_test.cpp: a SurfaceHit stored into a PathVertex and read back
  * (kernels/integrators/stages/path_vertex.cl), for every field the BSDF and the connection
- * code read. in[i]: 32 floats per item (base colour[3], specular colour[3], metallic,
+ * code read. in[i]: 36 floats per item (base colour[3], specular colour[3], metallic,
  * roughness, specular, transmission, ior, clearcoat, clearcoat roughness, material as a float,
  * front, unused, iridescence, its ior and thickness, diffuse transmission, its colour[3],
- * sheen colour[3], sheen roughness, anisotropy direction[3] and strength, unused), each BSDF input rounded by bsdf_unorm16 or
- * bsdf_unorm8 where material_resolve rounds it; out[i]: the same 32 read back from the stored
+ * sheen colour[3], sheen roughness, anisotropy direction[3] and strength, unused, the
+ * clearcoat's normal[3], unused), each BSDF input rounded by bsdf_unorm16 or
+ * bsdf_unorm8 where material_resolve rounds it; out[i]: the same 36 read back from the stored
  * vertex (15: flipped; the rounded ones as the difference from what was stored). */
 #include "integrators/stages/path_vertex.cl"
 
@@ -12,7 +13,7 @@ __kernel void path_vertex_round_trip(__global const float* in, __global PathVert
                                      __global float* out, uint n) {
   const uint i = get_global_id(0);
   if (i >= n) return;
-  __global const float* c = in + 32 * i;
+  __global const float* c = in + 36 * i;
   SurfaceHit sh;
   sh.p = (float3)(1.0f, 2.0f, 3.0f);
   sh.ng = sh.ns = (float3)(0.0f, 0.0f, 1.0f);
@@ -34,6 +35,7 @@ __kernel void path_vertex_round_trip(__global const float* in, __global PathVert
   sh.bsdf.sheen_roughness = bsdf_unorm8(c[26]);
   sh.bsdf.anisotropy_t = (float3)(c[27], c[28], c[29]);
   sh.bsdf.anisotropy = c[30];
+  sh.bsdf.clearcoat_n = (float3)(c[32], c[33], c[34]);
   sh.material = (u32)c[13];
   sh.front = (u32)c[14];
   SubpathState st;
@@ -41,7 +43,7 @@ __kernel void path_vertex_round_trip(__global const float* in, __global PathVert
   st.dvcm = st.dvc = st.dvm = 0.0f;
   path_vertex_store(&vertices[i], &sh, (float3)(0.0f, 0.0f, 1.0f), &st, 1u);
   const SurfaceHit r = path_vertex_surface(&vertices[i]);
-  __global float* o = out + 32 * i;
+  __global float* o = out + 36 * i;
   o[0] = r.bsdf.base_color.x, o[1] = r.bsdf.base_color.y, o[2] = r.bsdf.base_color.z;
   o[3] = r.bsdf.specular_color.x, o[4] = r.bsdf.specular_color.y, o[5] = r.bsdf.specular_color.z;
   o[6] = r.bsdf.metallic, o[7] = r.bsdf.roughness, o[8] = r.bsdf.specular;
@@ -59,4 +61,6 @@ __kernel void path_vertex_round_trip(__global const float* in, __global PathVert
   o[26] = r.bsdf.sheen_roughness - sh.bsdf.sheen_roughness;
   o[27] = r.bsdf.anisotropy_t.x, o[28] = r.bsdf.anisotropy_t.y, o[29] = r.bsdf.anisotropy_t.z;
   o[30] = r.bsdf.anisotropy, o[31] = 0.0f;
+  o[32] = r.bsdf.clearcoat_n.x, o[33] = r.bsdf.clearcoat_n.y, o[34] = r.bsdf.clearcoat_n.z;
+  o[35] = 0.0f;
 }

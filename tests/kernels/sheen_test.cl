@@ -32,7 +32,7 @@ __kernel void sheen_only_samples(float cos_o, float roughness, float4 colour, ui
   p.anisotropy = 0.0f;
   const float2 u = (float2)(((float)(i % k) + 0.5f) / (float)k, ((float)(i / k) + 0.5f) / (float)k);
   const float3 wo = (float3)(sqrt(fmax(0.0f, 1.0f - cos_o * cos_o)), 0.0f, cos_o);
-  const BsdfSample bs = gltf_bsdf_sample(&p, wo, u, 0.5f, TRANSPORT_RADIANCE);
+  const BsdfSample bs = gltf_bsdf_sample(&p, (float3)(0.0f, 0.0f, 1.0f), wo, u, 0.5f, TRANSPORT_RADIANCE);
   out[i] = (float4)(bs.weight, bs.pdf_w);
 }
 

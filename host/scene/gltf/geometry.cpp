@@ -154,21 +154,27 @@ const LocalPrimitive& Converter::local_primitive(int mesh, int prim) {
     default:
       fail(where + " has mode " + std::to_string(p.mode) + ", which is not a triangle mode");
   }
-  // A normal map and an anisotropic BSDF need tangents: generate them from the normal map's
-  // UV set (else the anisotropy texture's, else TEXCOORD_0) when the file gives none (the
-  // material index is checked by material_for before this is called).
+  // Normal maps (the base's, the clearcoat's) and an anisotropic BSDF need tangents: generate
+  // them from the first normal map's UV set (else the anisotropy texture's, else TEXCOORD_0)
+  // when the file gives none (the material index is checked by material_for before this is
+  // called).
   const Material* pm = p.material >= 0 && size_t(p.material) < scene_.materials.size()
                            ? &scene_.materials[size_t(p.material)]
                            : nullptr;
-  const bool needs_tangents = pm && (pm->normal_texture.used() || pm->anisotropy_strength > 0.0f);
+  const TextureRef* normal_map = !pm                                      ? nullptr
+                                 : pm->normal_texture.used()              ? &pm->normal_texture
+                                 : pm->clearcoat_normal_texture.used() && pm->clearcoat > 0.0f
+                                     ? &pm->clearcoat_normal_texture
+                                     : nullptr;
+  const bool needs_tangents = pm && (normal_map || pm->anisotropy_strength > 0.0f);
   if (lp.tangents.empty() && needs_tangents) {
-    const bool set1 = pm->normal_texture.used() ? pm->normal_texture.texcoord == 1
-                                                : pm->anisotropy_texture.used() && pm->anisotropy_texture.texcoord == 1;
+    const bool set1 = normal_map ? normal_map->texcoord == 1
+                                 : pm->anisotropy_texture.used() && pm->anisotropy_texture.texcoord == 1;
     const std::vector<glm::vec2>& uv = set1 ? lp.uvs1 : lp.uvs;
     if (uv.empty()) {
       log::warn(display_ + ": " + where + " has " +
-                (pm->normal_texture.used() ? "a normal map" : "an anisotropic material") + " but no TEXCOORD_" +
-                (set1 ? "1" : "0") + "; " + (pm->normal_texture.used() ? "the normal map is ignored" : "it renders isotropic"));
+                (normal_map ? "a normal map" : "an anisotropic material") + " but no TEXCOORD_" +
+                (set1 ? "1" : "0") + "; " + (normal_map ? "the normal map is ignored" : "it renders isotropic"));
     } else {
       lp.tangents = generate_tangents(lp.positions, lp.normals, uv, lp.triangles);
       log::verbose(display_ + ": " + where + ": generated tangents (no TANGENT attribute)");

@@ -270,7 +270,7 @@ const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& ext, const c
 
 void Converter::convert_materials() {
   scene_.materials.reserve(m_.materials.size() + 1);
-  size_t occlusion = 0, coat_normals = 0;
+  size_t occlusion = 0;
   for (size_t i = 0; i < m_.materials.size(); ++i) {
     const tinygltf::Material& gm = m_.materials[i];
     const std::string where = "material " + std::to_string(i);
@@ -379,7 +379,11 @@ void Converter::convert_materials() {
       mat.clearcoat_roughness = float(std::clamp(ext_number(*e, n, "clearcoatRoughnessFactor", 0.0), 0.0, 1.0));
       mat.clearcoat_texture = ext_texture(*e, n, "clearcoatTexture");
       mat.clearcoat_roughness_texture = ext_texture(*e, n, "clearcoatRoughnessTexture");
-      if (e->Has("clearcoatNormalTexture")) ++coat_normals;
+      mat.clearcoat_normal_texture = ext_texture(*e, n, "clearcoatNormalTexture");
+      if (mat.clearcoat_normal_texture.used()) {
+        const tinygltf::Value& info = e->Get("clearcoatNormalTexture");
+        mat.clearcoat_normal_scale = float(ext_number(info, "KHR_materials_clearcoat clearcoatNormalTexture", "scale", 1.0));
+      }
     }
     if (const tinygltf::Value* e = extension("KHR_materials_iridescence")) {
       const char* n = "KHR_materials_iridescence";
@@ -430,9 +434,6 @@ void Converter::convert_materials() {
     }
     scene_.materials.push_back(std::move(mat));
   }
-  if (coat_normals > 0)
-    log::verbose(display_ + ": " + std::to_string(coat_normals) +
-                 " material(s) have a clearcoatNormalTexture; ignored (the coat follows the shading normal)");
   if (occlusion > 0)
     log::verbose(display_ + ": " + std::to_string(occlusion) +
                  " material(s) have an occlusion texture; ignored (a path tracer computes occlusion)");

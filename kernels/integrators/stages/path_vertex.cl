@@ -43,6 +43,8 @@ static inline void path_vertex_store(__global PathVertex* v, const SurfaceHit* s
              bsdf_unorm8_bits(sh->bsdf.sheen_color.z) << 16 | bsdf_unorm8_bits(sh->bsdf.sheen_roughness) << 24;
   vstore3(sh->bsdf.anisotropy_t, 0, v->anisotropy_t);
   v->anisotropy = sh->bsdf.anisotropy;
+  vstore3(sh->bsdf.clearcoat_n, 0, v->clearcoat_n);
+  v->pad = 0u;
 }
 
 /* The subpath state stored with a vertex. */
@@ -90,6 +92,7 @@ static inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   sh.bsdf.sheen_roughness = (float)(v->sheen >> 24) * (1.0f / 255.0f);
   sh.bsdf.anisotropy_t = vload3(0, v->anisotropy_t);
   sh.bsdf.anisotropy = v->anisotropy;
+  sh.bsdf.clearcoat_n = vload3(0, v->clearcoat_n);
   sh.emission = (float3)(0.0f);
   return sh;
 }

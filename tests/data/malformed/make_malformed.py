@@ -278,6 +278,14 @@ def main():
         d["meshes"][0]["primitives"][0]["material"] = 0
         d["extensionsUsed"] = ["KHR_materials_anisotropy"]
     variant("anisotropy_bad_rotation.gltf", anisotropy)
+
+    # The clearcoat's normal map with a scale that is not a number (its normalTextureInfo).
+    def coat_normal_scale(d):
+        textured(png_uri(good_png))(d)
+        d["materials"] = [{"extensions": {"KHR_materials_clearcoat": {
+            "clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 0, "scale": "big"}}}}]
+        d["extensionsUsed"] = ["KHR_materials_clearcoat"]
+    variant("clearcoat_normal_bad_scale.gltf", coat_normal_scale)
     # An image in a bufferView that runs past its buffer (tinygltf passes such a pointer on
     # unchecked; clpt reads images only through its checked bufferView accessor).
     doc, data = glb_triangle()
