@@ -86,6 +86,7 @@ const std::vector<StageMaterial>& materials() {
       StageMaterial::NormalMap,     StageMaterial::AlphaMask,      StageMaterial::AlphaBlend,
       StageMaterial::EmissiveTexture, StageMaterial::Clearcoat,   StageMaterial::IridescentGlass,
       StageMaterial::Translucent,   StageMaterial::Sheen,          StageMaterial::Anisotropic,
+      StageMaterial::DispersiveGlass,
   };
   return list;
 }

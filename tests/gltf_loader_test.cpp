@@ -451,6 +451,7 @@ const MalformedCase kMalformedCases[] = {
     {"texture_texcoord_7.gltf", "material 0 baseColorTexture uses texCoord 7; clpt reads TEXCOORD_0 and TEXCOORD_1 only"},
     {"sheen_bad_color.gltf", "material 0 KHR_materials_sheen sheenColorFactor is not an array of 3 numbers"},
     {"anisotropy_bad_rotation.gltf", "material 0 KHR_materials_anisotropy anisotropyRotation is not a number"},
+    {"dispersion_not_a_number.gltf", "material 0 KHR_materials_dispersion dispersion is not a number"},
     {"clearcoat_normal_bad_scale.gltf",
      "material 0 KHR_materials_clearcoat clearcoatNormalTexture scale is not a number"},
     {"texture_bufferview_overrun.glb", "bufferView 2 reads bytes 40..4136 past the end of buffer 0 (44 bytes)"},

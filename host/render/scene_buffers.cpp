@@ -40,6 +40,7 @@ dev::Material to_device(const Material& m) {
   d.clearcoat = m.clearcoat;
   d.clearcoat_roughness = m.clearcoat_roughness;
   d.clearcoat_normal_scale = m.clearcoat_normal_scale;
+  d.dispersion = m.dispersion;
   d.iridescence = m.iridescence;
   d.iridescence_ior = m.iridescence_ior;
   d.iridescence_thickness_min = m.iridescence_thickness_min;

@@ -77,6 +77,7 @@ struct Material {
   glm::vec3 diffuse_transmission_color{1.0f};
   glm::vec3 sheen_color{0.0f};        // KHR_materials_sheen: no sheen
   float sheen_roughness = 0.0f;
+  float dispersion = 0.0f;            // KHR_materials_dispersion: 20 / Abbe number (0: none)
   float anisotropy_strength = 0.0f;   // KHR_materials_anisotropy: isotropic
   float anisotropy_rotation = 0.0f;   // radians, counter-clockwise from the tangent
 

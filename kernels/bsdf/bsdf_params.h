@@ -17,7 +17,10 @@ typedef struct BsdfParams {
   float roughness;       /* perceptual roughness [0, 1]; GGX alpha = roughness^2 */
   float specular;        /* KHR_materials_specular: specularFactor x texture alpha; 1 = glTF core */
   float transmission;    /* KHR_materials_transmission: [0, 1] */
-  float ior;             /* KHR_materials_ior: index of refraction inside the surface (1.5) */
+  float ior;             /* KHR_materials_ior: index of refraction inside the surface (1.5); with
+                          * a dispersion, n_d until a walk picks its wavelength (walk_disperse) */
+  float dispersion;      /* KHR_materials_dispersion: 20 / Abbe number where the surface
+                          * transmits (transmission > 0), else 0 */
   float clearcoat;       /* KHR_materials_clearcoat: clearcoatFactor x texture R, [0, 1] (0) */
   float clearcoat_roughness; /* clearcoatRoughnessFactor x texture G (perceptual) */
   float3 clearcoat_n;    /* the clearcoat's normal, world space, unit, on the front face's side:

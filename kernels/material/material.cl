@@ -116,6 +116,7 @@ static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
       vload3(0, m->specular_color) *
       texture_slot_sample(s, &m->tex[TEX_SPECULAR_COLOR], &q, true, white).xyz;
   sh->bsdf.ior = m->ior;
+  sh->bsdf.dispersion = sh->bsdf.transmission > 0.0f ? m->dispersion : 0.0f;
   /* The layers' textures are read only where their factor makes them matter (most
    * materials have neither layer: their four slot look-ups would be spent for nothing). */
   sh->bsdf.clearcoat = sh->bsdf.clearcoat_roughness = 0.0f;

@@ -31,6 +31,10 @@
 /* BDPT's light subpath shares its camera subpath's sampler key (kernels/integrators/estimators/bdpt/),
  * with the light tracer's layout in a stream of its own. */
 #define DIM_BDPT_LIGHT_STREAM 0xff00u
+/* Dispersion's channel pick at bounce d of a walk (kernels/integrators/stages/walk.cl):
+ * offset 0 on the camera side, 1 on the light side, of bounce d in this stream. pt's
+ * branches share it (each branch alone is still unbiased). */
+#define DIM_DISPERSION_STREAM 0xfe00u
 #define DIM_STREAMS_PER_BRANCH 256u
 /* Multiplexed MLT's choice of the bdpt strategy (kernels/integrators/mlt/mmlt_path.cl): a
  * dimension no light subpath reads (bounce 0's light vertex caching pick, light stream). */

@@ -127,7 +127,8 @@ typedef struct Material {
   float anisotropy[4];        /* KHR_materials_anisotropy: anisotropyStrength (0), then cos and
                                * sin of anisotropyRotation (1, 0), w unused */
   float clearcoat_normal_scale; /* clearcoatNormalTexture.scale (1) */
-  u32 pad[3];
+  float dispersion;             /* KHR_materials_dispersion: 20 / Abbe number (0: none) */
+  u32 pad[2];
   TextureSlot tex[TEX_SLOT_COUNT];
 } Material;
 

@@ -40,6 +40,7 @@ enum class StageMaterial {
   Translucent,      // rough plastic whose diffuse layer transmits 0.6 (KHR_materials_diffuse_transmission)
   Sheen,            // dark red rough plastic under a pale KHR_materials_sheen (roughness 0.25)
   Anisotropic,      // brushed metal: KHR_materials_anisotropy 0.8, rotated 0.5 rad (roughness 0.3)
+  DispersiveGlass,  // rough glass (as GlassRough) with KHR_materials_dispersion 2 (Abbe number 10)
 };
 
 enum class StageLight {

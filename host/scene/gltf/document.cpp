@@ -18,7 +18,8 @@ const char* const kSupportedExtensions[] = {
     "KHR_materials_ior",
     "KHR_materials_specular",
     "KHR_materials_volume",
-    "KHR_materials_clearcoat",  // materials.cpp, kernels/bsdf/gltf_bsdf.cl (no clearcoatNormalTexture)
+    "KHR_materials_clearcoat",  // materials.cpp, kernels/bsdf/gltf_bsdf.cl
+    "KHR_materials_dispersion",  // materials.cpp, kernels/integrators/stages/walk.cl (walk_disperse)
     "KHR_materials_iridescence",  // materials.cpp, kernels/bsdf/thin_film.cl
     "KHR_materials_diffuse_transmission",  // materials.cpp, kernels/bsdf/gltf_bsdf.cl
     "KHR_materials_sheen",  // materials.cpp, kernels/bsdf/sheen.cl

@@ -413,6 +413,10 @@ void Converter::convert_materials() {
       mat.sheen_color_texture = ext_texture(*e, n, "sheenColorTexture");
       mat.sheen_roughness_texture = ext_texture(*e, n, "sheenRoughnessTexture");
     }
+    if (const tinygltf::Value* e = extension("KHR_materials_dispersion")) {
+      // 20 / Abbe number; it bends light only where the glass refracts (walk_disperse).
+      mat.dispersion = float(std::clamp(ext_number(*e, "KHR_materials_dispersion", "dispersion", 0.0), 0.0, 1e3));
+    }
     if (const tinygltf::Value* e = extension("KHR_materials_anisotropy")) {
       const char* n = "KHR_materials_anisotropy";
       mat.anisotropy_strength = float(std::clamp(ext_number(*e, n, "anisotropyStrength", 0.0), 0.0, 1.0));

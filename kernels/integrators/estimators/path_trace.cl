@@ -15,20 +15,20 @@
 #include "integrators/stages/walk.cl"
 
 /* Continues a path from vertex `sh` (normals oriented to wo, at bounce `depth`, reached
- * with the ray cone `cone`, with the throughput up to it folded out: the result is to be
- * multiplied by the caller's beta).
+ * with the ray cone `cone` and dispersion channel `channel`, with the throughput up to it
+ * folded out: the result is to be multiplied by the caller's beta).
  * Returns the radiance it gathers from bounce depth+1 on. */
 static inline float3 pt_continue(__constant const RenderParams* p, const SceneView* s,
                                  const Sampler* sampler, const SurfaceHit* sh, float3 wo, u32 depth,
-                                 float2 cone, u32 stream, u32* rays) {
+                                 float2 cone, u32 channel, u32 stream, u32* rays) {
   float3 L = (float3)(0.0f);
-  PathWalk w = walk_at_vertex(sh, wo, depth, cone, stream);
+  PathWalk w = walk_at_vertex(sh, wo, depth, cone, channel, stream);
   for (;;) {
     const BsdfSample bs = camera_scatter_sample(p, s, &w.sh, w.wo,
                                                 sample_2d(sampler, walk_dim(&w, DIM_BSDF_DIR)),
                                                 sample_1d(sampler, walk_dim(&w, DIM_BSDF_LOBE)));
     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
-    if (!walk_next(s, &w, rays)) {
+    if (!walk_next(s, sampler, &w, rays)) {
       L += w.beta * nee_emission_escaped(p, s, w.dir, w.pdf_w, w.delta);
       break;
     }
@@ -45,16 +45,19 @@ static inline float3 pt_radiance(const SceneView* s, __constant const RenderPara
   PathWalk w = walk_from_camera(p, org, dir, 0u, 0u);
   /* Emission seen by the camera ray, surface or environment, has only one technique: no
    * weight. */
-  if (!walk_next(s, &w, rays)) return env_radiance(s, dir);
+  if (!walk_next(s, sampler, &w, rays)) return env_radiance(s, dir);
   float3 L = light_radiance(s, &w.sh, w.wo);
   if (p->max_depth == 0u) return L;
-  L += nee_direct(p, s, sampler, &w.sh, w.wo, offset_ray_origin(w.sh.p, w.sh.ng), 0u, 0u, rays);
+  const float3 direct =
+      nee_direct(p, s, sampler, &w.sh, w.wo, offset_ray_origin(w.sh.p, w.sh.ng), 0u, 0u, rays);
   const u32 k = max(p->branching, 1u);
   float3 indirect = (float3)(0.0f);
   for (u32 b = 0; b < k; ++b)
     indirect += pt_continue(p, s, sampler, &w.sh, w.wo, 0u, (float2)(w.cone_width, w.cone_spread),
-                            b * DIM_STREAMS_PER_BRANCH, rays);
-  return L + indirect / (float)k;
+                            w.channel, b * DIM_STREAMS_PER_BRANCH, rays);
+  if (w.channel == DISPERSION_NONE) return L + direct + indirect / (float)k;
+  /* A dispersive glass at the first hit: its channel's weight (walk_disperse) on what it scatters. */
+  return L + w.beta * (direct + indirect / (float)k);
 }
 
 #endif

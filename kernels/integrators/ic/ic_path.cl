@@ -32,7 +32,7 @@ static inline int ic_first_vertex(__constant const RenderParams* p, const SceneV
                                   const Sampler* sampler, PathWalk* w, float3* L, float* travelled,
                                   u32* rays) {
   for (;;) {
-    if (!walk_next(s, w, rays)) {
+    if (!walk_next(s, sampler, w, rays)) {
       *L += w->beta * nee_emission_escaped(p, s, w->dir, w->pdf_w, w->delta);
       return 0;
     }
@@ -54,7 +54,7 @@ static inline float3 ic_indirect_at(__constant const RenderParams* p, const Scen
   return nee_direct(p, s, sampler, &w->sh, w->wo, offset_ray_origin(w->sh.p, w->sh.ng), w->depth,
                     w->stream, rays) +
          pt_continue(p, s, sampler, &w->sh, w->wo, w->depth, (float2)(w->cone_width, w->cone_spread),
-                     w->stream, rays);
+                     w->channel, w->stream, rays);
 }
 
 /* The pixel footprint at the end of a camera path `travelled` long. */
@@ -90,7 +90,7 @@ static inline float3 ic_radiance(__constant const RenderParams* p, const SceneVi
   w.beta = (float3)(1.0f);
   w.roulette = WALK_RR_NONE;
   walk_scatter(p, s, sampler, &w, &along);
-  if (!walk_next(s, &w, rays))
+  if (!walk_next(s, sampler, &w, rays))
     return L + beta_x * bs.weight * w.beta * nee_emission_escaped(p, s, w.dir, w.pdf_w, w.delta);
   L += beta_x * bs.weight * w.beta * nee_emission_hit(p, s, &w.sh, w.wo, w.hit.t, w.pdf_w, w.delta);
   if (is_black(fabs(rest))) return L;

@@ -75,7 +75,7 @@ static inline float4 ic_record_ray(__constant const RenderParams* p, const Scene
   }
   PathWalk w = walk_from_ray(x, org, dir, (float3)(1.0f), MEDIUM_NONE, rec->depth + 1u, 0u,
                              TRANSPORT_RADIANCE, WALK_RR_PATH);
-  if (!walk_next(s, &w, rays)) return (float4)(0.0f, 0.0f, 0.0f, INFINITY);
+  if (!walk_next(s, sampler, &w, rays)) return (float4)(0.0f, 0.0f, 0.0f, INFINITY);
   const float3 L = w.beta * ic_indirect_at(p, s, sampler, &w, rays);
   return (float4)(is_finite3(L) ? L : (float3)(0.0f), w.hit.t);
 }

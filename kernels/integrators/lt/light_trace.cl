@@ -74,7 +74,7 @@ static inline void lt_trace(__constant const RenderParams* p, const SceneView* s
    * roulette looks at like pt's throughput). */
   const float3 emitted = e.Le * (e.cos_light / (e.pdf_select * e.pdf_a * e.pdf_w));
   PathWalk w = walk_from_light(e.p, org, e.dir, (float3)(1.0f), 0u, WALK_RR_PATH);
-  while (walk_next(s, &w, rays)) {
+  while (walk_next(s, sampler, &w, rays)) {
     if (bsdf_has_smooth_lobe(&w.sh))
       lt_connect_surface(p, s, &w.sh, w.wo, emitted * w.beta,
                          sample_2d(sampler, walk_dim(&w, DIM_LT_LENS)), splat, rays);

@@ -42,7 +42,7 @@ static inline int mmlt_light_vertex(__constant const RenderParams* p, const Scen
   const StrategyMis none = mis_all_strategies();
   if (!bdpt_light_start(p, &none, s, sampler, &y->st, &q, &w)) return 0;
   w.roulette = WALK_RR_NONE;
-  while (walk_next(s, &w, rays)) {
+  while (walk_next(s, sampler, &w, rays)) {
     bdpt_light_arrive(p, &y->st, &w, q.finite);
     if (w.depth == depth) {
       if (!bsdf_has_smooth_lobe(&w.sh)) return 0;
@@ -82,7 +82,7 @@ static inline float3 mmlt_camera_strategy(__constant const RenderParams* p, cons
   float3 L = (float3)(0.0f);
   for (;;) {
     const u32 k = w.depth + 1u;
-    if (!walk_next(s, &w, rays)) {
+    if (!walk_next(s, sampler, &w, rays)) {
       if (s_count == 0u && k == last) bdpt_gather_escape(p, &none, s, &st, w.beta, w.dir, k, &L);
       return L;
     }

@@ -48,7 +48,7 @@ static inline void photon_trace(__constant const RenderParams* p, const SceneVie
   const float3 power = e.Le * (e.cos_light * inv_paths / (e.pdf_select * e.pdf_a * e.pdf_w));
   PathWalk w = walk_from_light(e.p, light_emission_origin(s, &e), e.dir, power, 0u, WALK_RR_ALBEDO);
   int specular_only = 1; /* every scattering so far was a delta one */
-  while (w.depth <= p->max_depth && walk_next(s, &w, rays)) {
+  while (w.depth <= p->max_depth && walk_next(s, sampler, &w, rays)) {
     const u32 depth = w.depth;
     /* Glossy vertices hold no photons: no density estimate is made there
      * (kernels/integrators/estimators/photon/visible_point.cl). */

@@ -79,7 +79,8 @@ static inline SurfaceHit path_vertex_surface(__global const PathVertex* v) {
   sh.bsdf.roughness = v->roughness;
   sh.bsdf.specular = v->specular;
   sh.bsdf.transmission = v->transmission;
-  sh.bsdf.ior = v->ior;
+  sh.bsdf.ior = v->ior; /* a dispersive glass's index at its path's wavelength */
+  sh.bsdf.dispersion = 0.0f;
   sh.bsdf.clearcoat = (float)(v->clearcoat & 0xffffu) * (1.0f / 65535.0f);
   sh.bsdf.clearcoat_roughness = (float)(v->clearcoat >> 16) * (1.0f / 65535.0f);
   sh.bsdf.iridescence = v->iridescence;

@@ -11,7 +11,7 @@
  * scatter. Its own quantities (MIS state, flux scale) stay in the integrator.
  *
  *   PathWalk w = walk_from_camera(org, dir, 0u, stream);      (or walk_from_light, ...)
- *   while (walk_next(s, &w, rays)) {
+ *   while (walk_next(s, sampler, &w, rays)) {
  *     ... the vertex w.sh, w.wo (bounce w.depth) ...
  *     const BsdfSample bs = walk_sample_bsdf(sampler, &w);
  *     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
@@ -32,6 +32,11 @@
  * transmittance applied when the ray lands; a walk started from a camera or a light starts
  * outside every volume.
  *
+ * Dispersion (bsdf/dispersion.cl): the first dispersive glass a walk reaches picks the
+ * walk's colour channel (its wavelength), weight 3 on it, in a stream of its own
+ * (DIM_DISPERSION_STREAM, bounce d, offset 0 on the camera side and 1 on the light side);
+ * every dispersive glass after it on the walk refracts at that wavelength's index.
+ *
  * Dimensions (sampler/dimensions.h): vertex d of a walk draws bounce d of stream `stream`.
  * Camera walks number their first hit 0; light walks number it 1, since the light point
  * itself takes bounce 0's dimensions. */
@@ -39,6 +44,7 @@
 #define CLPT_INTEGRATORS_STAGES_WALK_CL
 
 #include "bsdf/bsdf.cl"
+#include "bsdf/dispersion.cl"
 #include "bvh/intersect.cl"
 #include "camera/camera.cl"
 #include "core/ray.cl"
@@ -73,6 +79,7 @@ typedef struct PathWalk {
   u32 roulette;     /* WALK_RR_PATH, WALK_RR_ALBEDO or WALK_RR_NONE */
   float cone_width;  /* the ray cone (textures' footprint): its width at the ray's origin, */
   float cone_spread; /* and its growth per unit of distance; both 0: no cone */
+  u32 channel;       /* the wavelength dispersive glass picked (DISPERSION_NONE: none yet) */
 } PathWalk;
 
 /* A walk whose next ray is org, dir, towards its vertex of bounce `depth`, in `medium`. */
@@ -93,6 +100,7 @@ static inline PathWalk walk_from_ray(float3 from, float3 org, float3 dir, float3
   w.roulette = roulette;
   w.cone_width = 0.0f;
   w.cone_spread = 0.0f;
+  w.channel = DISPERSION_NONE;
   return w;
 }
 
@@ -114,16 +122,17 @@ static inline PathWalk walk_from_light(float3 from, float3 org, float3 dir, floa
 }
 
 /* A camera-side walk standing at vertex sh (normals oriented to wo, bounce depth) with the
- * ray cone `cone` (width there, spread) of the walk that reached it, to be scattered first:
- * pt's continuation from its first hit, one per branch. */
+ * ray cone `cone` (width there, spread) and the dispersion channel of the walk that reached
+ * it, to be scattered first: pt's continuation from its first hit, one per branch. */
 static inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth, float2 cone,
-                                      u32 stream) {
+                                      u32 channel, u32 stream) {
   PathWalk w = walk_from_ray(sh->p, sh->p, -wo, (float3)(1.0f), MEDIUM_NONE, depth, stream,
                              TRANSPORT_RADIANCE, WALK_RR_PATH);
   w.sh = *sh;
   w.wo = wo;
   w.cone_width = cone.x;
   w.cone_spread = cone.y;
+  w.channel = channel;
   return w;
 }
 
@@ -132,9 +141,25 @@ static inline u32 walk_dim(const PathWalk* w, u32 offset) {
   return stream_dim(bounce_dim(w->depth, offset), w->stream);
 }
 
+/* At a dispersive glass: the walk's channel, picked here if none is yet (its weight in beta
+ * and rr_weight), and the glass's index at that channel's wavelength. */
+static inline void walk_disperse(const Sampler* sampler, PathWalk* w) {
+  if (w->channel == DISPERSION_NONE) {
+    const float u = sample_1d(sampler, stream_dim(bounce_dim(w->depth, w->mode == TRANSPORT_IMPORTANCE ? 1u : 0u),
+                                                  DIM_DISPERSION_STREAM));
+    w->channel = min((u32)(u * 3.0f), 2u) + 1u;
+    const float3 c = dispersion_weight(w->channel);
+    w->beta *= c;
+    w->rr_weight *= c;
+  }
+  w->sh.bsdf.ior = dispersion_ior(w->sh.bsdf.ior, w->sh.bsdf.dispersion, dispersion_wavelength(w->channel));
+  w->sh.bsdf.dispersion = 0.0f;
+}
+
 /* Traces the walk's ray. False when it escapes (w->dir is its direction); else w->sh, w->hit
- * and w->wo are the new vertex, the medium's transmittance is in beta and rr_weight. */
-CLPT_INLINE bool walk_next(const SceneView* s, PathWalk* w, u32* rays) {
+ * and w->wo are the new vertex, the medium's transmittance is in beta and rr_weight, and a
+ * dispersive glass there has refracted the walk into one wavelength (walk_disperse). */
+CLPT_INLINE bool walk_next(const SceneView* s, const Sampler* sampler, PathWalk* w, u32* rays) {
   ++*rays;
   if (!intersect_closest(s, w->org, w->dir, INFINITY, &w->hit)) return false;
   if (w->medium != MEDIUM_NONE) {
@@ -146,6 +171,7 @@ CLPT_INLINE bool walk_next(const SceneView* s, PathWalk* w, u32* rays) {
   w->sh = surface_shade_cone(s, &w->hit, w->org, w->dir, w->cone_width);
   w->wo = -w->dir;
   bsdf_orient(&w->sh, w->wo);
+  if (w->sh.bsdf.dispersion > 0.0f) walk_disperse(sampler, w);
   return true;
 }
 

@@ -54,7 +54,7 @@ static inline u32 vcm_light_path(__constant const RenderParams* p, __constant co
   const bool store = vcm_mode_merges(v->mode) || vcm_mode_connects(v->mode);
   const bool connect = v->mode != VCM_MODE_PPM;
   u32 stored = 0u;
-  while (w.depth <= p->max_depth && walk_next(s, &w, rays)) {
+  while (w.depth <= p->max_depth && walk_next(s, sampler, &w, rays)) {
     const u32 depth = w.depth;
     bdpt_light_arrive(p, &st, &w, q.finite);
     if (v->mode == VCM_MODE_LT) st.dvcm = st.dvc = 0.0f; /* no strategy but t = 1: weight 1 */
@@ -151,7 +151,7 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
   PathWalk w = walk_from_camera(p, org, dir, 0u, 0u);
   for (;;) {
     const u32 k = w.depth + 1u;
-    if (!walk_next(s, &w, rays)) {
+    if (!walk_next(s, sampler, &w, rays)) {
       if (v->mode != VCM_MODE_PPM || specular) bdpt_gather_escape(p, &m, s, &st, w.beta, w.dir, k, &L);
       break;
     }

@@ -279,6 +279,14 @@ def main():
         d["extensionsUsed"] = ["KHR_materials_anisotropy"]
     variant("anisotropy_bad_rotation.gltf", anisotropy)
 
+    # A dispersion that is not a number.
+    def dispersion(d):
+        d["materials"] = [{"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                                          "KHR_materials_dispersion": {"dispersion": [1]}}}]
+        d["meshes"][0]["primitives"][0]["material"] = 0
+        d["extensionsUsed"] = ["KHR_materials_transmission", "KHR_materials_dispersion"]
+        d["extensionsRequired"] = ["KHR_materials_dispersion"]
+    variant("dispersion_not_a_number.gltf", dispersion)
     # The clearcoat's normal map with a scale that is not a number (its normalTextureInfo).
     def coat_normal_scale(d):
         textured(png_uri(good_png))(d)

@@ -152,7 +152,7 @@ static inline float3 bdpt_camera_path(__constant const RenderParams* p,
   PathWalk w = walk_from_camera(p, org, dir, 0u, 0u);
   for (;;) {
     const u32 k = w.depth + 1u; /* the vertex's index on the camera subpath */
-    if (!walk_next(s, &w, rays)) {
+    if (!walk_next(s, sampler, &w, rays)) {
       bdpt_gather_escape(p, &mis, s, &st, w.beta, w.dir, k, &L);
       break;
     }

@@ -113,7 +113,7 @@ static inline u32 bdpt_light_path(__constant const RenderParams* p, __constant c
   const StrategyMis mis = mis_bdpt(b);
   if (!bdpt_light_start(p, &mis, s, sampler, &st, &q, &w)) return 0u;
   u32 stored = 0u;
-  while (w.depth <= p->max_depth && walk_next(s, &w, rays)) {
+  while (w.depth <= p->max_depth && walk_next(s, sampler, &w, rays)) {
     const u32 depth = w.depth;
     bdpt_light_arrive(p, &st, &w, q.finite);
     if (bsdf_has_smooth_lobe(&w.sh)) {

@@ -56,7 +56,7 @@ static inline int photon_visible_point(__constant const RenderParams* p, const S
                              from ? volume_medium(s, from, dir) : MEDIUM_NONE, depth, stream,
                              TRANSPORT_RADIANCE, WALK_RR_PATH);
   for (;;) {
-    if (!walk_next(s, &w, rays)) {
+    if (!walk_next(s, sampler, &w, rays)) {
       if (add_emission) vp->L += w.beta * nee_emission_escaped(p, s, w.dir, w.pdf_w, w.delta);
       return 0;
     }
