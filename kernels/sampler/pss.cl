@@ -114,7 +114,9 @@ static inline Sampler pss_fresh(u32 key, u32 dims) {
 /* Coordinate d as this proposal sees it, brought up to date first (see the file comment). */
 static inline float pss_value(const Sampler* s, u32 dimension) {
   /* Out of the vector (a dimension the layout does not give the chain): an independent value
-   * per proposal. mlt sizes the vector so that its paths never read one. */
+   * per proposal. mlt sizes the vector so that its paths read none but one: dispersion's
+   * channel pick (DIM_DISPERSION_STREAM), redrawn at every proposal, which is a symmetric
+   * independent proposal on the channel (the current state keeps its own). */
   const u32 d = pss_coordinate(dimension);
   if (d >= s->dims) return pss_uniform(s->step_key, dimension);
   if (!s->coords) return pss_uniform(s->large_key, d);
