@@ -117,7 +117,7 @@ typedef struct GltfLobes {
   float coat;        /* clearcoat weight c in [0, 1] */
   float alpha_c;     /* clearcoat GGX alpha */
   int coat_delta;    /* alpha_c < GGX_ALPHA_DELTA */
-  int coat_tilted;   /* the coat's normal is not +z (gltf_coat_frame) */
+  int coat_tilted;   /* the coat's normal is not +z (bsdf_coat_normal gives exactly +z otherwise) */
   float3 nc, tc, bc; /* the coat's frame: its normal, and tangents where tilted */
   float cos_oc;      /* wo's cosine with the coat's normal, clamped to [0, 1] */
   float sheen_m;     /* sheen: the colour's largest component, 0 without a sheen */
