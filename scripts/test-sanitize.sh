@@ -44,7 +44,8 @@ export OCL_ICD_VENDORS="$PWD/build-asan/icd"
 cmake --build --preset asan
 built=$(date +%s)
 
-tests="^($suites)\\.|/($suites)\\."
+# ctest runs a group of a suite per process (tests/GroupTests.cmake): SUITE or SUITE.partK.
+tests="(^|/)($suites)(\\.part[0-9]+)?$"
 jobs=$(nproc 2>/dev/null || echo 2)
 status=0
 ctest --test-dir build-asan --output-on-failure -j "$jobs" -R "$tests" "$@" || status=$?
