@@ -175,7 +175,9 @@ TEST(ImageDecode, WebpDecodesToItsPixels) {
     bad[at] ^= 0x5A;
     DecodedImage out;
     std::string reason;
-    if (!decode_image(bad.data(), bad.size(), &out, &reason)) EXPECT_FALSE(reason.empty());
+    if (!decode_image(bad.data(), bad.size(), &out, &reason)) {
+      EXPECT_FALSE(reason.empty());
+    }
   }
 }
 
