@@ -156,7 +156,7 @@ double texel_luminance(const Texture& tex, glm::vec2 uv) {
     return std::min<uint32_t>(uint32_t(f * float(n)), n - 1);
   };
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return 0.0;
-  const uint32_t t = tex.texels[size_t(wrap(uv.y, tex.height)) * tex.width + wrap(uv.x, tex.width)];
+  const uint32_t t = tex.rgba8(size_t(wrap(uv.y, tex.height)) * tex.width + wrap(uv.x, tex.width));
   return luminance(glm::dvec3(srgb_to_linear((t & 0xffu) / 255.0),
                               srgb_to_linear(((t >> 8) & 0xffu) / 255.0),
                               srgb_to_linear(((t >> 16) & 0xffu) / 255.0)));

@@ -21,17 +21,23 @@ const std::array<float, 256>& srgb_table() {
   return table;
 }
 
-uint32_t encode(double linear, bool srgb) {
+double srgb_decode(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+// A linear value in [0, 1] as an integer channel of `max` steps (255 or 65535), sRGB-encoded
+// first where `srgb`.
+uint32_t encode(double linear, bool srgb, double max) {
   double c = std::clamp(linear, 0.0, 1.0);
   if (srgb) c = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-  return uint32_t(std::lround(std::clamp(c, 0.0, 1.0) * 255.0));
+  return uint32_t(std::lround(std::clamp(c, 0.0, 1.0) * max));
 }
 
-// Level k + 1 from level k (w x h), averaged in linear values.
-std::vector<uint32_t> halve(const std::vector<uint32_t>& src, uint32_t w, uint32_t h, bool srgb) {
+// Level k + 1 from level k (w x h), averaged in linear values; `wide`: 16 bits a channel, two
+// words a texel (Texture::wide).
+std::vector<uint32_t> halve(const std::vector<uint32_t>& src, uint32_t w, uint32_t h, bool srgb, bool wide) {
   const uint32_t w2 = std::max(1u, w / 2), h2 = std::max(1u, h / 2);
   const std::array<float, 256>& lut = srgb_table();
-  std::vector<uint32_t> out(size_t(w2) * h2);
+  const size_t words = wide ? 2 : 1;
+  std::vector<uint32_t> out(size_t(w2) * h2 * words);
   for (uint32_t j = 0; j < h2; ++j) {
     const uint32_t y0 = uint32_t(uint64_t(j) * h / h2), y1 = uint32_t(uint64_t(j + 1) * h / h2);
     for (uint32_t i = 0; i < w2; ++i) {
@@ -39,7 +45,15 @@ std::vector<uint32_t> halve(const std::vector<uint32_t>& src, uint32_t w, uint32
       double sum[4] = {0.0, 0.0, 0.0, 0.0};
       for (uint32_t y = y0; y < y1; ++y)
         for (uint32_t x = x0; x < x1; ++x) {
-          const uint32_t c = src[size_t(y) * w + x];
+          const size_t t = size_t(y) * w + x;
+          if (wide) {
+            const uint32_t c[4] = {src[2 * t] & 65535u, src[2 * t] >> 16, src[2 * t + 1] & 65535u,
+                                   src[2 * t + 1] >> 16};
+            for (int k = 0; k < 3; ++k) sum[k] += srgb ? srgb_decode(c[k] / 65535.0) : c[k] / 65535.0;
+            sum[3] += c[3] / 65535.0;
+            continue;
+          }
+          const uint32_t c = src[t];
           for (int k = 0; k < 3; ++k) {
             const uint32_t v = (c >> (8 * k)) & 255u;
             sum[k] += srgb ? double(lut[v]) : v / 255.0;
@@ -47,8 +61,14 @@ std::vector<uint32_t> halve(const std::vector<uint32_t>& src, uint32_t w, uint32
           sum[3] += (c >> 24) / 255.0;
         }
       const double n = double(x1 - x0) * double(y1 - y0);
-      out[size_t(j) * w2 + i] = encode(sum[0] / n, srgb) | encode(sum[1] / n, srgb) << 8 |
-                                encode(sum[2] / n, srgb) << 16 | encode(sum[3] / n, false) << 24;
+      const size_t o = size_t(j) * w2 + i;
+      if (wide) {
+        out[2 * o] = encode(sum[0] / n, srgb, 65535.0) | encode(sum[1] / n, srgb, 65535.0) << 16;
+        out[2 * o + 1] = encode(sum[2] / n, srgb, 65535.0) | encode(sum[3] / n, false, 65535.0) << 16;
+      } else {
+        out[o] = encode(sum[0] / n, srgb, 255.0) | encode(sum[1] / n, srgb, 255.0) << 8 |
+                 encode(sum[2] / n, srgb, 255.0) << 16 | encode(sum[3] / n, false, 255.0) << 24;
+      }
     }
   }
   return out;
@@ -57,14 +77,14 @@ std::vector<uint32_t> halve(const std::vector<uint32_t>& src, uint32_t w, uint32
 }  // namespace
 
 std::vector<uint32_t> build_mip_levels(const std::vector<uint32_t>& texels, uint32_t width, uint32_t height,
-                                       bool srgb, uint32_t* levels) {
+                                       bool srgb, uint32_t* levels, bool wide) {
   std::vector<uint32_t> all;
   *levels = 1;
-  if (width == 0 || height == 0 || texels.size() != size_t(width) * height) return all;
+  if (width == 0 || height == 0 || texels.size() != size_t(width) * height * (wide ? 2 : 1)) return all;
   std::vector<uint32_t> level = texels;
   uint32_t w = width, h = height;
   while (w > 1 || h > 1) {
-    level = halve(level, w, h, srgb);
+    level = halve(level, w, h, srgb, wide);
     w = std::max(1u, w / 2);
     h = std::max(1u, h / 2);
     all.insert(all.end(), level.begin(), level.end());

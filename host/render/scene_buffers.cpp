@@ -123,10 +123,11 @@ FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& e
     d.height = t.height;
     uint32_t levels = 1;
     std::vector<uint32_t> mips;
-    if (mipmaps) mips = build_mip_levels(t.texels, t.width, t.height, srgb[i], &levels);
+    if (mipmaps) mips = build_mip_levels(t.texels, t.width, t.height, srgb[i], &levels, t.wide);
     d.flags = static_cast<dev::u32>(t.wrap_s) |
               (static_cast<dev::u32>(t.wrap_t) << dev::TEXTURE_WRAP_T_SHIFT) |
               (t.nearest ? static_cast<dev::u32>(dev::TEXTURE_NEAREST) : 0u) |
+              (t.wide ? static_cast<dev::u32>(dev::TEXTURE_WIDE) : 0u) |
               (levels << dev::TEXTURE_LEVELS_SHIFT);
     flat.textures.push_back(d);
     flat.texels.insert(flat.texels.end(), t.texels.begin(), t.texels.end());

@@ -23,9 +23,10 @@ struct FlatScene {
   std::vector<dev::VertexExtra> vertex_extra;  // empty unless the scene has tangents, UV1 or colours
   std::vector<dev::Material> materials;
   std::vector<dev::Texture> textures;
-  std::vector<uint32_t> texels;                // all textures' RGBA8 texels, each texture's
-                                               // mip levels after its own (render/mipmaps.h)
-  size_t mip_texels = 0;                       // of those, the mip levels' (levels 1, 2, ...)
+  std::vector<uint32_t> texels;                // all textures' texel words (one an RGBA8 texel,
+                                               // two a 16-bit one), each texture's mip levels
+                                               // after its own (render/mipmaps.h)
+  size_t mip_texels = 0;                       // of those words, the mip levels' (levels 1, 2, ...)
   std::vector<dev::Light> lights;              // every light, with the alias table
   std::vector<int32_t> triangle_light;         // per leaf-order triangle: light index or -1
   std::vector<float> env_texels;               // environment map, RGBA float (4 per texel)

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <memory>
 #include <utility>
 
@@ -14,7 +15,7 @@
 namespace clpt {
 
 bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std::string* why,
-                  uint64_t max_dimension, uint64_t max_pixels) {
+                  uint64_t max_dimension, uint64_t max_pixels, bool keep16) {
   const ImageFormat kind = sniff_image(data, size);
   if (kind != ImageFormat::Png && kind != ImageFormat::Jpeg && kind != ImageFormat::Webp) {
     *why = size == 0                  ? "the image is empty (0 bytes)"
@@ -86,10 +87,13 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
     }
     const int nc = spec.nchannels;
     const int keep = nc > 4 ? 4 : nc;
-    std::vector<unsigned char> pixels(size_t(w * h) * size_t(keep));
+    const bool wide = keep16 && spec.format == OIIO::TypeDesc::UINT16;
+    const OIIO::TypeDesc type = wide ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8;
+    const size_t bytes = wide ? 2 : 1;
+    std::vector<unsigned char> pixels(size_t(w * h) * size_t(keep) * bytes);
     // A decoder that reports a problem and still returns pixels (libjpeg pads a JPEG whose
     // data ends early with grey) has read a damaged image.
-    if (!in->read_image(0, 0, 0, keep, OIIO::TypeDesc::UINT8, pixels.data()) || in->has_error()) {
+    if (!in->read_image(0, 0, 0, keep, type, pixels.data()) || in->has_error()) {
       std::string e = one_line(in->geterror());
       *why = std::string("cannot decode the ") + format + " pixels" + (e.empty() ? "" : ": " + e);
       return false;
@@ -97,18 +101,27 @@ bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std
     in->close();
     out->width = uint32_t(w);
     out->height = uint32_t(h);
-    out->texels.resize(size_t(w * h));
-    for (size_t i = 0; i < out->texels.size(); ++i) {
-      const unsigned char* p = &pixels[i * size_t(keep)];
-      uint32_t r, g, b, a = 255;
-      if (keep <= 2) {
-        r = g = b = p[0];
-        if (keep == 2) a = p[1];
-      } else {
-        r = p[0], g = p[1], b = p[2];
-        if (keep == 4) a = p[3];
+    out->wide = wide;
+    out->texels.resize(size_t(w * h) * (wide ? 2 : 1));
+    const uint32_t opaque = wide ? 65535u : 255u;
+    for (size_t i = 0; i < size_t(w * h); ++i) {
+      uint32_t c[4] = {0, 0, 0, opaque};
+      for (int k = 0; k < keep; ++k) {
+        const size_t at = (i * size_t(keep) + size_t(k)) * bytes;
+        uint16_t v16 = 0;
+        if (wide) std::memcpy(&v16, &pixels[at], 2);  // native order, as OpenImageIO writes it
+        c[k] = wide ? v16 : pixels[at];
       }
-      out->texels[i] = r | g << 8 | b << 16 | a << 24;
+      if (keep <= 2) {  // grey (and alpha)
+        if (keep == 2) c[3] = c[1];
+        c[1] = c[2] = c[0];
+      }
+      if (wide) {
+        out->texels[2 * i] = c[0] | c[1] << 16;
+        out->texels[2 * i + 1] = c[2] | c[3] << 16;
+      } else {
+        out->texels[i] = c[0] | c[1] << 8 | c[2] << 16 | c[3] << 24;
+      }
     }
     return true;
   } catch (const std::bad_alloc&) {

@@ -19,16 +19,21 @@ constexpr uint64_t kMaxImagePixels = uint64_t{1} << 26;  // 64 Mpixel = 256 MiB 
 
 struct DecodedImage {
   uint32_t width = 0, height = 0;
-  std::vector<uint32_t> texels;  // width * height RGBA8, R in the low byte, row 0 at the top
+  // width * height texels, row 0 at the top: RGBA8, R in the low byte; `wide`: RGBA16 in two
+  // words, R | G << 16 then B | A << 16 (as Texture).
+  std::vector<uint32_t> texels;
+  bool wide = false;
 };
 
 // Decodes a PNG, JPEG or WebP (recognised by its first bytes, not by a name or media type) into
-// 8-bit RGBA: grey becomes RGB, a missing alpha is 255, alpha stays unassociated (straight),
-// 16-bit channels are rounded to 8 bits, no colour-space conversion. Returns false with a
-// one-line reason (bad bytes, not PNG/JPEG/WebP (KTX2 named as such), too large, decoder error).
-// max_dimension and max_pixels: the limits (LoadLimits::image_dimension, image_pixels).
+// 8-bit RGBA: grey becomes RGB, a missing alpha is 255 (65535), alpha stays unassociated
+// (straight), no colour-space conversion. 16-bit channels are rounded to 8 bits, or kept
+// (`wide` set) where `keep16`. Returns false with a one-line reason (bad bytes, not
+// PNG/JPEG/WebP (KTX2 named as such), too large, decoder error). max_dimension and max_pixels:
+// the limits (LoadLimits::image_dimension, image_pixels).
 bool decode_image(const unsigned char* data, size_t size, DecodedImage* out, std::string* why,
-                  uint64_t max_dimension = kMaxImageDimension, uint64_t max_pixels = kMaxImagePixels);
+                  uint64_t max_dimension = kMaxImageDimension, uint64_t max_pixels = kMaxImagePixels,
+                  bool keep16 = false);
 
 // One magenta texel: what --lenient puts in place of an image that cannot be decoded.
 DecodedImage placeholder_image();

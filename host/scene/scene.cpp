@@ -4,6 +4,25 @@
 
 namespace clpt {
 
+namespace {
+
+// A 16-bit channel to the nearest 8-bit value: round(v * 255 / 65535) = round(v / 257).
+uint32_t to8(uint32_t v) { return (v + 128u) / 257u; }
+
+uint32_t narrow(uint32_t rg, uint32_t ba) {
+  return to8(rg & 65535u) | to8(rg >> 16) << 8 | to8(ba & 65535u) << 16 | to8(ba >> 16) << 24;
+}
+
+}  // namespace
+
+uint32_t Texture::rgba8(size_t i) const { return wide ? narrow(texels[2 * i], texels[2 * i + 1]) : texels[i]; }
+
+std::vector<uint32_t> narrow_texels(const std::vector<uint32_t>& wide) {
+  std::vector<uint32_t> out(wide.size() / 2);
+  for (size_t i = 0; i < out.size(); ++i) out[i] = narrow(wide[2 * i], wide[2 * i + 1]);
+  return out;
+}
+
 Bounds Scene::bounds() const {
   Bounds b;
   for (const glm::vec3& p : positions) b.extend(p);

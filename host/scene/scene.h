@@ -28,16 +28,27 @@ struct Bounds {
   glm::vec3 extent() const { return max - min; }
 };
 
-// A decoded image, 8-bit RGBA, row 0 at the top (v = 0). Colour-space decoding (sRGB for
-// colour textures) happens where a material reads it, since one image may serve both.
+// A decoded image, RGBA, row 0 at the top (v = 0). Colour-space decoding (sRGB for colour
+// textures) happens where a material reads it, since one image may serve both. 8 bits a
+// channel, except a 16-bit image read only as a normal map (`wide`, the glTF loader decides).
 struct Texture {
   enum class Wrap : uint8_t { Repeat, Clamp, Mirror };  // glTF sampler wrapS / wrapT
   std::string name;                                      // for messages: image name or URI
   uint32_t width = 0, height = 0;
-  std::vector<uint32_t> texels;  // width * height, R in the low byte
+  // width * height texels: one word each, R in the low byte; `wide`: two words each,
+  // R | G << 16 then B | A << 16 (dev::TEXTURE_WIDE).
+  std::vector<uint32_t> texels;
+  bool wide = false;
   Wrap wrap_s = Wrap::Repeat, wrap_t = Wrap::Repeat;
   bool nearest = false;          // magFilter NEAREST; default bilinear
+
+  // Texel i (row-major) as 8-bit RGBA, R in the low byte, whichever the format.
+  uint32_t rgba8(size_t i) const;
 };
+
+// 16-bit RGBA words (two a texel, R | G << 16 then B | A << 16) to 8-bit (one a texel), each
+// channel rounded to the nearest 8-bit value.
+std::vector<uint32_t> narrow_texels(const std::vector<uint32_t>& wide);
 
 // Where a material reads a texture: which one, which UV set, and KHR_texture_transform as a
 // 2x3 matrix uv' = transform * (u, v, 1).

@@ -41,12 +41,15 @@ typedef struct VertexExtra {
   float pad[2];
 } VertexExtra;
 
-/* A decoded 8-bit RGBA image: width x height texels starting at `offset` in the texel buffer,
- * row 0 at the top (v = 0), each texel a u32 with R in the low byte. */
+/* A decoded RGBA image: width x height texels starting at word `offset` of the texel buffer,
+ * row 0 at the top (v = 0). 8 bits a channel: a texel is one u32 with R in the low byte;
+ * TEXTURE_WIDE (a 16-bit normal map, host/scene/gltf/materials.cpp): 16 bits a channel, a
+ * texel is two u32, R | G << 16 then B | A << 16. */
 enum TextureFlags {
   TEXTURE_WRAP_S_MASK = 3u, /* bits 0-1: TextureWrap for u */
   TEXTURE_WRAP_T_SHIFT = 2u, /* bits 2-3: TextureWrap for v */
   TEXTURE_NEAREST = 16u,     /* magnification filter NEAREST (default: bilinear) */
+  TEXTURE_WIDE = 32u,        /* 16 bits a channel, two words a texel (above) */
   TEXTURE_LEVELS_SHIFT = 8u  /* bits 8-12: mip levels, level 0 included (1: none); level k + 1
                               * is max(1, w / 2) x max(1, h / 2) of level k's w x h, its texels
                               * right after level k's (host/render/mipmaps.h) */

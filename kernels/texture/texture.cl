@@ -113,34 +113,51 @@ static inline float texture_reduce(float x, u32 mode) {
   return x - period * floor(x / period);
 }
 
-/* One texel of the level starting at texel `offset` with rows `width` wide, as RGBA in
- * [0, 1]; `srgb` decodes RGB from sRGB to linear (alpha is linear). */
-static inline float4 texel_load(const SceneView* s, u32 offset, u32 width, int x, int y, bool srgb) {
+/* Words a texel of texture t takes in the texel buffer: 2 for TEXTURE_WIDE, else 1. */
+static inline u32 texture_words(__global const Texture* t) {
+  return (t->flags & TEXTURE_WIDE) != 0u ? 2u : 1u;
+}
+
+/* One texel of the level starting at word `offset` with rows `width` texels wide, as RGBA in
+ * [0, 1]; `srgb` decodes RGB from sRGB to linear (alpha is linear); `wide`: 16 bits a channel
+ * (TEXTURE_WIDE). */
+static inline float4 texel_load(const SceneView* s, u32 offset, u32 width, int x, int y, bool srgb,
+                                bool wide) {
+  if (wide) {
+    const u32 i = offset + 2u * ((u32)y * width + (u32)x);
+    const u32 rg = s->texels[i], ba = s->texels[i + 1u];
+    const float4 c = (float4)((float)(rg & 65535u), (float)(rg >> 16), (float)(ba & 65535u),
+                              (float)(ba >> 16)) / 65535.0f;
+    if (!srgb) return c;
+    return (float4)(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z), c.w);
+  }
   const u32 c = s->texels[offset + (u32)y * width + (u32)x];
   const u32 r = c & 255u, g = (c >> 8) & 255u, b = (c >> 16) & 255u, a = c >> 24;
   if (srgb) return (float4)(SRGB_TO_LINEAR[r], SRGB_TO_LINEAR[g], SRGB_TO_LINEAR[b], (float)a / 255.0f);
   return (float4)((float)r, (float)g, (float)b, (float)a) / 255.0f;
 }
 
-/* One level (first texel `offset`, w x h) of texture t at uv: bilinear between the four
+/* One level (from word `offset`, w x h texels) of texture t at uv: bilinear between the four
  * nearest texel centres (decoded first, so sRGB textures are filtered in linear space), or
  * the nearest texel when `nearest`. */
 static inline float4 texture_level_sample(const SceneView* s, __global const Texture* t, u32 offset,
                                           int w, int h, float2 uv, bool srgb, bool nearest) {
   const u32 ws = t->flags & TEXTURE_WRAP_S_MASK, wt = (t->flags >> TEXTURE_WRAP_T_SHIFT) & 3u;
+  const bool wide = (t->flags & TEXTURE_WIDE) != 0u;
   const float x = texture_reduce(uv.x, ws) * (float)w, y = texture_reduce(uv.y, wt) * (float)h;
   if (nearest) {
     const int i = texture_wrap((int)floor(x), w, ws), j = texture_wrap((int)floor(y), h, wt);
-    return texel_load(s, offset, (u32)w, i, j, srgb);
+    return texel_load(s, offset, (u32)w, i, j, srgb, wide);
   }
   const float fx = x - 0.5f, fy = y - 0.5f;
   const float x0 = floor(fx), y0 = floor(fy);
   const float ax = fx - x0, ay = fy - y0;
   const int i0 = texture_wrap((int)x0, w, ws), i1 = texture_wrap((int)x0 + 1, w, ws);
   const int j0 = texture_wrap((int)y0, h, wt), j1 = texture_wrap((int)y0 + 1, h, wt);
-  const float4 top = mix(texel_load(s, offset, (u32)w, i0, j0, srgb), texel_load(s, offset, (u32)w, i1, j0, srgb), ax);
-  const float4 bottom =
-      mix(texel_load(s, offset, (u32)w, i0, j1, srgb), texel_load(s, offset, (u32)w, i1, j1, srgb), ax);
+  const float4 top = mix(texel_load(s, offset, (u32)w, i0, j0, srgb, wide),
+                         texel_load(s, offset, (u32)w, i1, j0, srgb, wide), ax);
+  const float4 bottom = mix(texel_load(s, offset, (u32)w, i0, j1, srgb, wide),
+                            texel_load(s, offset, (u32)w, i1, j1, srgb, wide), ax);
   return mix(top, bottom, ay);
 }
 
@@ -167,16 +184,17 @@ static inline float4 texture_sample_lod(const SceneView* s, int index, float2 uv
   lambda = fmin(lambda, (float)(levels - 1u));
   const int k = (int)floor(lambda);
   const float f = lambda - (float)k;
+  const u32 words = texture_words(t);
   u32 offset = t->offset;
   int w = (int)t->width, h = (int)t->height;
   for (int i = 0; i < k; ++i) {
-    offset += (u32)w * (u32)h;
+    offset += words * (u32)w * (u32)h;
     w = max(1, w >> 1);
     h = max(1, h >> 1);
   }
   const float4 a = texture_level_sample(s, t, offset, w, h, uv, srgb, false);
   if (!(f > 0.0f)) return a;
-  const u32 next = offset + (u32)w * (u32)h;
+  const u32 next = offset + words * (u32)w * (u32)h;
   const float4 b = texture_level_sample(s, t, next, max(1, w >> 1), max(1, h >> 1), uv, srgb, false);
   return mix(a, b, f);
 }

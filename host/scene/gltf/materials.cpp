@@ -42,6 +42,34 @@ bool Converter::image_bytes(int index, const unsigned char** data, size_t* size,
   return false;
 }
 
+namespace {
+
+// Per scene texture: whether only normal-map slots (normalTexture, clearcoatNormalTexture) read
+// it. Those keep a 16-bit image's 16 bits: an 8-bit normal map's steps of 1/127 in a normal's
+// components (0.45 degrees) show as bands in a smooth highlight. Any other slot, or none, gets
+// 8 bits (the kernels read either format anywhere).
+std::vector<bool> normal_map_only(const Scene& scene) {
+  std::vector<uint8_t> uses(scene.textures.size(), 0);  // bit 0: a normal slot, bit 1: another
+  auto mark = [&](const TextureRef& r, uint8_t bit) {
+    if (r.used() && size_t(r.texture) < uses.size()) uses[size_t(r.texture)] |= bit;
+  };
+  for (const Material& m : scene.materials) {
+    for (const TextureRef* r : {&m.normal_texture, &m.clearcoat_normal_texture}) mark(*r, 1);
+    for (const TextureRef* r :
+         {&m.base_color_texture, &m.metallic_roughness_texture, &m.emissive_texture, &m.transmission_texture,
+          &m.specular_texture, &m.specular_color_texture, &m.clearcoat_texture, &m.clearcoat_roughness_texture,
+          &m.iridescence_texture, &m.iridescence_thickness_texture, &m.diffuse_transmission_texture,
+          &m.diffuse_transmission_color_texture, &m.sheen_color_texture, &m.sheen_roughness_texture,
+          &m.anisotropy_texture})
+      mark(*r, 2);
+  }
+  std::vector<bool> only(uses.size());
+  for (size_t i = 0; i < uses.size(); ++i) only[i] = uses[i] == 1;
+  return only;
+}
+
+}  // namespace
+
 // Decodes every image the materials use into its scene textures, once all materials are known:
 // first the sizes their headers give are added up and checked against the limits, so a scene
 // whose textures together are too large is refused before any is decoded (issue 23, class 3:
@@ -49,6 +77,7 @@ bool Converter::image_bytes(int index, const unsigned char** data, size_t* size,
 // checked). Each image is decoded once; its last scene texture takes the texels, the others
 // (the same image under other sampler settings) copy them.
 void Converter::decode_textures() {
+  const std::vector<bool> normal_only = normal_map_only(scene_);
   std::map<int, std::vector<int>> users;  // glTF image -> its scene textures
   for (const auto& [id, pending] : pending_textures_) users[pending.source].push_back(id);
 
@@ -101,8 +130,9 @@ void Converter::decode_textures() {
     if (!h.known || fits(h.width, h.height)) {
       const unsigned char* data = nullptr;
       size_t size = 0;
+      const bool keep16 = std::any_of(ids.begin(), ids.end(), [&](int id) { return normal_only[size_t(id)]; });
       if (image_bytes(source, &data, &size, &why))
-        ok = decode_image(data, size, &img, &why, limits_.image_dimension, limits_.image_pixels);
+        ok = decode_image(data, size, &img, &why, limits_.image_dimension, limits_.image_pixels, keep16);
       images_.bytes.erase(source);  // decoded once; the encoded copy is no longer needed
       ok = ok && fits(img.width, img.height);  // a JPEG whose frame size only the decoder knew (DNL)
     }
@@ -116,7 +146,9 @@ void Converter::decode_textures() {
       Texture& t = scene_.textures[size_t(ids[k])];
       t.width = img.width;
       t.height = img.height;
-      if (k + 1 < ids.size()) t.texels = img.texels;
+      t.wide = img.wide && normal_only[size_t(ids[k])];  // the image under another sampler
+      if (img.wide && !t.wide) t.texels = narrow_texels(img.texels);
+      else if (k + 1 < ids.size()) t.texels = img.texels;
       else t.texels = std::move(img.texels);
     }
   }
