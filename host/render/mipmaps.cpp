@@ -9,19 +9,18 @@ namespace clpt {
 namespace {
 
 // The sRGB transfer function (IEC 61966-2-1) and its inverse, as kernels/texture/texture.cl.
+double srgb_decode(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
 const std::array<float, 256>& srgb_table() {
   static const std::array<float, 256> table = [] {
     std::array<float, 256> t{};
     for (int i = 0; i < 256; ++i) {
-      const double c = i / 255.0;
-      t[size_t(i)] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+      t[size_t(i)] = float(srgb_decode(i / 255.0));
     }
     return t;
   }();
   return table;
 }
-
-double srgb_decode(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 // A linear value in [0, 1] as an integer channel of `max` steps (255 or 65535), sRGB-encoded
 // first where `srgb`.
