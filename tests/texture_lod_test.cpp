@@ -145,13 +145,16 @@ fs::path write_scene(const std::string& tag, Layout layout, bool flat) {
 struct Shot {
   double mean = 0.0, sigma = 0.0;  // the image's mean (channel 0) and its standard error
   double sample_variance = 0.0;    // the pixels' mean sample variance
+  std::vector<double> pixels;      // channel 0
 };
 
 // The checker seen by a camera at (0, 0, 2) whose view just spans it (tan(fov / 2) = 0.5: 8
 // texels a pixel), or through the mirror (the path to the checker about 1 + 3 = 4 m long; the
 // view's tangent 0.125 keeps it inside the checker's middle, 4 texels a pixel).
-Shot render(bool mirror, bool mipmaps, uint32_t spp, uint32_t seed, bool flat = false) {
-  const fs::path file = write_scene(std::to_string(seed) + (mirror ? "m" : "p"), mirror ? Layout::Mirror : Layout::Facing, flat);
+Shot render(bool mirror, bool mipmaps, uint32_t spp, uint32_t seed, bool flat = false,
+            const std::string& integrator = "pt") {
+  const fs::path file = write_scene(std::to_string(seed) + (mirror ? "m" : "p") + integrator,
+                                    mirror ? Layout::Mirror : Layout::Facing, flat);
   log::set_level(log::Level::Quiet);
   Scene scene = load_gltf(file);
   fs::remove_all(file.parent_path());
@@ -168,6 +171,7 @@ Shot render(bool mirror, bool mipmaps, uint32_t spp, uint32_t seed, bool flat = 
   rs.max_depth = 8;
   rs.background = glm::vec3(1.0f);
   rs.mipmaps = mipmaps;
+  rs.integrator = integrator;
   // Light found by BSDF sampling alone: a Lambertian surface under a sky of radiance 1 (or a
   // white mirror showing it) then returns its albedo with no lighting noise, so what varies
   // between a pixel's samples is the texture alone.
@@ -183,6 +187,7 @@ Shot render(bool mirror, bool mipmaps, uint32_t spp, uint32_t seed, bool flat = 
     s.mean += f.mean.rgb[p * 3];
     var += v.rgb[p * 3];
     s.sample_variance += f.variance.rgb[p * 3];
+    s.pixels.push_back(f.mean.rgb[p * 3]);
   }
   s.mean /= double(n);
   s.sigma = std::sqrt(var) / double(n);
@@ -263,6 +268,49 @@ TEST(TextureLod, RecedingCheckerAtOneSample) {
 TEST(TextureLod, FootprintFiltersTheChecker) { check_pair(false); }
 
 TEST(TextureLod, ConeGoesOnThroughAMirror) { check_pair(true); }
+
+// The other integrators' camera paths: bdpt's and vcm's camera subpaths, pm's and sppm's
+// visible points. Their films keep no per-pixel sample variance (splats, shared photon maps),
+// so the test compares images instead: rendered with one seed, the checker at full
+// resolution, with mip maps, and the uniform texture of the checker's level-1 value. Every
+// level a pixel's footprint reads (3, or 2 through the mirror) holds that value, so where the
+// camera side reads the footprint the mip-mapped image is the uniform one (the same paths and
+// the same texel values) and the checker's noise is gone: the mean squared difference to the
+// uniform image falls by more than 50x. What is left comes from reads at full resolution: the
+// light side's (bdpt's and vcm's light subpaths connected to the camera, photons scattered
+// by the checker). A camera side without cones leaves the full-resolution difference.
+double mean_squared_difference(const Shot& a, const Shot& b) {
+  double sum = 0.0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) sum += (a.pixels[i] - b.pixels[i]) * (a.pixels[i] - b.pixels[i]);
+  return sum / double(a.pixels.size());
+}
+
+void check_camera_side(bool mirror, const std::string& integrator) {
+  const Shot full = render(mirror, false, 64, 3, false, integrator);
+  const Shot mip = render(mirror, true, 64, 3, false, integrator);
+  const Shot flat = render(mirror, true, 64, 3, true, integrator);
+  const double d_full = mean_squared_difference(full, flat), d_mip = mean_squared_difference(mip, flat);
+  std::cout << "[ lod      ] " << integrator << ", " << (mirror ? "through a mirror" : "direct")
+            << ": mean squared difference to the uniform texture's image, bilinear " << d_full << ", trilinear "
+            << d_mip << "\n";
+  EXPECT_GT(d_full, 0.0);
+  EXPECT_LT(d_mip * 50.0, d_full) << "the camera side reads the footprint's mean";
+}
+
+TEST(TextureLod, EveryCameraPathFiltersTheChecker) {
+  for (const char* integrator : {"bdpt", "vcm", "pm", "sppm"}) {
+    SCOPED_TRACE(integrator);
+    check_camera_side(false, integrator);
+  }
+}
+
+// Through the mirror the photon mappers' visible points lie beyond a delta bounce.
+TEST(TextureLod, PhotonMappersConeThroughAMirror) {
+  for (const char* integrator : {"pm", "sppm"}) {
+    SCOPED_TRACE(integrator);
+    check_camera_side(true, integrator);
+  }
+}
 
 }  // namespace
 }  // namespace clpt

@@ -40,7 +40,7 @@ typedef struct VisiblePoint {
 #define VP_EMISSION_ALL 1
 #define VP_EMISSION_BEYOND_FIRST 2 /* all but the first hit's (and the first ray's escape) */
 
-/* Follows org, dir (a camera ray with depth 0 and from = 0, or a ray leaving vertex `from`
+/* Follows org, dir (a pixel's ray with depth 0 and from = 0, or a ray leaving vertex `from`
  * at depth `depth` - 1) to the first vertex neither delta nor glossy. Returns 0 when there is
  * none within max_depth (escaped, absorbed, or only delta and glossy surfaces); vp->L is valid
  * either way. Dimensions from bounce `depth` of `stream`. */
@@ -55,6 +55,10 @@ static inline int photon_visible_point(__constant const RenderParams* p, const S
   PathWalk w = walk_from_ray(from ? from->p : org, org, dir, (float3)(1.0f),
                              from ? volume_medium(s, from, dir) : MEDIUM_NONE, depth, stream,
                              TRANSPORT_RADIANCE, WALK_RR_PATH);
+  /* A pixel's ray carries its cone, as pt's does: the visible point reads its textures over
+   * the pixel's footprint (the cone goes on through mirrors and refractions, and ends at a
+   * glossy scattering). Gather rays and the cache's records read full resolution. */
+  if (!from && depth == 0u) camera_pixel_cone(p, &w.cone_width, &w.cone_spread);
   for (;;) {
     if (!walk_next(s, sampler, &w, rays)) {
       if (add_emission) vp->L += w.beta * nee_emission_escaped(p, s, w.dir, w.pdf_w, w.delta);
