@@ -6,7 +6,8 @@
                                     [--no-cache]
 
 The programs are what `clpt --dump-kernels` writes: each resolved source with the exact build
-options clpt gives the device (programs.tsv). Targets (--targets, comma-separated; default all):
+options clpt gives the device (programs.tsv; Intel's targets also get the options clpt adds
+for Intel GPUs, its fourth column: the megakernels' -cl-intel-256-GRF-per-thread). Targets (--targets, comma-separated; default all):
 
   nvptx   NVIDIA: clang-15's OpenCL front end to PTX (nvptx64--nvidiacl), with libclc's
           NVPTX builtins linked in (and kernel_check/nvptx_native.cl before them: six native_
@@ -58,6 +59,7 @@ TARGETS = ["nvptx", "amdgcn", "tgllp", "dg2"]
 # Opt-in targets (named in --targets only): nvinline is nvptx with every call inlined.
 EXTRA_TARGETS = ["nvinline"]
 NVIDIA_TARGETS = ("nvptx", "nvinline")  # clang to PTX, then ptxas where it is installed
+INTEL_TARGETS = ("tgllp", "dg2")  # ocloc, with programs.tsv's Intel GPU options
 # clang's inliner threshold that inlines every call it may, as NVIDIA's OpenCL compiler does.
 INLINE_ALL = ["-mllvm", "-inline-threshold=100000"]
 PACKAGES = {"clang": "clang-15", "libclc": "libclc-15", "ocloc": "intel-opencl-icd"}
@@ -89,8 +91,10 @@ def read_programs(dump_dir):
         for line in f:
             if line.startswith("#") or not line.strip():
                 continue
-            name, entry, options = line.rstrip("\n").split("\t")
-            programs.append((name, entry, options.split()))
+            fields = line.rstrip("\n").split("\t")
+            name, entry, options = fields[:3]
+            intel = fields[3] if len(fields) > 3 else ""
+            programs.append((name, entry, options.split(), intel.split()))
     return programs
 
 
@@ -408,14 +412,16 @@ def main():
     }
 
     failures, rows = [], []
-    for name, _entry, _options in programs:
+    for name, _entry, _options, _intel in programs:
         with open(os.path.join(dump, name + ".cl")) as f:
             violations = source_rule_violations(f.read())
         if violations:
             failures.append(("rules", name))
             print("rules   %-10s FAILED\n  %s" % (name, "\n  ".join(violations)), flush=True)
     for target in targets:
-        for name, _entry, options in programs:
+        for name, _entry, options, intel in programs:
+            if target in INTEL_TARGETS:
+                options = options + intel  # what clpt gives an Intel GPU
             src = os.path.join(dump, name + ".cl")
             with open(src) as f:
                 source = f.read()

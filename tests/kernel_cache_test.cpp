@@ -1,5 +1,6 @@
 // KernelCache and BuildFailure: the on-disk program cache hits, misses when the key
-// changes, survives corrupt entries; a broken kernel reports its build log;
+// changes, survives corrupt entries; optional options are kept where they build and dropped
+// where they do not; a broken kernel reports its build log;
 // and a context hands a program it has to the next Program with the same key.
 #include <gtest/gtest.h>
 
@@ -40,9 +41,9 @@ class KernelCache : public ::testing::Test {
     return s;
   }
   // A context of its own per build: the disk cache is under test, not the context's reuse.
-  cl::BuildInfo build(const std::string& options = "") {
+  cl::BuildInfo build(const std::string& options = "", const std::string& optional = "") {
     const cl::Context ctx(test::device_context().device());
-    cl::Program p(ctx, "probe.cl", options, sources());
+    cl::Program p(ctx, "probe.cl", options, sources(), optional);
     EXPECT_FALSE(p.build_info().from_memory);
     cl::Kernel k(p, "k");  // the program is usable either way
     return p.build_info();
@@ -102,6 +103,48 @@ TEST_F(KernelCache, EnvironmentOptionsReachTheBuildAndTheKey) {
   EXPECT_EQ(entries(), 2u);
   ::unsetenv("CLPT_BUILD_OPTIONS");
   EXPECT_EQ(cl::build_options(""), "-cl-std=CL1.2");
+}
+
+// Optional options (a vendor's own, e.g. Intel's -cl-intel-256-GRF-per-thread): where the
+// build takes them, the program is theirs (a macro they define decides what the source
+// builds) with a cache entry of its own; where the build fails with them, the program is
+// built without them and says which it dropped.
+TEST_F(KernelCache, OptionalOptionsAreKeptWhereTheyBuild) {
+  write_source("#ifndef CLPT_PROBE_OPT\n#error CLPT_PROBE_OPT is not defined\n#endif\n"
+               "__kernel void k(__global int* x) { x[0] = CLPT_PROBE_OPT; }\n");
+  const cl::BuildInfo first = build("", "-DCLPT_PROBE_OPT=1");
+  EXPECT_FALSE(first.from_cache);
+  EXPECT_EQ(first.options, "-cl-std=CL1.2 -DCLPT_PROBE_OPT=1");
+  EXPECT_EQ(first.dropped_options, "");
+  EXPECT_TRUE(build("", "-DCLPT_PROBE_OPT=1").from_cache);
+  EXPECT_EQ(entries(), 1u);
+}
+
+TEST_F(KernelCache, OptionalOptionsTheBuildRefusesAreDropped) {
+  // The source cannot build with the option's macro: the build with it fails, without it passes.
+  write_source("#ifdef CLPT_PROBE_OPT\n#error refused\n#endif\n"
+               "__kernel void k(__global int* x) { x[0] = 1; }\n");
+  const cl::BuildInfo first = build("", "-DCLPT_PROBE_OPT=1");
+  EXPECT_EQ(first.options, "-cl-std=CL1.2");
+  EXPECT_EQ(first.dropped_options, "-DCLPT_PROBE_OPT=1");
+  EXPECT_EQ(entries(), 1u);  // the build without them only
+  const cl::BuildInfo again = build("", "-DCLPT_PROBE_OPT=1");
+  EXPECT_TRUE(again.from_cache);
+  EXPECT_EQ(again.dropped_options, "-DCLPT_PROBE_OPT=1");
+  // An option the compiler does not know at all is dropped the same way.
+  const cl::BuildInfo unknown = build("", "-cl-clpt-no-such-option");
+  EXPECT_EQ(unknown.dropped_options, "-cl-clpt-no-such-option");
+  EXPECT_TRUE(unknown.from_cache);
+  // A source that fails without them too still fails, with its own log.
+  write_source("__kernel void k(__global int* x) { x[0] = undefined_name; }\n");
+  try {
+    build("", "-DCLPT_PROBE_OPT=1");
+    ADD_FAILURE() << "a broken source built";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::Device);
+    EXPECT_NE(std::string(e.what()).find("undefined_name"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("with options '-cl-std=CL1.2'"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(KernelCache, CorruptEntryIsRebuilt) {

@@ -5,8 +5,10 @@
 //       left out of the list would escape the vendors' compilers
 //   KernelPrograms.EveryProgramBuilds    each program of the list builds on the test device (PoCL) with
 //       its options, and each of its __kernel functions can be created
+//   KernelPrograms.IntelOptionsGoToIntelGpusOnly   the megakernels' Intel register-file option
+//       reaches Intel's GPUs alone
 //   KernelPrograms.DumpIsWhatADeviceIsGiven     the dump's files are the resolved sources and
-//       programs.tsv the build options, byte for byte; it refuses a file or a folder of
+//       programs.tsv the build options (and Intel GPUs' extra ones), byte for byte; it refuses a file or a folder of
 //       other things, and rewrites an earlier dump
 #include <gtest/gtest.h>
 
@@ -18,6 +20,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "cl/device.h"
 #include "cl/programs.h"
 #include "support/device.h"
 #include "util/error.h"
@@ -68,10 +71,35 @@ TEST(KernelPrograms, EveryProgramBuilds) {
   for (const cl::ProgramSpec& spec : programs::all()) {
     SCOPED_TRACE(spec.name);
     const cl::Program program(test::device_context(), spec);
+    // PoCL is no Intel GPU: the spec's own options alone (those of the dump's third column).
+    EXPECT_EQ(program.build_info().options, cl::build_options(spec.options));
     const std::vector<std::string> kernels =
         kernel_names(cl::resolve_kernel_source(spec.entry_file, cl::KernelSources::core()));
     EXPECT_FALSE(kernels.empty());
     for (const std::string& k : kernels) EXPECT_NO_THROW(cl::Kernel(program, k.c_str())) << k;
+  }
+}
+
+// Which devices get ProgramSpec::intel_gpu_options: GPUs of Intel's own platform, whose
+// vendor string is "Intel(R) Corporation"; not its CPU runtime, not another platform's GPU.
+TEST(KernelPrograms, IntelOptionsGoToIntelGpusOnly) {
+  cl::DeviceInfo d;
+  d.type = CL_DEVICE_TYPE_GPU;
+  d.platform_vendor = "Intel(R) Corporation";
+  EXPECT_TRUE(d.is_intel_gpu());
+  d.type = CL_DEVICE_TYPE_CPU;
+  EXPECT_FALSE(d.is_intel_gpu());
+  d.type = CL_DEVICE_TYPE_GPU;
+  for (const char* vendor : {"NVIDIA Corporation", "Advanced Micro Devices, Inc.", "The pocl project", "Mesa/X.org"}) {
+    d.platform_vendor = vendor;
+    EXPECT_FALSE(d.is_intel_gpu()) << vendor;
+  }
+  EXPECT_FALSE(test::device_context().device().is_intel_gpu());
+  // The megakernels ask for Intel's large register file; the small programs do not.
+  for (const cl::ProgramSpec& spec : programs::all()) {
+    const std::string name = spec.name;
+    const bool small = name == "ao" || name == "aov" || name == "raybench";
+    EXPECT_EQ(std::string(spec.intel_gpu_options), small ? "" : "-cl-intel-256-GRF-per-thread") << name;
   }
 }
 
@@ -88,17 +116,19 @@ class KernelDump : public ::testing::Test {
 TEST_F(KernelDump, DumpIsWhatADeviceIsGiven) {
   const fs::path out = dir_ / "dump";
   ASSERT_EQ(programs::dump(out), programs::all().size());
-  std::string expected_table = "# name\tentry file\tbuild options\n";
+  std::string expected_table = "# name\tentry file\tbuild options\tIntel GPU options\n";
   for (const cl::ProgramSpec& spec : programs::all()) {
     EXPECT_EQ(read_file(out / (std::string(spec.name) + ".cl")),
               cl::resolve_kernel_source(spec.entry_file, cl::KernelSources::core()))
         << spec.name;
     expected_table += std::string(spec.name) + '\t' + spec.entry_file + '\t' +
-                      cl::build_options(spec.options) + '\n';
+                      cl::build_options(spec.options) + '\t' + spec.intel_gpu_options + '\n';
   }
   EXPECT_EQ(read_file(out / "programs.tsv"), expected_table);
-  EXPECT_NE(expected_table.find("mmlt\tintegrators/mlt.cl\t-cl-std=CL1.2 -DCLPT_MLT_MULTIPLEXED=1"),
+  EXPECT_NE(expected_table.find("mmlt\tintegrators/mlt.cl\t-cl-std=CL1.2 -DCLPT_MLT_MULTIPLEXED=1\t"
+                                 "-cl-intel-256-GRF-per-thread\n"),
             std::string::npos);
+  EXPECT_NE(expected_table.find("ao\tintegrators/ao.cl\t-cl-std=CL1.2\t\n"), std::string::npos);
 
   // An earlier dump is rewritten; an empty folder is used.
   std::ofstream(out / "pt.cl", std::ios::trunc) << "stale";

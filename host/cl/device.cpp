@@ -48,6 +48,10 @@ bool DeviceInfo::is_pocl() const {
          lower(platform_vendor).find("pocl") != std::string::npos;
 }
 
+bool DeviceInfo::is_intel_gpu() const {
+  return is_gpu() && lower(platform_vendor).find("intel") != std::string::npos;
+}
+
 std::string DeviceInfo::label() const {
   std::ostringstream s;
   s << platform_index << ":" << device_index << " " << name << " (" << platform_name << ")";

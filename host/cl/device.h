@@ -21,6 +21,7 @@ struct DeviceInfo {
 
   bool is_gpu() const { return (type & CL_DEVICE_TYPE_GPU) != 0; }
   bool is_pocl() const;
+  bool is_intel_gpu() const;  // a GPU of Intel's own OpenCL platform (its compiler: IGC)
   std::string label() const;  // "P:D name (platform)"
 };
 

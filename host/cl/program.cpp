@@ -226,21 +226,42 @@ std::string build_options(const std::string& extra) {
 }
 
 Program::Program(const Context& ctx, const std::string& entry_file, const std::string& extra_options,
-                 const KernelSources& sources) {
+                 const KernelSources& sources, const std::string& optional_options) {
   const auto t0 = std::chrono::steady_clock::now();
-  const DeviceInfo& dev = ctx.device();
   const std::string options = build_options(extra_options);
   const std::string source = resolve_kernel_source(entry_file, sources);
+  if (!optional_options.empty()) {
+    std::string log;
+    if (!obtain(ctx, entry_file, options + " " + optional_options, source, &log)) {
+      info_.dropped_options = optional_options;
+      log::verbose("kernel program " + entry_file + ": the build with '" + optional_options +
+                   "' failed; building without them. Build log:\n" + log);
+    }
+  }
+  if (!program_) obtain(ctx, entry_file, options, source, nullptr);
+  info_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  log::verbose("kernel program " + entry_file + " (options '" + info_.options + "'): " +
+               (info_.from_memory ? "this context's" : info_.from_cache ? "loaded from cache" : "built") +
+               " in " + std::to_string(info_.seconds) + " s");
+}
+
+Program::Program(const Context& ctx, const ProgramSpec& spec)
+    : Program(ctx, spec.entry_file, spec.options, KernelSources::core(),
+              ctx.device().is_intel_gpu() ? spec.intel_gpu_options : "") {}
+
+bool Program::obtain(const Context& ctx, const std::string& entry_file, const std::string& options,
+                     const std::string& source, std::string* failure_log) {
+  const DeviceInfo& dev = ctx.device();
   const CacheKey key = make_key(dev, options, source);
   const fs::path cache_dir = kernel_cache_dir();
   const fs::path cache_file = cache_dir.empty() ? fs::path() : cache_dir / key.file_name;
   info_.cache_file = cache_file.string();
+  info_.options = options;
 
   // 0. This context's own programs: built or loaded before in this process.
   if ((program_ = ctx.find_program(key.file_name))) {
     info_.from_memory = true;
-    info_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return;
+    return true;
   }
 
   // 1. The cache, when an entry exists and the driver accepts it.
@@ -272,6 +293,10 @@ Program::Program(const Context& ctx, const std::string& entry_file, const std::s
     if (build != CL_SUCCESS) {
       clReleaseProgram(program_);
       program_ = nullptr;
+      if (failure_log) {
+        *failure_log = log;
+        return false;
+      }
       throw Error(ExitCode::Device, "building kernel program " + entry_file + " for '" + dev.name +
                                         "' failed (" + error_name(build) + ") with options '" +
                                         options + "'. Build log:\n" + log);
@@ -283,10 +308,7 @@ Program::Program(const Context& ctx, const std::string& entry_file, const std::s
     }
   }
   ctx.keep_program(key.file_name, program_);
-  info_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  log::verbose("kernel program " + entry_file + " (options '" + options + "'): " +
-               (info_.from_cache ? "loaded from cache" : "built") + " in " +
-               std::to_string(info_.seconds) + " s");
+  return true;
 }
 
 Program::~Program() {

@@ -34,6 +34,9 @@ struct ProgramSpec {
   const char* name;        // e.g. "mmlt"
   const char* entry_file;  // e.g. "integrators/mlt.cl"
   const char* options;     // e.g. "-DCLPT_MLT_MULTIPLEXED=1"; "" for none
+  // Options given to Intel GPUs (DeviceInfo::is_intel_gpu) as well, tried first and dropped
+  // where the driver refuses them (Program's optional_options); "" for none.
+  const char* intel_gpu_options = "";
 };
 
 // The options a program is built with: "-cl-std=CL1.2", then `extra`, then the environment's
@@ -46,6 +49,8 @@ struct BuildInfo {
   bool from_memory = false;  // the context had it already (Context::find_program)
   double seconds = 0.0;  // wall time to get a usable program (cache load or full build)
   std::string cache_file;
+  std::string options;          // the options of the program in use
+  std::string dropped_options;  // optional options the build refused (then left out); "" if none
 };
 
 // Where compiled binaries are cached: $CLPT_CACHE_DIR, else $XDG_CACHE_HOME/clpt,
@@ -56,11 +61,15 @@ class Program {
  public:
   // Builds entry_file (e.g. "integrators/pt.cl") for ctx's device. Options always include
   // "-cl-std=CL1.2"; never -cl-fast-relaxed-math. A failed build throws Error(Device)
-  // carrying the build log.
+  // carrying the build log. optional_options (a vendor's own, e.g. Intel's register-file
+  // size) go after the others; where the build with them fails, the program is built
+  // without them (BuildInfo::dropped_options), so a driver that does not know them still
+  // runs clpt. Each option set has its own cache entry.
   Program(const Context& ctx, const std::string& entry_file, const std::string& options = "",
-          const KernelSources& sources = KernelSources::core());
-  Program(const Context& ctx, const ProgramSpec& spec)
-      : Program(ctx, spec.entry_file, spec.options) {}
+          const KernelSources& sources = KernelSources::core(),
+          const std::string& optional_options = "");
+  // spec's program, with spec.intel_gpu_options where ctx's device is an Intel GPU.
+  Program(const Context& ctx, const ProgramSpec& spec);
   ~Program();
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;
@@ -69,6 +78,11 @@ class Program {
   const BuildInfo& build_info() const { return info_; }
 
  private:
+  // The program for `options`: this context's, the cache's or a new build. A failed build
+  // returns false with its log in *failure_log where that is given, else throws.
+  bool obtain(const Context& ctx, const std::string& entry_file, const std::string& options,
+              const std::string& source, std::string* failure_log);
+
   cl_program program_ = nullptr;
   BuildInfo info_;
 };

@@ -41,12 +41,12 @@ size_t dump(const fs::path& dir) {
                                       (ec ? ": " + ec.message() : ""));
   }
   const cl::KernelSources sources = cl::KernelSources::core();
-  std::string table = "# name\tentry file\tbuild options\n";
+  std::string table = "# name\tentry file\tbuild options\tIntel GPU options\n";
   for (const cl::ProgramSpec& spec : all()) {
     write_text(dir / (std::string(spec.name) + ".cl"),
                cl::resolve_kernel_source(spec.entry_file, sources));
     table += std::string(spec.name) + '\t' + spec.entry_file + '\t' +
-             cl::build_options(spec.options) + '\n';
+             cl::build_options(spec.options) + '\t' + spec.intel_gpu_options + '\n';
   }
   write_text(dir / "programs.tsv", table);
   return all().size();
