@@ -43,7 +43,7 @@ const double kTilt16 = tilt(kTexel[0] / 65535.0, kTexel[1] / 65535.0, kTexel[2] 
 const double kTilt8 = tilt(128 / 255.0, 128 / 255.0, 1.0);
 
 // The square of support/gltf_square.h with `material`, its image 0 a 16-bit PNG of kTexel.
-Scene square_with_16bit_image(const std::string& tag, const nlohmann::json& material) {
+Scene square_with_16bit_image(const std::string& tag, const nlohmann::json& material, const LoadOptions& options = {}) {
   const fs::path file = test::write_square("normal16-" + tag, material, {}, {{"n.png", {128, 128, 255}}});
   const fs::path png = file.parent_path() / "n.png";  // written over with 16 bits a channel
   auto out = OIIO::ImageOutput::create(png.string());
@@ -54,7 +54,7 @@ Scene square_with_16bit_image(const std::string& tag, const nlohmann::json& mate
     out->close();
   }
   log::set_level(log::Level::Quiet);
-  Scene scene = load_gltf(file);
+  Scene scene = load_gltf(file, options);
   fs::remove_all(file.parent_path());
   return scene;
 }
@@ -85,6 +85,22 @@ TEST(NormalMap16, OtherSlotsGetEightBits) {
     EXPECT_FALSE(scene.textures[0].wide);
     ASSERT_EQ(scene.textures[0].texels.size(), 1u);
     EXPECT_EQ(scene.textures[0].texels[0], 128u | 128u << 8 | 255u << 16 | 255u << 24);
+  }
+}
+
+// --limit total-texels counts a 16-bit texel twice (it takes two words): with room for one
+// texel the 1x1 normal map is kept at 8 bits, with room for two at 16.
+TEST(NormalMap16, ASixteenBitTexelCountsTwiceAgainstTheLimit) {
+  const nlohmann::json material = {{"pbrMetallicRoughness", kLambert}, {"normalTexture", {{"index", 0}}}};
+  for (const uint64_t limit : {1u, 2u}) {
+    SCOPED_TRACE(limit);
+    LoadOptions options;
+    options.limits.total_texels = limit;
+    const Scene scene = square_with_16bit_image("limit" + std::to_string(limit), material, options);
+    ASSERT_EQ(scene.textures.size(), 1u);
+    EXPECT_EQ(scene.textures[0].wide, limit == 2u);
+    ASSERT_EQ(scene.textures[0].texels.size(), limit == 2u ? 2u : 1u);
+    if (limit == 1u) EXPECT_EQ(scene.textures[0].texels[0], 128u | 128u << 8 | 255u << 16 | 255u << 24);
   }
 }
 

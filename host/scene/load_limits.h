@@ -23,7 +23,8 @@ struct LoadLimits {
   uint64_t node_visits = uint64_t{1} << 24;        // node visits while walking the scene
   uint64_t image_dimension = 16384;                // width or height of one image
   uint64_t image_pixels = uint64_t{1} << 26;       // pixels of one image (256 MiB as RGBA8)
-  uint64_t total_texels = uint64_t{1} << 28;       // texels of all textures (1 GiB as RGBA8)
+  uint64_t total_texels = uint64_t{1} << 28;       // texels of all textures (1 GiB as RGBA8; a 16-bit
+                                                   // normal map's texel counts twice)
   uint64_t memory_bytes = 0;  // host memory the scene's geometry may need while loading and
                               // flattening (estimated per vertex and triangle); 0: 80 % of
                               // this machine's physical memory

@@ -135,18 +135,32 @@ void Converter::decode_textures() {
         ok = decode_image(data, size, &img, &why, limits_.image_dimension, limits_.image_pixels, keep16);
       images_.bytes.erase(source);  // decoded once; the encoded copy is no longer needed
       ok = ok && fits(img.width, img.height);  // a JPEG whose frame size only the decoder knew (DNL)
+      // A 16-bit normal map's texel takes two words: it counts twice. Where that would pass the
+      // limit and 8 bits would not, the map is kept at 8 bits (as before 16-bit maps).
+      const uint64_t wide_users = img.wide ? uint64_t(std::count_if(ids.begin(), ids.end(), [&](int id) {
+                                                return normal_only[size_t(id)];
+                                              }))
+                                           : 0;
+      if (ok && wide_users &&
+          u128(img.width) * img.height * (copies + wide_users) > u128(limits_.total_texels - total_texels_)) {
+        log::warn(display_ + ": " + label + " (" + where + ") is kept at 8 bits a channel: at 16 its texels " +
+                  "would exceed the limit of " + std::to_string(limits_.total_texels) +
+                  " texels (--limit total-texels=N; a 16-bit texel counts twice)");
+        img.texels = narrow_texels(img.texels);
+        img.wide = false;
+      }
     }
     if (!ok) {
       if (!images_.lenient) fail(label + " (" + where + "): " + why + " (--lenient: warn and use a magenta texture)");
       log::warn(display_ + ": " + label + " (" + where + "): " + why + "; using a magenta texture");
       img = placeholder_image();
     }
-    total_texels_ += uint64_t(img.width) * img.height * copies;
     for (size_t k = 0; k < ids.size(); ++k) {
       Texture& t = scene_.textures[size_t(ids[k])];
       t.width = img.width;
       t.height = img.height;
       t.wide = img.wide && normal_only[size_t(ids[k])];  // the image under another sampler
+      total_texels_ += uint64_t(img.width) * img.height * (t.wide ? 2u : 1u);
       if (img.wide && !t.wide) t.texels = narrow_texels(img.texels);
       else if (k + 1 < ids.size()) t.texels = img.texels;
       else t.texels = std::move(img.texels);
