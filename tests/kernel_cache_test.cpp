@@ -1,5 +1,5 @@
 // KernelCache and BuildFailure: the on-disk program cache hits, misses when the key
-// changes, survives corrupt entries; optional options are kept where they build and dropped
+// changes, survives corrupt entries, leaves PoCL to its own cache; optional options are kept where they build and dropped
 // where they do not; a broken kernel reports its build log;
 // and a context hands a program it has to the next Program with the same key.
 #include <gtest/gtest.h>
@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cl/device.h"
 #include "cl/program.h"
 #include "support/device.h"
 #include "util/error.h"
@@ -25,10 +26,14 @@ class KernelCache : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_ / "src");
     ::setenv("CLPT_CACHE_DIR", (dir_ / "cache").c_str(), 1);
+    // The test device is PoCL, which clpt's cache leaves to PoCL's own: these tests ask for
+    // clpt's (the cache that serves GPU drivers) to test it.
+    ::setenv("CLPT_CACHE_POCL", "1", 1);
     write_source("__kernel void k(__global int* x) { x[0] = 1; }\n");
   }
   void TearDown() override {
     ::unsetenv("CLPT_CACHE_DIR");
+    ::unsetenv("CLPT_CACHE_POCL");
     ::unsetenv("CLPT_BUILD_OPTIONS");
     fs::remove_all(dir_);
   }
@@ -103,6 +108,29 @@ TEST_F(KernelCache, EnvironmentOptionsReachTheBuildAndTheKey) {
   EXPECT_EQ(entries(), 2u);
   ::unsetenv("CLPT_BUILD_OPTIONS");
   EXPECT_EQ(cl::build_options(""), "-cl-std=CL1.2");
+}
+
+// On PoCL clpt writes no binary (PoCL caches its programs itself, and asking it for a binary
+// costs a code generation no launch uses); CLPT_CACHE_POCL=1 turns clpt's cache on there.
+TEST_F(KernelCache, PoclLeavesCachingToPocl) {
+  ASSERT_TRUE(test::device_context().device().is_pocl());
+  ::unsetenv("CLPT_CACHE_POCL");
+  EXPECT_FALSE(cl::binary_cache_serves(test::device_context().device()));
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_EQ(entries(), 0u);
+  ::setenv("CLPT_CACHE_POCL", "0", 1);
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_EQ(entries(), 0u);
+  ::setenv("CLPT_CACHE_POCL", "1", 1);
+  EXPECT_FALSE(build().from_cache);
+  EXPECT_EQ(entries(), 1u);
+  EXPECT_TRUE(build().from_cache);
+  cl::DeviceInfo gpu;  // any other driver: clpt's cache
+  gpu.platform_name = "NVIDIA CUDA";
+  gpu.platform_vendor = "NVIDIA Corporation";
+  ::unsetenv("CLPT_CACHE_POCL");
+  EXPECT_TRUE(cl::binary_cache_serves(gpu));
 }
 
 // Optional options (a vendor's own, e.g. Intel's -cl-intel-256-GRF-per-thread): where the

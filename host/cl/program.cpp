@@ -126,6 +126,12 @@ fs::path kernel_cache_dir() {
   return {};
 }
 
+bool binary_cache_serves(const DeviceInfo& dev) {
+  if (!dev.is_pocl()) return true;
+  const char* forced = std::getenv("CLPT_CACHE_POCL");
+  return forced && std::string(forced) == "1";
+}
+
 namespace {
 
 constexpr char kCacheMagic[8] = {'C', 'L', 'P', 'T', 'K', 'C', '0', '1'};
@@ -253,7 +259,7 @@ bool Program::obtain(const Context& ctx, const std::string& entry_file, const st
                      const std::string& source, std::string* failure_log) {
   const DeviceInfo& dev = ctx.device();
   const CacheKey key = make_key(dev, options, source);
-  const fs::path cache_dir = kernel_cache_dir();
+  const fs::path cache_dir = binary_cache_serves(dev) ? kernel_cache_dir() : fs::path();
   const fs::path cache_file = cache_dir.empty() ? fs::path() : cache_dir / key.file_name;
   info_.cache_file = cache_file.string();
   info_.options = options;

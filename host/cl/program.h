@@ -57,6 +57,13 @@ struct BuildInfo {
 // else ~/.cache/clpt. Returns empty when none can be determined (cache disabled).
 std::filesystem::path kernel_cache_dir();
 
+// Whether clpt's binary cache serves `dev`. Not PoCL (unless CLPT_CACHE_POCL=1): PoCL keeps its
+// own kernel cache, and asking it for a program's binary (CL_PROGRAM_BINARIES) makes it
+// generate every kernel's generic work-group function, which no launch then uses: bdpt's cold
+// build 4.2 s with clpt's cache, 1.4 s without; a warm start costs 0.074 s from PoCL's cache
+// against 0.037 s from clpt's (docs/BENCHMARKS.md, session 26).
+bool binary_cache_serves(const DeviceInfo& dev);
+
 class Program {
  public:
   // Builds entry_file (e.g. "integrators/pt.cl") for ctx's device. Options always include
