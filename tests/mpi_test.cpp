@@ -1,5 +1,5 @@
 // `mpirun -n 2 clpt ...` (issue 20, host/mpi/mpi_cluster.cpp, render/cluster.h): two ranks split
-// the sample indices of one render and rank 0 adds their films, so the image equals one
+// the sample indices of one render and rank 0 adds their films (five ranks: through a tree), so the image equals one
 // process's up to the rounding of the sums' order; a rank that fails stops every rank with its
 // error and no output; a checkpoint two ranks wrote resumes to one process's image. Skipped,
 // saying so, where clpt was built without MPI (CLPT_MPI off or no libopenmpi-dev).
@@ -152,6 +152,44 @@ TEST_F(Mpi, LargeFilmsAndAovsArriveWhole) {
           !(std::isinf(la->rgb[i]) && std::isinf(lb->rgb[i])))
         ++differ;
     EXPECT_EQ(differ, 0u);
+  }
+}
+
+// Five ranks: the films reach rank 0 through the binomial tree (rank 1 into 0, 3 into 2, then
+// 2 into 0, then 4 into 0), so ranks 2 and 0 add what they received to their own before
+// passing it on; an odd count leaves rank 4 without a partner in the first two rounds. The
+// image, the vcm merged layer and the AOVs (the material id kept from rank 0's first sample)
+// equal one process's.
+TEST_F(Mpi, FiveRanksAddUpThroughTheTree) {
+  for (const char* integrator : {"pt", "vcm"}) {
+    SCOPED_TRACE(integrator);
+    const std::string name = integrator;
+    std::vector<std::string> args = {"--integrator", integrator, "--resolution", "24x24", "--spp", "10",
+                                     "--seed", "3", "--max-depth", "3"};
+    if (name == "pt") args.insert(args.end(), {"--aov", "albedo,material-id"});
+    else args.push_back("--vcm-merged");
+    const nlohmann::json one = render(name + "-one", 0, args);
+    const nlohmann::json five = render(name + "-five", 5, args);
+    if (one.is_null() || five.is_null()) continue;
+    test::expect_device_shares(five, 5, 10);
+    const ImageChannels a = read_image_channels(path(name + "-five.exr"));
+    const ImageChannels b = read_image_channels(path(name + "-one.exr"));
+    const test::Agreement g = test::agreement(a.image, b.image);
+    std::printf("%-4s five ranks against one process: relMSE %.3g, mean ratio 1 %+.3g\n", integrator,
+                g.rel_mse, g.mean_ratio - 1.0);
+    EXPECT_LT(g.rel_mse, 1e-8);
+    EXPECT_NEAR(g.mean_ratio, 1.0, 1e-6);
+    ASSERT_EQ(a.layers.size(), b.layers.size());
+    for (const NamedChannel& l : b.layers) {
+      SCOPED_TRACE(l.name);
+      const Image* other = a.layer(l.name);
+      ASSERT_NE(other, nullptr);
+      if (l.name == "IndexMA") {
+        EXPECT_EQ(other->rgb, l.image.rgb);
+      } else {
+        EXPECT_LT(test::agreement(*other, l.image).rel_mse, 1e-8);
+      }
+    }
   }
 }
 

@@ -51,27 +51,36 @@ class MpiCluster final : public Cluster {
                 MPI_COMM_WORLD);
   }
 
+  // A binomial tree, the same for every run with the same number of ranks: in round k (step
+  // 2^k), a rank whose number is a multiple of 2^(k+1) receives the sums of rank + 2^k and adds
+  // them into its own pieces; that rank sends and is done. Rank 0 has every rank's sums after
+  // ceil(log2(size)) rounds, each a film's transfer, where receiving from every rank in turn
+  // took size - 1 (docs/scaling.md's cost model).
   void gather_to_root(const std::vector<Piece>& pieces, const AddChunk& add) const override {
     // The pieces' sizes first, so that a rank whose film differs is an error, not a hang.
     std::vector<uint64_t> sizes;
     for (const Piece& p : pieces) sizes.push_back(p.bytes);
-    if (rank_ != 0) {
-      MPI_Send(sizes.data(), static_cast<int>(sizes.size()), MPI_UINT64_T, 0, kTag, MPI_COMM_WORLD);
-      for (const Piece& p : pieces) send(p.data, p.bytes);
-      return;
-    }
     std::vector<uint64_t> theirs(sizes.size());
     std::vector<char> chunk;
-    for (int r = 1; r < size_; ++r) {
-      MPI_Recv(theirs.data(), static_cast<int>(theirs.size()), MPI_UINT64_T, r, kTag, MPI_COMM_WORLD,
+    for (int step = 1; step < size_; step *= 2) {
+      if (rank_ % (2 * step) == step) {  // pass this subtree's sums on, and leave
+        const int to = rank_ - step;
+        MPI_Send(sizes.data(), static_cast<int>(sizes.size()), MPI_UINT64_T, to, kTag, MPI_COMM_WORLD);
+        for (const Piece& p : pieces) send(p.data, p.bytes, to);
+        return;
+      }
+      const int from = rank_ + step;
+      if (from >= size_) continue;
+      MPI_Recv(theirs.data(), static_cast<int>(theirs.size()), MPI_UINT64_T, from, kTag, MPI_COMM_WORLD,
                MPI_STATUS_IGNORE);
       if (theirs != sizes)
-        throw std::logic_error("rank " + std::to_string(r) + " sent a film of another size");
+        throw std::logic_error("rank " + std::to_string(from) + " sent a film of another size");
       for (size_t i = 0; i < pieces.size(); ++i)
         for (size_t at = 0; at < sizes[i]; at += kChunkBytes) {
           const size_t n = std::min<size_t>(kChunkBytes, sizes[i] - at);
           chunk.resize(n);
-          MPI_Recv(chunk.data(), static_cast<int>(n), MPI_BYTE, r, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+          MPI_Recv(chunk.data(), static_cast<int>(n), MPI_BYTE, from, kTag, MPI_COMM_WORLD,
+                   MPI_STATUS_IGNORE);
           add(i, at, chunk.data(), n);
         }
     }
@@ -82,7 +91,7 @@ class MpiCluster final : public Cluster {
     if (rank_ != 0) {
       const uint64_t n = mine.size();
       MPI_Send(&n, 1, MPI_UINT64_T, 0, kTag, MPI_COMM_WORLD);
-      send(mine.data(), n);
+      send(mine.data(), n, 0);
       return;
     }
     std::string text;
@@ -97,11 +106,11 @@ class MpiCluster final : public Cluster {
 
  private:
   static constexpr int kTag = 7;
-  // In the chunks rank 0 receives (gather_to_root), which also fit a count of int.
-  static void send(const void* data, size_t bytes) {
+  // In the chunks gather_to_root receives, which also fit a count of int.
+  static void send(const void* data, size_t bytes, int to) {
     const char* at = static_cast<const char*>(data);
     for (size_t done = 0; done < bytes; done += kChunkBytes)
-      MPI_Send(at + done, static_cast<int>(std::min(kChunkBytes, bytes - done)), MPI_BYTE, 0, kTag,
+      MPI_Send(at + done, static_cast<int>(std::min(kChunkBytes, bytes - done)), MPI_BYTE, to, kTag,
                MPI_COMM_WORLD);
   }
   static void receive(void* data, size_t bytes, int from) {

@@ -32,14 +32,17 @@ class Cluster {
     const void* data;
     size_t bytes;
   };
-  // Rank 0's add(piece, offset, chunk, bytes): `bytes` bytes of one rank's piece `piece`,
-  // from byte `offset` on. Chunks are at most kChunkBytes and start at multiples of it.
+  // add(piece, offset, chunk, bytes): adds `bytes` bytes of another rank's piece `piece`, from
+  // byte `offset` on, into this rank's piece (the memory `pieces` points at). Chunks are at
+  // most kChunkBytes and start at multiples of it.
   using AddChunk = std::function<void(size_t, size_t, const void*, size_t)>;
   static constexpr size_t kChunkBytes = size_t(16) << 20;  // a multiple of every element size
-  // Rank 0 receives every other rank's pieces, one rank at a time in rank order, chunk by
-  // chunk into one scratch buffer, and hands each chunk to add(); the other ranks send their
-  // `pieces` (every rank's pieces have the same sizes). A fixed order, so sums add up alike
-  // every run; a 16 MiB buffer beside the result, whatever the number of ranks or the film.
+  // Sums every rank's pieces into rank 0's (every rank's pieces have the same sizes) through a
+  // binomial tree: a rank receives the sums of its subtree's ranks, chunk by chunk into one
+  // scratch buffer, handing each chunk to add(), and then sends its pieces, its own and what
+  // it added, on towards rank 0. A lower rank's values always come first, and the tree is
+  // fixed by the number of ranks, so sums add up alike every run; log2 of the ranks in
+  // transfers of a film, and a 16 MiB buffer beside the result, whatever the film.
   virtual void gather_to_root(const std::vector<Piece>& pieces, const AddChunk& add) const {
     (void)pieces, (void)add;
   }
