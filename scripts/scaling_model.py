@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """A model of clpt's split renders at many ranks (docs/scaling.md): the time lost to load
 imbalance in the per-pass rounds (every rank waits for the slowest share) and the time of the
-final reduction (rank 0 receives and adds every other rank's film in rank order).
+final reduction (the films added through a binomial tree of the ranks, as gather_to_root does;
+the linear gather that preceded it, rank 0 receiving every film in turn, beside it).
 
 Rounds (render/renderer.cpp): each pass gives every device whole samples per pixel in
 proportion to its measured speed, at least kMinShareSamples for the slowest; a pass ends when
@@ -10,9 +11,8 @@ is the planned time times a log-normal factor of spread `jitter` (OS noise, ther
 variation, network interrupts), independent per rank and pass. Efficiency is the mean busy
 time over the pass's length (the maximum over ranks).
 
-The reduction: (K - 1) films of B bytes each pass through rank 0's link one after another
-(bandwidth W), and rank 0 adds each (A bytes/s of float adds). A tree (MPI_Reduce) would take
-about log2(K) such steps but adds in an order that depends on the tree.
+The reduction: ceil(log2(K)) rounds, each a film of B bytes through one link (bandwidth W)
+and its add (A bytes/s of float adds); the linear gather took K - 1 such steps.
 
     python3 scripts/scaling_model.py [--jitter 0.02] [--pass-seconds 0.1] [--seed 1]
 """
@@ -52,13 +52,14 @@ def main():
     print(f"rounds: pass time spread {args.jitter:.1%} per rank, {args.passes} passes")
     print(f"reduction: 4K film, {args.bandwidth / 1e9:g} GB/s into rank 0, adds at "
           f"{args.add_rate / 1e9:g} GB/s")
-    print(f"{'K':>5} {'round efficiency':>17} {'gather pt':>10} {'gather lt':>10} {'tree pt':>8}")
+    print(f"{'K':>5} {'round efficiency':>17} {'tree pt':>8} {'tree lt':>8} {'linear pt':>10} {'linear lt':>10}")
     for k in (1, 2, 4, 8, 16, 32, 64, 128, 256, 512):
         eff = round_efficiency(k, args.jitter, args.passes, rng)
         step = {n: b / args.bandwidth + b / args.add_rate for n, b in film.items()}
         gather = {n: (k - 1) * s for n, s in step.items()}
-        tree = math.ceil(math.log2(k)) * step["pt"] if k > 1 else 0.0
-        print(f"{k:>5} {eff:>17.3f} {gather['pt']:>9.2f}s {gather['lt/bdpt']:>9.2f}s {tree:>7.2f}s")
+        tree = {n: (math.ceil(math.log2(k)) * s if k > 1 else 0.0) for n, s in step.items()}
+        print(f"{k:>5} {eff:>17.3f} {tree['pt']:>7.2f}s {tree['lt/bdpt']:>7.2f}s "
+              f"{gather['pt']:>9.2f}s {gather['lt/bdpt']:>9.2f}s")
 
 
 if __name__ == "__main__":
