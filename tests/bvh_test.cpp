@@ -38,6 +38,76 @@ struct CheckOptions {
   bool leaf_size_strict = true;  // leaves never exceed max_leaf_size
 };
 
+// The 4-wide tree the kernels traverse (collapse_bvh4): every wide node reached once, its
+// children's boxes inside the box of the binary node it holds, empty slots empty, the leaves
+// exactly the binary tree's (the same triangle ranges, the same boxes), and the depth at most
+// half the binary one (the kernels' stack holds three entries a level).
+void check_wide(const Bvh& bvh) {
+  ASSERT_FALSE(bvh.wide.empty());
+  EXPECT_GE(bvh.wide_depth, 1);
+  EXPECT_LE(bvh.wide_depth, std::max(1, bvh.depth / 2));
+  EXPECT_LE(3 * bvh.wide_depth, CLPT_BVH4_STACK);
+  std::vector<std::array<float, 8>> binary_leaves, wide_leaves;  // offset, count, box
+  for (const dev::BvhNode& node : bvh.nodes)
+    if (node.count > 0 && node.bmin[0] <= node.bmax[0])  // not the empty scene's phantom leaf
+      binary_leaves.push_back({float(node.offset), float(node.count), node.bmin[0], node.bmin[1], node.bmin[2],
+                               node.bmax[0], node.bmax[1], node.bmax[2]});
+  std::vector<char> seen(bvh.wide.size(), 0);
+  std::vector<std::pair<uint32_t, int>> stack = {{0u, 1}};
+  size_t errors = 0;
+  int depth = 0;
+  while (!stack.empty() && errors < 20) {
+    const auto [index, level] = stack.back();
+    stack.pop_back();
+    if (index >= bvh.wide.size() || seen[index]) {
+      ADD_FAILURE() << "wide node " << index << " out of range or reached twice";
+      ++errors;
+      continue;
+    }
+    seen[index] = 1;
+    depth = std::max(depth, level);
+    const dev::BvhNode4& w = bvh.wide[index];
+    for (int k = 0; k < 4; ++k) {
+      const bool empty = w.bmin_x[k] == kInf && w.bmax_x[k] == -kInf;
+      if (empty && w.count[k] == 0) {
+        if (w.child[k] != -1 || w.bmin_y[k] != kInf || w.bmax_z[k] != -kInf) {
+          ADD_FAILURE() << "wide node " << index << " slot " << k << ": an empty slot that is not empty";
+          ++errors;
+        }
+        continue;
+      }
+      if (w.child[k] < 0) {
+        wide_leaves.push_back({float(~w.child[k]), float(w.count[k]), w.bmin_x[k], w.bmin_y[k], w.bmin_z[k],
+                               w.bmax_x[k], w.bmax_y[k], w.bmax_z[k]});
+        continue;
+      }
+      if (w.count[k] != 0) {
+        ADD_FAILURE() << "wide node " << index << " slot " << k << ": an inner child with a count";
+        ++errors;
+      }
+      const uint32_t c = uint32_t(w.child[k]);
+      if (c < bvh.wide.size()) {
+        const dev::BvhNode4& cw = bvh.wide[c];
+        for (int j = 0; j < 4; ++j) {
+          if (cw.bmin_x[j] == kInf) continue;  // empty
+          if (cw.bmin_x[j] < w.bmin_x[k] || cw.bmin_y[j] < w.bmin_y[k] || cw.bmin_z[j] < w.bmin_z[k] ||
+              cw.bmax_x[j] > w.bmax_x[k] || cw.bmax_y[j] > w.bmax_y[k] || cw.bmax_z[j] > w.bmax_z[k]) {
+            ADD_FAILURE() << "wide node " << c << " slot " << j << ": a box outside its parent's slot";
+            ++errors;
+          }
+        }
+      }
+      stack.push_back({c, level + 1});
+    }
+  }
+  EXPECT_EQ(errors, 0u);
+  EXPECT_EQ(depth, bvh.wide_depth);
+  EXPECT_EQ(size_t(std::count(seen.begin(), seen.end(), 1)), bvh.wide.size()) << "unreachable wide nodes";
+  std::sort(binary_leaves.begin(), binary_leaves.end());
+  std::sort(wide_leaves.begin(), wide_leaves.end());
+  EXPECT_TRUE(binary_leaves == wide_leaves) << "the wide tree's leaves are not the binary tree's";
+}
+
 // Checks every invariant the kernels rely on; reports through gtest and returns the number
 // of leaves.
 size_t check_structure(const Bvh& bvh, const Mesh& mesh, const CheckOptions& opt = {}) {
@@ -147,6 +217,7 @@ size_t check_structure(const Bvh& bvh, const Mesh& mesh, const CheckOptions& opt
   EXPECT_EQ(size_t(std::count(node_seen.begin(), node_seen.end(), 1)), bvh.nodes.size())
       << "unreachable nodes";
   EXPECT_EQ(max_level, bvh.depth);
+  check_wide(bvh);
   return leaves;
 }
 
@@ -344,7 +415,7 @@ DeviceScene upload(const Bvh& bvh, const Mesh& mesh) {
     verts[i] = dev::Vertex{};
     for (int a = 0; a < 3; ++a) verts[i].p[a] = mesh.positions[i][a];
   }
-  d.nodes = cl::Buffer::from_vector(ctx, bvh.nodes, CL_MEM_READ_ONLY, "bvh nodes");
+  d.nodes = cl::Buffer::from_vector(ctx, bvh.wide, CL_MEM_READ_ONLY, "bvh nodes");
   d.triangles = cl::Buffer::from_vector(ctx, tris, CL_MEM_READ_ONLY, "triangles");
   d.vertices = cl::Buffer::from_vector(ctx, verts, CL_MEM_READ_ONLY, "vertices");
   d.num_triangles = uint32_t(tris.size());

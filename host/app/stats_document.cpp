@@ -51,7 +51,9 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
   j["scene_load_seconds"] = load_seconds;
   j["bvh"] = {{"build_seconds", st.bvh_build_seconds},
               {"nodes", st.bvh_nodes},
-              {"depth", st.bvh_depth}};
+              {"depth", st.bvh_depth},
+              {"wide_nodes", st.bvh_wide_nodes},
+              {"wide_depth", st.bvh_wide_depth}};
   j["kernel"] = {{"seconds", st.kernel_seconds}, {"from_cache", st.kernel_from_cache}};
   j["render_seconds"] = st.render_seconds;
   j["film_gather_seconds"] = st.film_gather_seconds;

@@ -318,6 +318,7 @@ Bvh build_bvh(const std::vector<glm::vec3>& positions, const std::vector<glm::uv
     // An empty box no ray enters; see bvh.h.
     bvh.nodes.push_back(make_node(Aabb(), 0, 1));
     bvh.depth = 1;
+    bvh.wide = collapse_bvh4(bvh.nodes, &bvh.wide_depth);
     return bvh;
   }
 
@@ -368,7 +369,98 @@ Bvh build_bvh(const std::vector<glm::vec3>& positions, const std::vector<glm::uv
 
   bvh.triangle_order.resize(n);
   for (size_t i = 0; i < n; ++i) bvh.triangle_order[i] = prims[i].index;
+  bvh.wide = collapse_bvh4(bvh.nodes, &bvh.wide_depth);
+  // The kernels' stack keeps a leaf as its node's index << 2 under a flag bit.
+  if (bvh.wide.size() > (size_t(1) << 29))
+    throw Error(ExitCode::BadInput, "too many BVH nodes: " + std::to_string(bvh.wide.size()) +
+                                        " 4-wide nodes (at most 536870912)");
   return bvh;
+}
+
+std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<dev::BvhNode>& nodes, int* depth) {
+  std::vector<dev::BvhNode4> wide;
+  *depth = 0;
+  if (nodes.empty()) return wide;
+  auto area = [&](uint32_t i) {
+    const dev::BvhNode& n = nodes[i];
+    const float dx = n.bmax[0] - n.bmin[0], dy = n.bmax[1] - n.bmin[1], dz = n.bmax[2] - n.bmin[2];
+    return dx * dy + dy * dz + dz * dx;
+  };
+  auto empty_node = [] {
+    dev::BvhNode4 w{};
+    for (int k = 0; k < 4; ++k) {
+      w.bmin_x[k] = w.bmin_y[k] = w.bmin_z[k] = std::numeric_limits<float>::infinity();
+      w.bmax_x[k] = w.bmax_y[k] = w.bmax_z[k] = -std::numeric_limits<float>::infinity();
+      w.child[k] = -1;
+      w.count[k] = 0;
+    }
+    return w;
+  };
+  struct Todo {
+    uint32_t binary;  // the binary node whose subtree this wide node holds
+    uint32_t wide;    // its index in `wide`
+    int level;        // 1 for the root
+  };
+  std::vector<Todo> todo = {{0, 0, 1}};
+  wide.push_back(empty_node());
+  while (!todo.empty()) {
+    const Todo t = todo.back();
+    todo.pop_back();
+    *depth = std::max(*depth, t.level);
+    uint32_t kids[4];
+    int count = 0;
+    const dev::BvhNode& b = nodes[t.binary];
+    if (b.count > 0) {
+      kids[count++] = t.binary;  // a root that is a leaf
+    } else {
+      kids[count++] = t.binary + 1;
+      kids[count++] = uint32_t(b.offset);
+    }
+    // The binary node's inner children are opened first, so that every inner child the wide
+    // node keeps lies at least two binary levels below it; then the largest by area.
+    bool first_level[4] = {b.count <= 0, b.count <= 0, false, false};
+    while (count < 4) {
+      int open = -1;
+      for (int k = 0; k < count; ++k) {
+        if (nodes[kids[k]].count > 0) continue;
+        if (open < 0 || (first_level[k] && !first_level[open]) ||
+            (first_level[k] == first_level[open] && area(kids[k]) > area(kids[open])))
+          open = k;
+      }
+      if (open < 0) break;
+      const uint32_t inner = kids[open];
+      for (int k = count; k > open + 1; --k) first_level[k] = first_level[k - 1];
+      first_level[open] = first_level[open + 1] = false;
+      kids[open] = inner + 1;  // its children, in the binary order
+      for (int k = count; k > open + 1; --k) kids[k] = kids[k - 1];
+      kids[open + 1] = uint32_t(nodes[inner].offset);
+      ++count;
+    }
+    for (int k = 0; k < count; ++k) {
+      const dev::BvhNode& c = nodes[kids[k]];
+      // The empty scene's phantom leaf (an empty box, see bvh.h) becomes an empty slot: a ray
+      // with a NaN origin passes every box test, and must still find no triangle to read.
+      if (c.count > 0 && !(c.bmin[0] <= c.bmax[0])) continue;
+      dev::BvhNode4& w = wide[t.wide];
+      w.bmin_x[k] = c.bmin[0];
+      w.bmin_y[k] = c.bmin[1];
+      w.bmin_z[k] = c.bmin[2];
+      w.bmax_x[k] = c.bmax[0];
+      w.bmax_y[k] = c.bmax[1];
+      w.bmax_z[k] = c.bmax[2];
+      if (c.count > 0) {
+        w.child[k] = ~c.offset;
+        w.count[k] = uint32_t(c.count);
+      } else {
+        const uint32_t index = uint32_t(wide.size());
+        w.child[k] = int32_t(index);
+        w.count[k] = 0;
+        wide.push_back(empty_node());  // invalidates w
+        todo.push_back({kids[k], index, t.level + 1});
+      }
+    }
+  }
+  return wide;
 }
 
 }  // namespace clpt

@@ -14,6 +14,7 @@
 namespace clpt {
 
 static_assert(sizeof(dev::BvhNode) == 32, "BvhNode must stay 32 bytes");
+static_assert(sizeof(dev::BvhNode4) == 128, "BvhNode4 must stay 128 bytes");
 static_assert(sizeof(dev::Triangle) == 16, "Triangle must stay 16 bytes");
 static_assert(sizeof(dev::Vertex) == 32, "Vertex must stay 32 bytes");
 
@@ -38,6 +39,9 @@ struct Bvh {
   std::vector<dev::BvhNode> nodes;
   std::vector<uint32_t> triangle_order;  // leaf-order slot i holds original triangle triangle_order[i]
   int depth = 0;                         // levels, root = 1
+  // What the kernels traverse: the same tree collapsed to 4 children a node (collapse_bvh4).
+  std::vector<dev::BvhNode4> wide;
+  int wide_depth = 0;
 
   bool empty() const { return triangle_order.empty(); }
 };
@@ -48,5 +52,15 @@ struct Bvh {
 // an index out of range or more than 2^31 - 1 triangles.
 Bvh build_bvh(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles,
               const BvhBuildOptions& options = {});
+
+// The binary tree `nodes` (Bvh::nodes' layout) as a 4-wide one (dev::BvhNode4), as Embree's
+// and most CPU and GPU traversals use (Wald, Benthin, Boulos 2008; Dammertz et al. 2008): from
+// the root down, a wide node takes its binary node's two children and, while it has fewer
+// than four, opens them (those that are inner) into theirs, then the inner child of the
+// largest surface area. The leaves and their triangle ranges are the binary tree's. Every
+// inner child a wide node keeps lies at least two binary levels below it, so the wide depth
+// (returned in *depth) is at most half the binary one (at least 1): the kernels' stack of
+// CLPT_BVH4_STACK entries holds three a level.
+std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<dev::BvhNode>& nodes, int* depth);
 
 }  // namespace clpt

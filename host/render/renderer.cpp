@@ -66,10 +66,12 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
   stats_.bvh_build_seconds = seconds_since(t0);
   stats_.bvh_depth = bvh.depth;
   stats_.bvh_nodes = bvh.nodes.size();
+  stats_.bvh_wide_depth = bvh.wide_depth;
+  stats_.bvh_wide_nodes = bvh.wide.size();
   stats_.triangles = scene.triangles.size();
-  log::verbose("BVH: " + std::to_string(bvh.nodes.size()) + " nodes, depth " +
-               std::to_string(bvh.depth) + ", built in " + std::to_string(stats_.bvh_build_seconds) +
-               " s");
+  log::verbose("BVH: " + std::to_string(bvh.nodes.size()) + " nodes, depth " + std::to_string(bvh.depth) +
+               " (4-wide: " + std::to_string(bvh.wide.size()) + " nodes, depth " + std::to_string(bvh.wide_depth) +
+               "), built in " + std::to_string(stats_.bvh_build_seconds) + " s");
 
   // --env (read by the caller, or here before anything renders) or the constant --background
   Environment loaded;

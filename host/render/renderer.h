@@ -87,6 +87,8 @@ struct RenderStats {
   uint64_t passes = 0;
   int bvh_depth = 0;
   size_t bvh_nodes = 0;
+  int bvh_wide_depth = 0;     // the 4-wide tree the kernels traverse (collapse_bvh4)
+  size_t bvh_wide_nodes = 0;
   size_t triangles = 0;
   uint32_t emitters = 0;         // emissive triangles
   uint32_t lights = 0;           // all lights: emissive triangles, punctual, environment

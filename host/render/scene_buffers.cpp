@@ -81,7 +81,7 @@ dev::Material to_device(const Material& m) {
 
 FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& env, bool mipmaps) {
   FlatScene flat;
-  flat.nodes = bvh.nodes;
+  flat.nodes = bvh.wide;
   flat.bvh_depth = bvh.depth;
   flat.triangles.resize(bvh.triangle_order.size());
   for (size_t i = 0; i < bvh.triangle_order.size(); ++i) {

@@ -17,7 +17,7 @@ namespace clpt {
 
 // The host-side arrays, before upload: what the device buffers will hold.
 struct FlatScene {
-  std::vector<dev::BvhNode> nodes;
+  std::vector<dev::BvhNode4> nodes;
   std::vector<dev::Triangle> triangles;  // leaf order
   std::vector<dev::Vertex> vertices;
   std::vector<dev::VertexExtra> vertex_extra;  // empty unless the scene has tangents, UV1 or colours

@@ -161,9 +161,10 @@ int run(int argc, char** argv) {
   const RaySet primary = primary_rays(choose_camera(scene, ""), res);
   const RaySet random = random_rays(scene, rays);
 
-  std::printf("%s: %zu triangles, BVH built in %.3f s (%zu nodes, depth %d), device %s\n",
-              scene_file.c_str(), scene.triangles.size(), build_s, bvh.nodes.size(), bvh.depth,
-              ctx.device().label().c_str());
+  std::printf("%s: %zu triangles, BVH built in %.3f s (%zu binary nodes, depth %d; %zu 4-wide nodes, "
+              "depth %d), device %s\n",
+              scene_file.c_str(), scene.triangles.size(), build_s, bvh.nodes.size(), bvh.depth, bvh.wide.size(),
+              bvh.wide_depth, ctx.device().label().c_str());
   std::vector<Figure> figures = {
       trace(ctx, buffers, program, "raybench_closest", "primary closest", primary, seconds),
       trace(ctx, buffers, program, "raybench_closest", "random closest", random, seconds),

@@ -1,8 +1,9 @@
 /* Ray queries against the scene BVH: closest hit and any hit (shadow rays).
  *
- * Traversal: a private stack of CLPT_BVH_MAX_DEPTH node indices (the builder bounds the
- * depth, and at most one node is pushed per level), near child first by the sign of the
- * ray direction on the node's split axis, each node's box tested when it is visited.
+ * Traversal: the 4-wide BVH (BvhNode4, host/bvh/bvh.h's collapse_bvh4). A node's four child
+ * boxes are tested at once (float4 lanes), the children the ray enters are visited nearest
+ * first (closest hit) through a private stack of CLPT_BVH4_STACK entries, a leaf's
+ * triangles when its entry comes up; any hit tests a node's leaf children right away.
  *
  * Box test: slabs with a precomputed reciprocal direction, where 1/0 = +-inf is allowed
  * (the build never uses -cl-fast-relaxed-math). The entry and exit planes of each axis are
@@ -12,8 +13,9 @@
  * by the order of the min/max comparisons, which counts the ray as inside that slab:
  * conservative, so triangles lying in the face plane are still tested. The exit distance is
  * widened by 1 + 2 gamma(3) (Ize 2013, "Robust BVH Ray Traversal"; pbrt-v4) so rounding
- * never culls a box the ray touches. An empty box (bmin = +inf, bmax = -inf, the root of an
- * empty scene) is never entered, and the root is checked before any triangle is read.
+ * never culls a box the ray touches. An empty slot's box (bmin = +inf, bmax = -inf; an empty
+ * scene's root has only those) is never entered, except by a ray with a NaN origin, which
+ * enters every box: its count of 0 leaves it nothing to read.
  *
  * Triangle test: the watertight test of Woop, Benthin and Wald, "Watertight Ray/Triangle
  * Intersection", JCGT 2(1), 2013, two-sided, accepting t in (0, tmax). Rays through a
@@ -140,71 +142,103 @@ CLPT_INLINE bool intersect_triangle(const SceneView* s, const TriangleRay* r, u3
   return true;
 }
 
-/* Whether the ray enters the box of `node` at some t in [0, tmax]. neg is -1 (all bits) in
- * the lanes where the direction is negative. Written as (a > b ? a : b) with the running
- * value second, which drops a NaN lane and compiles to a single max/min instruction. */
-CLPT_INLINE bool box_hit(__global const BvhNode* node, float4 org, float4 inv, int4 neg,
-                         float tmax) {
-  /* One load per half node; lane w (offset, count) is cleared so that no denormal takes
-   * part in the arithmetic. */
-  __global const float* f = (__global const float*)node;
-  const int4 xyz = (int4)(-1, -1, -1, 0);
-  const float4 lo = as_float4(as_int4(vload4(0, f)) & xyz);
-  const float4 hi = as_float4(as_int4(vload4(1, f)) & xyz);
-  const float4 t_in = (select(lo, hi, neg) - org) * inv;
-  const float4 t_out = (select(hi, lo, neg) - org) * inv;
-  float t0 = 0.0f, t1 = tmax;
-  t0 = t_in.x > t0 ? t_in.x : t0;
-  t0 = t_in.y > t0 ? t_in.y : t0;
-  t0 = t_in.z > t0 ? t_in.z : t0;
-  t1 = t_out.x < t1 ? t_out.x : t1;
-  t1 = t_out.y < t1 ? t_out.y : t1;
-  t1 = t_out.z < t1 ? t_out.z : t1;
-  return t0 <= t1 * 1.00000036f; /* 1 + 2 gamma(3) */
+/* The boxes of a wide node's four children against the ray: each lane's entry distance where
+ * the ray enters that child's box at some t in [0, tmax], else +inf. The near and far plane
+ * of each axis are picked by the direction's sign (neg_x etc.: 1 where it is negative);
+ * written as (a > b ? a : b) with the running value second, so a NaN lane (0 * inf, an
+ * origin exactly in a face plane) is dropped, which counts the ray as inside that slab:
+ * conservative. The exit distance is widened by 1 + 2 gamma(3) (Ize 2013; pbrt-v4) so
+ * rounding never culls a box the ray touches; an empty slot (bmin +inf, bmax -inf) is never
+ * entered. */
+CLPT_INLINE float4 box4_entry(__global const BvhNode4* node, float3 org, float3 inv, int neg_x,
+                              int neg_y, int neg_z, float tmax) {
+  const float4 lo_x = vload4(0, node->bmin_x), hi_x = vload4(0, node->bmax_x);
+  const float4 lo_y = vload4(0, node->bmin_y), hi_y = vload4(0, node->bmax_y);
+  const float4 lo_z = vload4(0, node->bmin_z), hi_z = vload4(0, node->bmax_z);
+  const float4 in_x = ((neg_x ? hi_x : lo_x) - org.x) * inv.x;
+  const float4 out_x = ((neg_x ? lo_x : hi_x) - org.x) * inv.x;
+  const float4 in_y = ((neg_y ? hi_y : lo_y) - org.y) * inv.y;
+  const float4 out_y = ((neg_y ? lo_y : hi_y) - org.y) * inv.y;
+  const float4 in_z = ((neg_z ? hi_z : lo_z) - org.z) * inv.z;
+  const float4 out_z = ((neg_z ? lo_z : hi_z) - org.z) * inv.z;
+  float4 t0 = (float4)(0.0f), t1 = (float4)(tmax);
+  t0 = in_x > t0 ? in_x : t0;
+  t0 = in_y > t0 ? in_y : t0;
+  t0 = in_z > t0 ? in_z : t0;
+  t1 = out_x < t1 ? out_x : t1;
+  t1 = out_y < t1 ? out_y : t1;
+  t1 = out_z < t1 ? out_z : t1;
+  return t0 <= t1 * 1.00000036f ? t0 : (float4)(INFINITY); /* 1 + 2 gamma(3) */
+}
+
+/* A traversal stack entry: a wide node's index, or (BVH4_LEAF set) one leaf slot of a node,
+ * node << 2 | slot, whose triangles are child[slot]'s range. */
+#define BVH4_LEAF 0x80000000u
+
+/* The entries of a node's children the ray enters (entry distance < INFINITY), nearest
+ * first: the nearest is returned (0xffffffff when none) and the others are pushed, farthest
+ * first, so that they are popped near to far. */
+CLPT_INLINE u32 bvh4_children(__global const BvhNode4* node, u32 index, float4 t, u32* stack,
+                              int* sp) {
+  u32 entry[4];
+  float dist[4];
+  int n = 0;
+  for (int k = 0; k < 4; ++k) {
+    const float tk = k == 0 ? t.x : k == 1 ? t.y : k == 2 ? t.z : t.w;
+    if (!(tk < INFINITY)) continue;
+    const int c = node->child[k];
+    const u32 e = c >= 0 ? (u32)c : BVH4_LEAF | index << 2 | (u32)k;
+    /* insertion by distance, farthest first */
+    int j = n++;
+    while (j > 0 && dist[j - 1] < tk) {
+      entry[j] = entry[j - 1];
+      dist[j] = dist[j - 1];
+      --j;
+    }
+    entry[j] = e;
+    dist[j] = tk;
+  }
+  if (n == 0) return 0xffffffffu;
+  for (int j = 0; j < n - 1; ++j) stack[(*sp)++] = entry[j];
+  return entry[n - 1];
 }
 
 /* The closest hit with t in (0, tmax). Fills *hit and returns true, or returns false and
  * leaves *hit as it was. */
 CLPT_INLINE bool intersect_closest(const SceneView* s, float3 org, float3 dir, float tmax, Hit* hit) {
-  __global const BvhNode* nodes = s->nodes;
-  if (!(nodes[0].bmin[0] <= nodes[0].bmax[0])) return false; /* empty scene */
-
+  __global const BvhNode4* nodes = s->nodes;
   const TriangleRay tr = triangle_ray(org, dir);
-  const float4 org4 = (float4)(org, 0.0f);
-  const float4 inv4 = (float4)(1.0f / dir, 0.0f);
-  const int4 neg = (int4)(signbit(dir), 0);
-  const int neg_bits = (neg.x & 1) | (neg.y & 2) | (neg.z & 4); /* bit k: dir[k] < 0 */
+  const float3 inv = 1.0f / dir;
+  const int neg_x = signbit(dir.x), neg_y = signbit(dir.y), neg_z = signbit(dir.z);
 
   float best_t = tmax, best_b1 = 0.0f, best_b2 = 0.0f;
   u32 best_tri = 0xffffffffu;
-  u32 stack[CLPT_BVH_MAX_DEPTH];
+  u32 stack[CLPT_BVH4_STACK];
   int sp = 0;
-  u32 index = 0;
+  u32 entry = 0; /* the root */
   for (;;) {
-    __global const BvhNode* node = nodes + index;
-    if (box_hit(node, org4, inv4, neg, best_t)) {
-      const int count = node->count;
-      const int offset = node->offset;
-      if (count <= 0) {
-        const u32 first = index + 1, second = (u32)offset;
-        const bool swap = ((neg_bits >> -count) & 1) != 0;
-        stack[sp++] = swap ? first : second;
-        index = swap ? second : first;
-        continue;
-      }
-      for (int i = offset; i < offset + count; ++i) {
+    if (entry & BVH4_LEAF) {
+      __global const BvhNode4* node = nodes + ((entry & ~BVH4_LEAF) >> 2);
+      const u32 slot = entry & 3u;
+      const u32 first = (u32)~node->child[slot], end = first + node->count[slot];
+      for (u32 i = first; i < end; ++i) {
         float t, b1, b2;
-        if (intersect_triangle(s, &tr, (u32)i, best_t, &t, &b1, &b2) &&
-            !alpha_hole(s, (u32)i, b1, b2, org, dir)) {
+        if (intersect_triangle(s, &tr, i, best_t, &t, &b1, &b2) && !alpha_hole(s, i, b1, b2, org, dir)) {
           best_t = t;
           best_b1 = b1;
           best_b2 = b2;
-          best_tri = (u32)i;
+          best_tri = i;
         }
       }
+      entry = 0xffffffffu;
+    } else {
+      __global const BvhNode4* node = nodes + entry;
+      entry = bvh4_children(node, entry, box4_entry(node, org, inv, neg_x, neg_y, neg_z, best_t), stack, &sp);
     }
-    if (sp == 0) break;
-    index = stack[--sp];
+    if (entry == 0xffffffffu) {
+      if (sp == 0) break;
+      entry = stack[--sp];
+    }
   }
   if (best_tri == 0xffffffffu) return false;
   hit->t = best_t;
@@ -214,36 +248,32 @@ CLPT_INLINE bool intersect_closest(const SceneView* s, float3 org, float3 dir, f
   return true;
 }
 
-/* Whether anything is hit with t in (0, tmax); stops at the first hit found. */
+/* Whether anything is hit with t in (0, tmax); stops at the first hit found. A node's leaf
+ * children are tested as soon as the node is, its inner ones pushed in any order. */
 CLPT_INLINE bool intersect_any(const SceneView* s, float3 org, float3 dir, float tmax) {
-  __global const BvhNode* nodes = s->nodes;
-  if (!(nodes[0].bmin[0] <= nodes[0].bmax[0])) return false; /* empty scene */
-
+  __global const BvhNode4* nodes = s->nodes;
   const TriangleRay tr = triangle_ray(org, dir);
-  const float4 org4 = (float4)(org, 0.0f);
-  const float4 inv4 = (float4)(1.0f / dir, 0.0f);
-  const int4 neg = (int4)(signbit(dir), 0);
-  const int neg_bits = (neg.x & 1) | (neg.y & 2) | (neg.z & 4); /* bit k: dir[k] < 0 */
+  const float3 inv = 1.0f / dir;
+  const int neg_x = signbit(dir.x), neg_y = signbit(dir.y), neg_z = signbit(dir.z);
 
-  u32 stack[CLPT_BVH_MAX_DEPTH];
+  u32 stack[CLPT_BVH4_STACK];
   int sp = 0;
-  u32 index = 0;
+  u32 index = 0; /* the root */
   for (;;) {
-    __global const BvhNode* node = nodes + index;
-    if (box_hit(node, org4, inv4, neg, tmax)) {
-      const int count = node->count;
-      const int offset = node->offset;
-      if (count <= 0) {
-        const u32 first = index + 1, second = (u32)offset;
-        const bool swap = ((neg_bits >> -count) & 1) != 0;
-        stack[sp++] = swap ? first : second;
-        index = swap ? second : first;
+    __global const BvhNode4* node = nodes + index;
+    const float4 t = box4_entry(node, org, inv, neg_x, neg_y, neg_z, tmax);
+    for (int k = 0; k < 4; ++k) {
+      const float tk = k == 0 ? t.x : k == 1 ? t.y : k == 2 ? t.z : t.w;
+      if (!(tk < INFINITY)) continue;
+      const int c = node->child[k];
+      if (c >= 0) {
+        stack[sp++] = (u32)c;
         continue;
       }
-      for (int i = offset; i < offset + count; ++i) {
-        float t, b1, b2;
-        if (intersect_triangle(s, &tr, (u32)i, tmax, &t, &b1, &b2) &&
-            !alpha_hole(s, (u32)i, b1, b2, org, dir))
+      const u32 first = (u32)~c, end = first + node->count[k];
+      for (u32 i = first; i < end; ++i) {
+        float th, b1, b2;
+        if (intersect_triangle(s, &tr, i, tmax, &th, &b1, &b2) && !alpha_hole(s, i, b1, b2, org, dir))
           return true;
       }
     }

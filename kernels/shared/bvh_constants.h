@@ -7,4 +7,9 @@
  * because at most one entry is pushed per level below the root. */
 #define CLPT_BVH_MAX_DEPTH 64
 
+/* The 4-wide BVH collapsed from it has at most half as many levels (every wide node's inner
+ * children lie at least two binary levels below it), and a traversal leaves at most three
+ * entries on its stack per level. */
+#define CLPT_BVH4_STACK (3 * (CLPT_BVH_MAX_DEPTH / 2) + 1)
+
 #endif

@@ -8,7 +8,7 @@
 #define CLPT_SHARED_SCENE_ARRAYS_H
 
 #define SCENE_ARRAYS(X)                                                          \
-  X(BvhNode, nodes, "BVH node")                                                  \
+  X(BvhNode4, nodes, "BVH node")                 /* 4-wide */                    \
   X(Triangle, triangles, "triangle")             /* leaf order */                \
   X(Vertex, vertices, "vertex")                                                  \
   X(VertexExtra, vertex_extra, "vertex attribute") /* valid with SCENE_VERTEX_EXTRA */ \

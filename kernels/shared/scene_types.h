@@ -17,6 +17,23 @@ typedef struct BvhNode {
   i32 count;
 } BvhNode;
 
+/* 128-byte node of the 4-wide BVH the kernels traverse, collapsed from the binary build
+ * (host/bvh/bvh.h): the boxes of up to four children, one array per bound and axis (child i's
+ * box is lane i of the six), and per child: child[i] >= 0 the index of its node; child[i] < 0
+ * a leaf of count[i] triangles from ~child[i] (leaf order). An empty slot has an empty box
+ * (bmin +inf, bmax -inf), child -1 and count 0, so a ray with a NaN origin, which enters any
+ * box, reads nothing there. nodes[0] is the root; an empty scene's has four empty slots. */
+typedef struct BvhNode4 {
+  float bmin_x[4];
+  float bmin_y[4];
+  float bmin_z[4];
+  float bmax_x[4];
+  float bmax_y[4];
+  float bmax_z[4];
+  i32 child[4];
+  u32 count[4];
+} BvhNode4;
+
 /* A triangle in BVH leaf order: three indices into the vertex array and its material. */
 typedef struct Triangle {
   u32 v[3];

@@ -9,7 +9,7 @@ inline float4 hit_record(bool found, const Hit* h) {
                : (float4)(-1.0f, 0.0f, 0.0f, as_float(0xffffffffu));
 }
 
-__kernel void bvh_closest(__global const BvhNode* nodes, __global const Triangle* triangles,
+__kernel void bvh_closest(__global const BvhNode4* nodes, __global const Triangle* triangles,
                           __global const Vertex* vertices, __global const float4* ray_org,
                           __global const float4* ray_dir, __global float4* out, u32 n) {
   const u32 i = get_global_id(0);
@@ -21,7 +21,7 @@ __kernel void bvh_closest(__global const BvhNode* nodes, __global const Triangle
   out[i] = hit_record(found, &h);
 }
 
-__kernel void bvh_any(__global const BvhNode* nodes, __global const Triangle* triangles,
+__kernel void bvh_any(__global const BvhNode4* nodes, __global const Triangle* triangles,
                       __global const Vertex* vertices, __global const float4* ray_org,
                       __global const float4* ray_dir, __global int* out, u32 n) {
   const u32 i = get_global_id(0);
@@ -32,7 +32,7 @@ __kernel void bvh_any(__global const BvhNode* nodes, __global const Triangle* tr
 }
 
 /* Every triangle in order, the first of equal distances kept: the reference for the BVH. */
-__kernel void brute_closest(__global const BvhNode* nodes, __global const Triangle* triangles,
+__kernel void brute_closest(__global const BvhNode4* nodes, __global const Triangle* triangles,
                             __global const Vertex* vertices, __global const float4* ray_org,
                             __global const float4* ray_dir, __global float4* out, u32 n,
                             u32 num_triangles) {
@@ -61,7 +61,7 @@ __kernel void brute_closest(__global const BvhNode* nodes, __global const Triang
  * sample: (b1, b2, cos_theta, phi): the point's barycentrics and the direction in the
  * hemisphere of the geometric normal, cos_theta < 0 meaning the back hemisphere.
  * out: (t, as_float(triangle) or ~0, cosine of the direction with the side's normal, 0). */
-__kernel void spawn_and_trace(__global const BvhNode* nodes, __global const Triangle* triangles,
+__kernel void spawn_and_trace(__global const BvhNode4* nodes, __global const Triangle* triangles,
                               __global const Vertex* vertices, __global const u32* tri,
                               __global const float4* sample, __global float4* out, u32 n) {
   const u32 i = get_global_id(0);
