@@ -175,32 +175,40 @@ CLPT_INLINE float4 box4_entry(__global const BvhNode4* node, float3 org, float3 
  * node << 2 | slot, whose triangles are child[slot]'s range. */
 #define BVH4_LEAF 0x80000000u
 
+/* Sorts (t, e) pairs by t, a compare-exchange of two named variables (no array: it stays in
+ * registers on every device). */
+#define BVH4_ORDER(ta, ea, tb, eb)      \
+  do {                                  \
+    if (tb < ta) {                      \
+      const float t_ = ta;              \
+      const u32 e_ = ea;                \
+      ta = tb;                          \
+      ea = eb;                          \
+      tb = t_;                          \
+      eb = e_;                          \
+    }                                   \
+  } while (0)
+
 /* The entries of a node's children the ray enters (entry distance < INFINITY), nearest
  * first: the nearest is returned (0xffffffff when none) and the others are pushed, farthest
- * first, so that they are popped near to far. */
+ * first, so that they are popped near to far. Sorted by a five-exchange network. */
 CLPT_INLINE u32 bvh4_children(__global const BvhNode4* node, u32 index, float4 t, u32* stack,
                               int* sp) {
-  u32 entry[4];
-  float dist[4];
-  int n = 0;
-  for (int k = 0; k < 4; ++k) {
-    const float tk = k == 0 ? t.x : k == 1 ? t.y : k == 2 ? t.z : t.w;
-    if (!(tk < INFINITY)) continue;
-    const int c = node->child[k];
-    const u32 e = c >= 0 ? (u32)c : BVH4_LEAF | index << 2 | (u32)k;
-    /* insertion by distance, farthest first */
-    int j = n++;
-    while (j > 0 && dist[j - 1] < tk) {
-      entry[j] = entry[j - 1];
-      dist[j] = dist[j - 1];
-      --j;
-    }
-    entry[j] = e;
-    dist[j] = tk;
-  }
-  if (n == 0) return 0xffffffffu;
-  for (int j = 0; j < n - 1; ++j) stack[(*sp)++] = entry[j];
-  return entry[n - 1];
+  const int4 c = vload4(0, node->child);
+  float t0 = t.x, t1 = t.y, t2 = t.z, t3 = t.w;
+  u32 e0 = c.x >= 0 ? (u32)c.x : BVH4_LEAF | index << 2;
+  u32 e1 = c.y >= 0 ? (u32)c.y : BVH4_LEAF | index << 2 | 1u;
+  u32 e2 = c.z >= 0 ? (u32)c.z : BVH4_LEAF | index << 2 | 2u;
+  u32 e3 = c.w >= 0 ? (u32)c.w : BVH4_LEAF | index << 2 | 3u;
+  BVH4_ORDER(t0, e0, t1, e1);
+  BVH4_ORDER(t2, e2, t3, e3);
+  BVH4_ORDER(t0, e0, t2, e2);
+  BVH4_ORDER(t1, e1, t3, e3);
+  BVH4_ORDER(t1, e1, t2, e2);
+  if (t3 < INFINITY) stack[(*sp)++] = e3;
+  if (t2 < INFINITY) stack[(*sp)++] = e2;
+  if (t1 < INFINITY) stack[(*sp)++] = e1;
+  return t0 < INFINITY ? e0 : 0xffffffffu;
 }
 
 /* The closest hit with t in (0, tmax). Fills *hit and returns true, or returns false and
