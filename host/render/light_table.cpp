@@ -10,6 +10,7 @@
 #include "render/scene_buffers.h"
 #include "util/error.h"
 #include "util/log.h"
+#include "util/srgb.h"
 
 namespace clpt {
 namespace {
@@ -142,10 +143,6 @@ void build_environment(const Environment& env, FlatScene& flat) {
 }
 
 namespace {
-
-double srgb_to_linear(double c) {
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
 
 // Luminance of an emissive texture (sRGB) at uv, nearest texel with repeat wrapping: enough
 // for a selection weight.

@@ -4,18 +4,17 @@
 #include <array>
 #include <cmath>
 
+#include "util/srgb.h"
+
 namespace clpt {
 
 namespace {
-
-// The sRGB transfer function (IEC 61966-2-1) and its inverse, as kernels/texture/texture.cl.
-double srgb_decode(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 const std::array<float, 256>& srgb_table() {
   static const std::array<float, 256> table = [] {
     std::array<float, 256> t{};
     for (int i = 0; i < 256; ++i) {
-      t[size_t(i)] = float(srgb_decode(i / 255.0));
+      t[size_t(i)] = float(srgb_to_linear(i / 255.0));
     }
     return t;
   }();
@@ -26,7 +25,7 @@ const std::array<float, 256>& srgb_table() {
 // first where `srgb`.
 uint32_t encode(double linear, bool srgb, double max) {
   double c = std::clamp(linear, 0.0, 1.0);
-  if (srgb) c = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+  if (srgb) c = linear_to_srgb(c);
   return uint32_t(std::lround(std::clamp(c, 0.0, 1.0) * max));
 }
 
@@ -48,7 +47,7 @@ std::vector<uint32_t> halve(const std::vector<uint32_t>& src, uint32_t w, uint32
           if (wide) {
             const uint32_t c[4] = {src[2 * t] & 65535u, src[2 * t] >> 16, src[2 * t + 1] & 65535u,
                                    src[2 * t + 1] >> 16};
-            for (int k = 0; k < 3; ++k) sum[k] += srgb ? srgb_decode(c[k] / 65535.0) : c[k] / 65535.0;
+            for (int k = 0; k < 3; ++k) sum[k] += srgb ? srgb_to_linear(c[k] / 65535.0) : c[k] / 65535.0;
             sum[3] += c[3] / 65535.0;
             continue;
           }

@@ -19,6 +19,7 @@
 #include "stats/diff_report.h"
 #include "stats/image_stats.h"
 #include "util/error.h"
+#include "util/srgb.h"
 
 namespace clpt {
 namespace {
@@ -112,10 +113,6 @@ std::array<double, 3> viridis(double t) {
   return c;
 }
 
-// write_image takes linear values and encodes PNG/JPEG as sRGB; the map is defined in sRGB.
-float srgb_to_linear(double v) {
-  return static_cast<float>(v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
-}
 
 void write_error_map(const DiffOptions& o, const Image& image, const Image& reference) {
   const Image err = relative_squared_error(image, reference);
@@ -138,7 +135,8 @@ void write_error_map(const DiffOptions& o, const Image& image, const Image& refe
     } else {
       c = viridis(e <= lo ? 0.0 : std::log10(e / lo) / std::log10(hi / lo));
     }
-    for (int k = 0; k < 3; ++k) map.rgb[i * 3 + k] = srgb_to_linear(c[k]);
+    // write_image takes linear values and encodes PNG/JPEG as sRGB; the map is defined in sRGB.
+    for (int k = 0; k < 3; ++k) map.rgb[i * 3 + k] = float(srgb_to_linear(c[k]));
   }
   write_image(o.error_map, map, meta);
 }
