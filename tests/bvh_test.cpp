@@ -48,7 +48,7 @@ void check_wide(const Bvh& bvh) {
   EXPECT_LE(bvh.wide_depth, std::max(1, bvh.depth / 2));
   EXPECT_LE(3 * bvh.wide_depth, CLPT_BVH4_STACK);
   std::vector<std::array<float, 8>> binary_leaves, wide_leaves;  // offset, count, box
-  for (const dev::BvhNode& node : bvh.nodes)
+  for (const BvhNode& node : bvh.nodes)
     if (node.count > 0 && node.bmin[0] <= node.bmax[0])  // not the empty scene's phantom leaf
       binary_leaves.push_back({float(node.offset), float(node.count), node.bmin[0], node.bmin[1], node.bmin[2],
                                node.bmax[0], node.bmax[1], node.bmax[2]});
@@ -129,7 +129,7 @@ size_t check_structure(const Bvh& bvh, const Mesh& mesh, const CheckOptions& opt
     EXPECT_EQ(bad, 0u) << "triangle_order is not a permutation";
   }
 
-  auto inside = [](const dev::BvhNode& child, const dev::BvhNode& parent) {
+  auto inside = [](const BvhNode& child, const BvhNode& parent) {
     for (int a = 0; a < 3; ++a)
       if (child.bmin[a] < parent.bmin[a] || child.bmax[a] > parent.bmax[a]) return false;
     return true;
@@ -154,7 +154,7 @@ size_t check_structure(const Bvh& bvh, const Mesh& mesh, const CheckOptions& opt
     }
     node_seen[it.node] = 1;
     max_level = std::max(max_level, it.level);
-    const dev::BvhNode& node = bvh.nodes[it.node];
+    const BvhNode& node = bvh.nodes[it.node];
     if (node.count > 0) {
       ++leaves;
       if (opt.leaf_size_strict && node.count > opt.max_leaf_size) {
@@ -192,7 +192,7 @@ size_t check_structure(const Bvh& bvh, const Mesh& mesh, const CheckOptions& opt
         ++errors;
         continue;
       }
-      const dev::BvhNode &a = bvh.nodes[first], &b = bvh.nodes[second];
+      const BvhNode &a = bvh.nodes[first], &b = bvh.nodes[second];
       if (!inside(a, node) || !inside(b, node)) {
         ADD_FAILURE() << "child box outside its parent at node " << it.node;
         ++errors;
@@ -223,13 +223,13 @@ size_t check_structure(const Bvh& bvh, const Mesh& mesh, const CheckOptions& opt
 
 // SAH cost of a tree (traversal 1, intersection 1 per triangle), relative to the root area.
 double sah_cost(const Bvh& bvh) {
-  auto area = [](const dev::BvhNode& n) {
+  auto area = [](const BvhNode& n) {
     const double x = n.bmax[0] - n.bmin[0], y = n.bmax[1] - n.bmin[1], z = n.bmax[2] - n.bmin[2];
     return x * y + y * z + z * x;
   };
   const double root = area(bvh.nodes[0]);
   double cost = 0.0;
-  for (const dev::BvhNode& n : bvh.nodes) cost += area(n) / root * (n.count > 0 ? n.count : 1);
+  for (const BvhNode& n : bvh.nodes) cost += area(n) / root * (n.count > 0 ? n.count : 1);
   return cost;
 }
 
@@ -238,7 +238,7 @@ TEST(BvhBuild, EmptyInputIsOneLeafNoRayEnters) {
   ASSERT_EQ(bvh.nodes.size(), 1u);
   EXPECT_TRUE(bvh.empty());
   EXPECT_EQ(bvh.depth, 1);
-  const dev::BvhNode& root = bvh.nodes[0];
+  const BvhNode& root = bvh.nodes[0];
   EXPECT_GT(root.count, 0) << "count <= 0 would make the root an interior node";
   for (int a = 0; a < 3; ++a) {
     EXPECT_EQ(root.bmin[a], kInf);
@@ -375,7 +375,7 @@ TEST(BvhBuild, Deterministic) {
                                       glm::vec3(-20), glm::vec3(20), 0.2f, 2.0f);
   const Bvh a = build_bvh(m.positions, m.triangles), b = build_bvh(m.positions, m.triangles);
   ASSERT_EQ(a.nodes.size(), b.nodes.size());
-  EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(dev::BvhNode)), 0);
+  EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)), 0);
   EXPECT_EQ(a.triangle_order, b.triangle_order);
 }
 
@@ -487,7 +487,7 @@ glm::vec3 uniform_sphere(std::mt19937& rng) {
 Rays make_rays(const Bvh& bvh, const Mesh& mesh, size_t n, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  const dev::BvhNode& root = bvh.nodes[0];
+  const BvhNode& root = bvh.nodes[0];
   const glm::vec3 lo(root.bmin[0], root.bmin[1], root.bmin[2]);
   const glm::vec3 hi(root.bmax[0], root.bmax[1], root.bmax[2]);
   const glm::vec3 ext = hi - lo;
@@ -522,7 +522,7 @@ Rays make_rays(const Bvh& bvh, const Mesh& mesh, size_t n, uint32_t seed) {
         d[axis] = sign;
         const float pick = u(rng);
         if (pick < 0.3f) {  // the other coordinates in face planes of a random node
-          const dev::BvhNode& node = bvh.nodes[size_t(u(rng) * bvh.nodes.size()) % bvh.nodes.size()];
+          const BvhNode& node = bvh.nodes[size_t(u(rng) * bvh.nodes.size()) % bvh.nodes.size()];
           for (int a = 0; a < 3; ++a)
             if (a != axis) o[a] = u(rng) < 0.5f ? node.bmin[a] : node.bmax[a];
           if (u(rng) < 0.3f) o[(axis + 1) % 3] = around()[(axis + 1) % 3];  // one face only

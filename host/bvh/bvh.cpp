@@ -82,8 +82,8 @@ int levels_needed(size_t n, size_t max_leaf) {
   return levels;
 }
 
-dev::BvhNode make_node(const Aabb& box, int32_t offset, int32_t count) {
-  dev::BvhNode node{};
+BvhNode make_node(const Aabb& box, int32_t offset, int32_t count) {
+  BvhNode node{};
   for (int a = 0; a < 3; ++a) {
     node.bmin[a] = box.lo[a];
     node.bmax[a] = box.hi[a];
@@ -127,7 +127,7 @@ class Builder {
   // Builds the subtree of prims [begin, end) whose box and (doubled) centroid box are given,
   // appending it depth-first to out. Returns its depth in levels.
   int build(size_t begin, size_t end, const Aabb& box, const Aabb& cbox, int level,
-            std::vector<dev::BvhNode>& out) const {
+            std::vector<BvhNode>& out) const {
     const size_t n = end - begin;
     const size_t self = out.size();
     out.push_back(make_node(box, static_cast<int32_t>(begin), static_cast<int32_t>(n)));
@@ -141,7 +141,7 @@ class Builder {
     if (level <= spawn_levels_ && n >= 8192) {
       // The right subtree goes to another thread and its own vector; the left one lands in
       // place. (right_nodes outlives the future, whose destructor waits for the thread.)
-      std::vector<dev::BvhNode> right_nodes;
+      std::vector<BvhNode> right_nodes;
       auto right = std::async(std::launch::async, [&] {
         return build(split.mid, end, split.right, split.right_c, level + 1, right_nodes);
       });
@@ -164,10 +164,10 @@ class Builder {
     Aabb left, right, left_c, right_c;  // boxes and centroid boxes of both sides
   };
 
-  static void append(std::vector<dev::BvhNode>& out, const std::vector<dev::BvhNode>& sub) {
+  static void append(std::vector<BvhNode>& out, const std::vector<BvhNode>& sub) {
     const int32_t base = static_cast<int32_t>(out.size());
     out.reserve(out.size() + sub.size());
-    for (dev::BvhNode node : sub) {
+    for (BvhNode node : sub) {
       if (node.count <= 0) node.offset += base;
       out.push_back(node);
     }
@@ -377,12 +377,12 @@ Bvh build_bvh(const std::vector<glm::vec3>& positions, const std::vector<glm::uv
   return bvh;
 }
 
-std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<dev::BvhNode>& nodes, int* depth) {
+std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<BvhNode>& nodes, int* depth) {
   std::vector<dev::BvhNode4> wide;
   *depth = 0;
   if (nodes.empty()) return wide;
   auto area = [&](uint32_t i) {
-    const dev::BvhNode& n = nodes[i];
+    const BvhNode& n = nodes[i];
     const float dx = n.bmax[0] - n.bmin[0], dy = n.bmax[1] - n.bmin[1], dz = n.bmax[2] - n.bmin[2];
     return dx * dy + dy * dz + dz * dx;
   };
@@ -409,7 +409,7 @@ std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<dev::BvhNode>& nodes,
     *depth = std::max(*depth, t.level);
     uint32_t kids[4];
     int count = 0;
-    const dev::BvhNode& b = nodes[t.binary];
+    const BvhNode& b = nodes[t.binary];
     if (b.count > 0) {
       kids[count++] = t.binary;  // a root that is a leaf
     } else {
@@ -437,7 +437,7 @@ std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<dev::BvhNode>& nodes,
       ++count;
     }
     for (int k = 0; k < count; ++k) {
-      const dev::BvhNode& c = nodes[kids[k]];
+      const BvhNode& c = nodes[kids[k]];
       // The empty scene's phantom leaf (an empty box, see bvh.h) becomes an empty slot: a ray
       // with a NaN origin passes every box test, and must still find no triangle to read.
       if (c.count > 0 && !(c.bmin[0] <= c.bmax[0])) continue;

@@ -1,6 +1,7 @@
 // Bounding volume hierarchy over triangles: a binned SAH build (Wald 2007, "On fast
-// Construction of SAH-based Bounding Volume Hierarchies") flattened depth-first into the
-// 32-byte dev::BvhNode the kernels traverse (kernels/bvh/intersect.cl).
+// Construction of SAH-based Bounding Volume Hierarchies") flattened depth-first into 32-byte
+// binary nodes (BvhNode), then collapsed into the 4-wide dev::BvhNode4 the kernels traverse
+// (kernels/bvh/intersect.cl).
 #pragma once
 
 #include <cstdint>
@@ -13,7 +14,17 @@
 
 namespace clpt {
 
-static_assert(sizeof(dev::BvhNode) == 32, "BvhNode must stay 32 bytes");
+// The binary build's 32-byte node, depth-first order: an interior node's first child follows
+// it. count > 0: a leaf holding triangles [offset, offset + count) (leaf order); count <= 0: an
+// interior node, offset = the index of its second child, split axis = -count.
+struct BvhNode {
+  float bmin[3];
+  int32_t offset;
+  float bmax[3];
+  int32_t count;
+};
+
+static_assert(sizeof(BvhNode) == 32, "BvhNode must stay 32 bytes");
 static_assert(sizeof(dev::BvhNode4) == 128, "BvhNode4 must stay 128 bytes");
 static_assert(sizeof(dev::Triangle) == 16, "Triangle must stay 16 bytes");
 static_assert(sizeof(dev::Vertex) == 32, "Vertex must stay 32 bytes");
@@ -36,7 +47,7 @@ struct BvhBuildOptions {
 // the root box before anything else, so that phantom triangle is never read. Host code
 // should check triangle_order.empty() instead of walking such a tree.
 struct Bvh {
-  std::vector<dev::BvhNode> nodes;
+  std::vector<BvhNode> nodes;
   std::vector<uint32_t> triangle_order;  // leaf-order slot i holds original triangle triangle_order[i]
   int depth = 0;                         // levels, root = 1
   // What the kernels traverse: the same tree collapsed to 4 children a node (collapse_bvh4).
@@ -61,6 +72,6 @@ Bvh build_bvh(const std::vector<glm::vec3>& positions, const std::vector<glm::uv
 // inner child a wide node keeps lies at least two binary levels below it, so the wide depth
 // (returned in *depth) is at most half the binary one (at least 1): the kernels' stack of
 // CLPT_BVH4_STACK entries holds three a level.
-std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<dev::BvhNode>& nodes, int* depth);
+std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<BvhNode>& nodes, int* depth);
 
 }  // namespace clpt

@@ -172,8 +172,9 @@ CLPT_INLINE float4 box4_entry(__global const BvhNode4* node, float3 org, float3 
 }
 
 /* A traversal stack entry: a wide node's index, or (BVH4_LEAF set) one leaf slot of a node,
- * node << 2 | slot, whose triangles are child[slot]'s range. */
+ * node << 2 | slot, whose triangles are child[slot]'s range; BVH4_NONE: no entry. */
 #define BVH4_LEAF 0x80000000u
+#define BVH4_NONE 0xffffffffu
 
 /* Sorts (t, e) pairs by t, a compare-exchange of two named variables (no array: it stays in
  * registers on every device). */
@@ -190,7 +191,7 @@ CLPT_INLINE float4 box4_entry(__global const BvhNode4* node, float3 org, float3 
   } while (0)
 
 /* The entries of a node's children the ray enters (entry distance < INFINITY), nearest
- * first: the nearest is returned (0xffffffff when none) and the others are pushed, farthest
+ * first: the nearest is returned (BVH4_NONE when none) and the others are pushed, farthest
  * first, so that they are popped near to far. Sorted by a five-exchange network. */
 CLPT_INLINE u32 bvh4_children(__global const BvhNode4* node, u32 index, float4 t, u32* stack,
                               int* sp) {
@@ -208,7 +209,7 @@ CLPT_INLINE u32 bvh4_children(__global const BvhNode4* node, u32 index, float4 t
   if (t3 < INFINITY) stack[(*sp)++] = e3;
   if (t2 < INFINITY) stack[(*sp)++] = e2;
   if (t1 < INFINITY) stack[(*sp)++] = e1;
-  return t0 < INFINITY ? e0 : 0xffffffffu;
+  return t0 < INFINITY ? e0 : BVH4_NONE;
 }
 
 /* The closest hit with t in (0, tmax). Fills *hit and returns true, or returns false and
@@ -238,12 +239,12 @@ CLPT_INLINE bool intersect_closest(const SceneView* s, float3 org, float3 dir, f
           best_tri = i;
         }
       }
-      entry = 0xffffffffu;
+      entry = BVH4_NONE;
     } else {
       __global const BvhNode4* node = nodes + entry;
       entry = bvh4_children(node, entry, box4_entry(node, org, inv, neg_x, neg_y, neg_z, best_t), stack, &sp);
     }
-    if (entry == 0xffffffffu) {
+    if (entry == BVH4_NONE) {
       if (sp == 0) break;
       entry = stack[--sp];
     }

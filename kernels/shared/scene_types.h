@@ -7,18 +7,8 @@
 
 CLPT_BEGIN_SHARED
 
-/* 32-byte BVH node, depth-first order: an interior node's first child follows it.
- * count > 0: leaf holding triangles [offset, offset + count) (leaf order).
- * count <= 0: interior node, offset = index of the second child, split axis = -count. */
-typedef struct BvhNode {
-  float bmin[3];
-  i32 offset;
-  float bmax[3];
-  i32 count;
-} BvhNode;
-
 /* 128-byte node of the 4-wide BVH the kernels traverse, collapsed from the binary build
- * (host/bvh/bvh.h): the boxes of up to four children, one array per bound and axis (child i's
+ * (host/bvh/bvh.h's BvhNode, which only the host sees): the boxes of up to four children, one array per bound and axis (child i's
  * box is lane i of the six), and per child: child[i] >= 0 the index of its node; child[i] < 0
  * a leaf of count[i] triangles from ~child[i] (leaf order). An empty slot has an empty box
  * (bmin +inf, bmax -inf), child -1 and count 0, so a ray with a NaN origin, which enters any

@@ -1,11 +1,6 @@
 /* Every shared struct and field whose layout host and device must agree on. Included by
  * the layout test kernel and by tests/shared_layout_test.cpp, so the two lists cannot
  * differ. LAYOUT_STRUCT(T) reports sizeof(T), LAYOUT_FIELD(T, f) reports offsetof(T, f). */
-LAYOUT_STRUCT(BvhNode)
-LAYOUT_FIELD(BvhNode, bmin)
-LAYOUT_FIELD(BvhNode, offset)
-LAYOUT_FIELD(BvhNode, bmax)
-LAYOUT_FIELD(BvhNode, count)
 LAYOUT_STRUCT(BvhNode4)
 LAYOUT_FIELD(BvhNode4, bmin_x)
 LAYOUT_FIELD(BvhNode4, bmin_y)
