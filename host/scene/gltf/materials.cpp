@@ -120,9 +120,16 @@ void Converter::decode_textures() {
     bool ok = false;
     const Header& h = headers[source];
     const uint64_t copies = ids.size();
+    // The textures that read the image as a normal map alone: they keep a 16-bit image's 16 bits.
+    const uint64_t normal_users =
+        uint64_t(std::count_if(ids.begin(), ids.end(), [&](int id) { return normal_only[size_t(id)]; }));
+    // Whether `units` textures' worth of w x h texels are left under total-texels.
+    auto room = [&](uint64_t w, uint64_t hh, uint64_t units) {
+      return u128(w) * hh * units <= u128(limits_.total_texels - total_texels_);
+    };
     // Whether `copies` textures of w x h would pass total-texels, with `why` set when not.
     auto fits = [&](uint64_t w, uint64_t hh) {
-      if (u128(w) * hh * copies <= u128(limits_.total_texels - total_texels_)) return true;
+      if (room(w, hh, copies)) return true;
       why = "with it the images the materials use exceed the limit of " + std::to_string(limits_.total_texels) +
             " texels (--limit total-texels=N)";
       return false;
@@ -130,19 +137,14 @@ void Converter::decode_textures() {
     if (!h.known || fits(h.width, h.height)) {
       const unsigned char* data = nullptr;
       size_t size = 0;
-      const bool keep16 = std::any_of(ids.begin(), ids.end(), [&](int id) { return normal_only[size_t(id)]; });
       if (image_bytes(source, &data, &size, &why))
-        ok = decode_image(data, size, &img, &why, limits_.image_dimension, limits_.image_pixels, keep16);
+        ok = decode_image(data, size, &img, &why, limits_.image_dimension, limits_.image_pixels,
+                          normal_users > 0);
       images_.bytes.erase(source);  // decoded once; the encoded copy is no longer needed
       ok = ok && fits(img.width, img.height);  // a JPEG whose frame size only the decoder knew (DNL)
       // A 16-bit normal map's texel takes two words: it counts twice. Where that would pass the
       // limit and 8 bits would not, the map is kept at 8 bits (as before 16-bit maps).
-      const uint64_t wide_users = img.wide ? uint64_t(std::count_if(ids.begin(), ids.end(), [&](int id) {
-                                                return normal_only[size_t(id)];
-                                              }))
-                                           : 0;
-      if (ok && wide_users &&
-          u128(img.width) * img.height * (copies + wide_users) > u128(limits_.total_texels - total_texels_)) {
+      if (ok && img.wide && !room(img.width, img.height, copies + normal_users)) {
         log::warn(display_ + ": " + label + " (" + where + ") is kept at 8 bits a channel: at 16 its texels " +
                   "would exceed the limit of " + std::to_string(limits_.total_texels) +
                   " texels (--limit total-texels=N; a 16-bit texel counts twice)");
