@@ -244,7 +244,7 @@ struct Parser {
         ->type_name("N")
         ->check(CLI::Range(1u, 1u << 26).description(""));
     app.add_option("--mlt-chains", o.mlt_chains,
-                   "mlt: Markov chains run in parallel; --spp counts mutations per pixel "
+                   "mlt: Markov chains run in parallel on each device; --spp counts mutations per pixel "
                    "[one per pixel, at most 65536]")
         ->type_name("N")
         ->check(CLI::Range(1u, 1u << 24).description(""));

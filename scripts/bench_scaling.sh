@@ -6,18 +6,23 @@
 # RUNS times each (default 3), with the median of clpt's own render_seconds (--stats) and the
 # efficiency T1 / (2 T2). Then the time the final film takes at 4K (--stats
 # "film_gather_seconds", 1 spp at 3840x2160): one process reading its film back, and two ranks,
-# rank 0 reading its own and receiving and adding the other's.
+# rank 0 reading its own and receiving and adding the other's. Options after RUNS replace the
+# render's (e.g. --integrator mlt --spp 64: another integrator, also at 256x256), and the 4K
+# film's timing is then left out.
 #
-#   scripts/bench_scaling.sh [RUNS]
+#   scripts/bench_scaling.sh [RUNS [CLPT-OPTIONS...]]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs="${1:-3}"
+shift || true
+render=(--spp 256)
+[ $# -gt 0 ] && render=("$@")
 clpt=build/clpt
 scene=scenes/cornell_box.gltf
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 mpi=(mpirun --oversubscribe --allow-run-as-root --mca btl_vader_single_copy_mechanism none)
-common=(-q --resolution 256x256 --spp 256 --seed 1 -o "$out/x.exr")
+common=(-q --resolution 256x256 --seed 1 "${render[@]}" -o "$out/x.exr")
 
 seconds() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$1" "$2"; }
 median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
@@ -40,6 +45,7 @@ report() {
 echo "runs: devices one ${one_dev[*]} / two ${two_dev[*]}; processes one ${one_proc[*]} / two ${two_proc[*]}"
 report "two PoCL devices, one process" "$(median "${one_dev[@]}")" "$(median "${two_dev[@]}")"
 report "two MPI ranks, one PoCL thread each" "$(median "${one_proc[@]}")" "$(median "${two_proc[@]}")"
+[ "${render[*]}" = "--spp 256" ] || exit 0
 
 POCL_MAX_PTHREAD_COUNT=1 "$clpt" "$scene" -q --resolution 3840x2160 --spp 1 --device pocl \
   -o "$out/4k.exr" --stats="$out/4k1.json"

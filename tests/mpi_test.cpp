@@ -88,7 +88,7 @@ TEST_F(Mpi, TwoRanksRenderWhatOneProcessRenders) {
     std::vector<std::string> more;
   };
   for (const Case& c : {Case{"pt", 1e-10, {}}, Case{"lt", 1e-8, {}}, Case{"bdpt", 1e-8, {}},
-                        Case{"vcm", 1e-8, {"--vcm-merged"}}}) {
+                        Case{"vcm", 1e-8, {"--vcm-merged"}}, Case{"ic", 1e-10, {}}}) {
     SCOPED_TRACE(c.integrator);
     std::vector<std::string> args = {"--integrator", c.integrator, "--resolution", "32x32",
                                      "--spp", "16", "--seed", "5", "--max-depth", "4"};
@@ -125,6 +125,31 @@ TEST_F(Mpi, TwoRanksRenderWhatOneProcessRenders) {
       EXPECT_LT(test::agreement(*other, l.image).rel_mse, c.max_rel_mse);
     }
   }
+}
+
+// mlt's ranks run chains of their own (DeviceSplit::Chains, tests/multi_device_test.cpp): rank
+// 0's --stats counts every rank's chains, and the image is not one rank's chains at half the
+// samples.
+TEST_F(Mpi, MetropolisRanksRunChainsOfTheirOwn) {
+  auto args = [](const char* spp) {
+    return std::vector<std::string>{"--integrator", "mlt", "--resolution", "24x24", "--spp", spp,
+                                    "--seed", "3", "--max-depth", "3"};
+  };
+  const nlohmann::json one = render("mlt-one", 0, args("32"));
+  const nlohmann::json two = render("mlt-two", 2, args("32"));
+  render("mlt-half", 0, args("16"));
+  if (one.is_null() || two.is_null()) return;
+  test::expect_device_shares(two, 2, 32);
+  EXPECT_EQ(two["mlt"]["chains"].get<uint64_t>(), 2 * one["mlt"]["chains"].get<uint64_t>());
+  EXPECT_EQ(two["mlt"]["mutations"], one["mlt"]["mutations"]);
+  EXPECT_EQ(two["mlt"]["b"], one["mlt"]["b"]);
+  const Image a = read_image(path("mlt-two.exr"));
+  const test::Agreement g = test::agreement(a, read_image(path("mlt-one.exr")));
+  const test::Agreement same = test::agreement(a, read_image(path("mlt-half.exr")));
+  std::printf("mlt two ranks against one process: mean ratio %.4f; against one process's chains "
+              "at half the samples: relMSE %.3g\n", g.mean_ratio, same.rel_mse);
+  EXPECT_NEAR(g.mean_ratio, 1.0, 0.03);
+  EXPECT_GT(same.rel_mse, 1e-3) << "the two ranks ran the same chains";
 }
 
 // A film whose arrays are larger than the 16 MiB chunks rank 0 receives in (1100 x 1000 pixels:

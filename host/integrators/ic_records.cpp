@@ -87,7 +87,14 @@ cl_uint IcRecords::bind_map(cl::Kernel& kernel, cl_uint first) {
 }
 
 void IcRecords::warm_up(const dev::RenderParams& params, size_t pixels) {
-  // Every kernel once over nothing (grid 0 x 0, batch 0).
+  // Every kernel over nothing (grid 0 x 0, batch 0), at the smallest and the largest of the
+  // sizes the build launches it with: PoCL compiles a work-group function per grid size class
+  // ("smallgrid" or not) at its first launch, and two devices of one PoCL platform that
+  // compile the same one at once, each on its own thread, corrupt PoCL 3.1's cache of them
+  // (pocl_release_dlhandle_cache's assertion `found->ref_count > 0` aborts the process: seen
+  // with ic on two "basic" devices, where the first pass's record rays came in the large class
+  // on both at once). Warmed up here, while the renderer sets its devices up one after another,
+  // each class is compiled once, before any pass.
   pixels_ = pixels;
   lookup_counts_ = cl::Buffer(ctx_, pixels_ * 3 * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
                               "irradiance cache lookup counts");
@@ -105,12 +112,14 @@ void IcRecords::warm_up(const dev::RenderParams& params, size_t pixels) {
   results_ = cl::Buffer(ctx_, sizeof(float) * 4);
   place_kernel_.args(bind_cache(place_kernel_, place_kernel_.args(place_arg_, place_params_)),
                      candidates, count);
-  place_kernel_.launch(ctx_, pixels_);
+  for (size_t n : {size_t(1), std::min<size_t>(pixels_, kPlaceChunk)}) place_kernel_.launch(ctx_, n);
   bind_map(rays_kernel_,
            rays_kernel_.args(rays_arg_, place_params_, ic_params_, records_buf_, results_));
-  rays_kernel_.launch(ctx_, pixels_);
+  const size_t per = size_t(ic_.rays_theta) * ic_.rays_phi;
+  const size_t batch = std::max<size_t>(1, kRaysPerLaunch / per);  // as compute_records
+  for (size_t n : {per, batch * per}) rays_kernel_.launch(ctx_, n);
   finish_kernel_.args(0, ic_params_, records_buf_, results_);
-  finish_kernel_.launch(ctx_, 1);
+  for (size_t n : {size_t(1), batch}) finish_kernel_.launch(ctx_, n);
 }
 
 cl_uint IcRecords::bind_image(cl::Kernel& kernel, cl_uint first) {

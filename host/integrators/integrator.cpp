@@ -69,19 +69,20 @@ std::unique_ptr<Integrator> make_sppm(const cl::Context& ctx, const SceneBuffers
 
 const std::vector<IntegratorInfo>& integrator_table() {
   using F = FilmKind;
-  // name      impl   film            options                          lights persp cap  light  multi  make
+  using D = DeviceSplit;
+  // name      impl   film            options                          lights persp cap  light  split         make
   static const std::vector<IntegratorInfo> table = {
-      {"pt",     true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 0, false, true,  make_pt},
-      {"lt",     true,  F::Splats,      OPTIONS_NONE,                    true,  true,  0, true,  true,  make_lt},
-      {"bdpt",   true,  F::Splats,      OPTIONS_BDPT | OPTIONS_LVC,      true,  true,  0, false, true,  make_bdpt},
-      {"pm",     true,  F::SampleSums,  OPTIONS_PHOTONS | OPTIONS_PM,    true,  false, 0, false, true,  make_pm},
-      {"sppm",   true,  F::Progressive, OPTIONS_PHOTONS | OPTIONS_SPPM,  true,  false, 0, false, false, make_sppm},
-      {"vcm",    true,  F::Splats,      OPTIONS_VCM | OPTIONS_LVC,       true,  true,  0, false, true,  make_vcm},
-      {"mlt",    true,  F::Splats,      OPTIONS_MLT,                     true,  false, 0, false, false, make_mlt},
-      {"ic",     true,  F::SampleSums,  OPTIONS_IC,                      true,  false, 0, false, false, make_ic},
-      {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, true,  make_ao},
-      {"direct", true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 1, false, true,  make_direct},
-      {"indirect1", true, F::SampleSums, OPTIONS_INDIRECT,               true,  false, 2, false, true,  make_indirect1},
+      {"pt",     true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 0, false, D::Samples,   make_pt},
+      {"lt",     true,  F::Splats,      OPTIONS_NONE,                    true,  true,  0, true,  D::Samples,   make_lt},
+      {"bdpt",   true,  F::Splats,      OPTIONS_BDPT | OPTIONS_LVC,      true,  true,  0, false, D::Samples,   make_bdpt},
+      {"pm",     true,  F::SampleSums,  OPTIONS_PHOTONS | OPTIONS_PM,    true,  false, 0, false, D::Samples,   make_pm},
+      {"sppm",   true,  F::Progressive, OPTIONS_PHOTONS | OPTIONS_SPPM,  true,  false, 0, false, D::OneDevice, make_sppm},
+      {"vcm",    true,  F::Splats,      OPTIONS_VCM | OPTIONS_LVC,       true,  true,  0, false, D::Samples,   make_vcm},
+      {"mlt",    true,  F::Splats,      OPTIONS_MLT,                     true,  false, 0, false, D::Chains,    make_mlt},
+      {"ic",     true,  F::SampleSums,  OPTIONS_IC,                      true,  false, 0, false, D::Samples,   make_ic},
+      {"ao",     true,  F::SampleSums,  OPTIONS_AO,                      false, false, 0, false, D::Samples,   make_ao},
+      {"direct", true,  F::SampleSums,  OPTIONS_NONE,                    true,  false, 1, false, D::Samples,   make_direct},
+      {"indirect1", true, F::SampleSums, OPTIONS_INDIRECT,               true,  false, 2, false, D::Samples,   make_indirect1},
   };
   return table;
 }
@@ -127,6 +128,22 @@ void VcmStats::add(const VcmStats& o) {
     first_radius = passes == o.passes ? o.first_radius : std::max(first_radius, o.first_radius);
     last_radius = passes == o.passes ? o.last_radius : std::min(last_radius, o.last_radius);
   }
+}
+
+void MetropolisStats::add_chains(const MetropolisStats& o) {
+  chains += o.chains;
+  large_proposed += o.large_proposed;
+  large_accepted += o.large_accepted;
+  small_proposed += o.small_proposed;
+  small_accepted += o.small_accepted;
+  if (chains_by_depth.size() < o.chains_by_depth.size()) chains_by_depth.resize(o.chains_by_depth.size(), 0);
+  for (size_t d = 0; d < o.chains_by_depth.size(); ++d) chains_by_depth[d] += o.chains_by_depth[d];
+}
+
+void IcStats::add_lookups(const IcStats& o) {
+  lookups += o.lookups;
+  records_used += o.records_used;
+  misses += o.misses;
 }
 
 std::string integrator_names_text(const char* separator, bool implemented_only) {

@@ -30,6 +30,10 @@ struct PhotonStats {
 
 // Metropolis figures of mlt for --stats.
 struct MetropolisStats {
+  // Another device's chains added: chains and their proposals summed; the bootstrap (b, its
+  // paths and time) is alike on every device, and this one's is kept, as its device_bytes
+  // (memory figures are one device's).
+  void add_chains(const MetropolisStats& other);
   uint32_t chains = 0;
   uint32_t dims = 0;               // coordinates of a chain's primary sample vector
   uint64_t bootstrap_paths = 0;
@@ -46,6 +50,9 @@ struct MetropolisStats {
 
 // Irradiance cache figures of ic for --stats.
 struct IcStats {
+  // Another device's image samples added (lookups, records used, misses); the cache is built
+  // alike on every device, and this one's figures are kept.
+  void add_lookups(const IcStats& other);
   uint64_t records = 0;
   uint32_t rays_per_record = 0;     // M x N hemisphere rays
   uint32_t placement_passes = 0;    // grid levels, coarse to fine
@@ -105,13 +112,19 @@ class Integrator {
   // The renderer's stop flag (Ctrl-C), for integrators whose passes include work longer than
   // a pass (ic's cache refinement under --time) to end that work early; null: none.
   void set_stop(const std::atomic<bool>* stop) { stop_ = stop; }
+  // This device's place among every device of the render, every rank's (0: the first, and
+  // the only one of a one-device render), set before the first pass: what keeps the devices
+  // of an integrator that splits by chains (DeviceSplit::Chains) from repeating each other.
+  void set_device_index(uint32_t index) { device_index_ = index; }
 
  protected:
   bool stop_requested() const { return stop_ && stop_->load(); }
   const std::atomic<bool>* stop_flag() const { return stop_; }
+  uint32_t device_index() const { return device_index_; }
 
  private:
   const std::atomic<bool>* stop_ = nullptr;
+  uint32_t device_index_ = 0;
 };
 
 // params with no samples per pass: a launch where every work-item loops over nothing, which
@@ -249,6 +262,22 @@ enum IntegratorOptions : unsigned {
   OPTIONS_INDIRECT = 1u << 9, // --indirect
 };
 
+// How an integrator's render is shared by several devices (--device A,B) and MPI ranks.
+enum class DeviceSplit {
+  // It is not: each pass depends on every pass before it (sppm's per-pixel radii and photon
+  // counts), so it renders on one device and one process.
+  OneDevice,
+  // Disjoint sample ranges, each sample a function of its index alone: the image equals one
+  // device's up to the rounding of the film's sums. What a pass reads besides is built alike
+  // from the seed on every device (pm's maps, ic's cache, pm's final-gather cache); vcm's
+  // radius follows the sample index.
+  Samples,
+  // Each device runs chains of its own (mlt), keyed by its device index, all from the same
+  // bootstrap: their mutations add up to the render's, and the image is one estimate with
+  // more chains, equal to one device's in expectation, not sample for sample.
+  Chains,
+};
+
 // One row per integrator --integrator accepts: everything the options, the renderer, the
 // statistics and the checks need to know about it. A new integrator is one row here (and
 // its class and kernels).
@@ -261,11 +290,8 @@ struct IntegratorInfo {
   bool needs_perspective_camera; // light paths cannot reach an orthographic camera
   uint32_t max_depth_cap;        // 0: none; direct: 1; indirect1: 2
   bool traces_light_paths;       // its paths per second count light paths (lt), not camera paths
-  // Renders disjoint sample ranges on several devices (--device A,B): each sample a function of
-  // its index alone, no state carried from pass to pass (sppm's per-pixel radii, mlt's chains
-  // and ic's cache are; vcm's radius follows the sample index; pm's maps are rebuilt alike from
-  // the seed on each device).
-  bool multi_device;
+  // How it renders on several devices (--device A,B, MPI ranks); DeviceSplit says.
+  DeviceSplit split;
   std::unique_ptr<Integrator> (*make)(const cl::Context&, const SceneBuffers&,
                                       const IntegratorConfig&);  // null: not implemented
 };

@@ -202,6 +202,9 @@ void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
   mlt_.large_step = config_.large_step;
   mlt_.sigma = config_.sigma;
   mlt_.seed = params.seed;
+  // Several devices each run chains of their own from the same bootstrap: their chains'
+  // random numbers are keyed past the devices' before them (mod 2^32: a key).
+  mlt_.chain_base = static_cast<uint32_t>(uint64_t(device_index()) * mlt_.chains);
   params_.write(&params, sizeof(params));
   mlt_params_.write(&mlt_, sizeof(mlt_));
 
@@ -274,7 +277,8 @@ void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
   std::vector<uint32_t> chains_of = allocate(stats_.b_by_depth, mlt_.chains);
   std::vector<uint32_t> start;
   start.reserve(mlt_.chains);
-  const double u = seeded_unit(params.seed);
+  // The resampling's offset: the first device's from the seed alone, the others' shifted.
+  const double u = seeded_unit(uint64_t(params.seed) + (uint64_t(device_index()) << 32));
   for (uint32_t d = 0; d < depths; ++d) {
     if (chains_of[d] == 0) continue;
     for (uint32_t j : resample(by_depth[d], chains_of[d], u)) start.push_back(path_of[d][j]);

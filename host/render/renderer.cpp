@@ -23,6 +23,11 @@ namespace clpt {
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DeviceShare, name, label, samples, passes, busy_seconds)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(VcmStats, light_vertices, connections, merges, passes, tiles,
                                    grids, grid_seconds, first_radius, last_radius, device_bytes)
+// ... and what adds up of mlt's chains and ic's lookups (MetropolisStats::add_chains,
+// IcStats::add_lookups).
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MetropolisStats, chains, large_proposed, large_accepted,
+                                   small_proposed, small_accepted, chains_by_depth)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IcStats, lookups, records_used, misses)
 
 struct Renderer::Lane {
   const cl::Context* ctx = nullptr;
@@ -89,14 +94,11 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
   stats_.lights = static_cast<uint32_t>(flat.lights.size());
   const IntegratorInfo& row = integrator_info(settings_.integrator);
   const bool split = contexts.size() > 1 || cluster_->size() > 1;
-  if (split && !row.multi_device)
+  if (split && row.split == DeviceSplit::OneDevice)
     throw Error(ExitCode::Usage,
                 "--integrator " + settings_.integrator + " renders on one device: its passes "
                 "depend on the passes before them, so they cannot be split into sample ranges; "
                 "name one --device (and run one process)");
-  if (split && settings_.pm.final_gather_cache)
-    throw Error(ExitCode::Usage, "--final-gather-cache renders on one device; name one --device "
-                                 "(and run one process)");
   if (flat.lights.empty() && row.needs_lights)
     log::warn("the scene has no lights (emissive surfaces, punctual lights or environment): "
               "the image will be black");
@@ -260,16 +262,29 @@ void Renderer::gather_device_stats() {
   stats_.devices.clear();
   stats_.connections = 0;
   stats_.vcm = VcmStats{};
-  for (const auto& lane : lanes_) {
-    stats_.connections += lane->integrator->connections();
-    stats_.devices.push_back(lane->share);
-    stats_.vcm.add(lane->integrator->vcm_stats());
+  // The photon maps, mlt's bootstrap and ic's cache are made alike on every device: the first
+  // device's figures, with every device's chains and cache lookups added.
+  const Integrator& first = *lanes_.front()->integrator;
+  stats_.photons = first.photon_stats();
+  stats_.metropolis = first.metropolis_stats();
+  stats_.ic = first.ic_stats();
+  for (size_t i = 0; i < lanes_.size(); ++i) {
+    const Integrator& integrator = *lanes_[i]->integrator;
+    stats_.connections += integrator.connections();
+    stats_.devices.push_back(lanes_[i]->share);
+    stats_.vcm.add(integrator.vcm_stats());
+    if (i == 0) continue;
+    stats_.metropolis.add_chains(integrator.metropolis_stats());
+    stats_.ic.add_lookups(integrator.ic_stats());
   }
   if (cluster_->size() == 1) return;
   // Other ranks' figures, their devices labelled with their rank, as JSON text.
   if (!cluster_->root()) {
-    const nlohmann::json j = {
-        {"connections", stats_.connections}, {"devices", stats_.devices}, {"vcm", stats_.vcm}};
+    const nlohmann::json j = {{"connections", stats_.connections},
+                              {"devices", stats_.devices},
+                              {"vcm", stats_.vcm},
+                              {"mlt", stats_.metropolis},
+                              {"ic", stats_.ic}};
     cluster_->gather_text_to_root(j.dump(), {});
     return;
   }
@@ -284,6 +299,8 @@ void Renderer::gather_device_stats() {
       stats_.devices.push_back(std::move(d));
     }
     stats_.vcm.add(j.at("vcm").get<VcmStats>());
+    stats_.metropolis.add_chains(j.at("mlt").get<MetropolisStats>());
+    stats_.ic.add_lookups(j.at("ic").get<IcStats>());
   });
 }
 
@@ -359,6 +376,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
     if (r == cluster.rank()) mine = all;
     all += size_t(counts[r]);
   }
+  for (size_t i = 0; i < k; ++i) lanes_[i]->integrator->set_device_index(uint32_t(mine + i));
 
   // A resumed render's AOVs: the checkpoint holds the image's sums only, so the AOV samples
   // it covered are taken again first (on rank 0's first device, which holds sample 0).
@@ -460,13 +478,9 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   const FilmSums sums = film_sums();
   stats_.film_gather_seconds = seconds_since(gather_start);
   out.film = resolve_film(sums, done);
-  // Shares, connections and vcm's figures add up over every device of every rank. The photon
-  // maps are traced alike on every device (same seed): the first device's figures. mlt and ic
-  // render on one device.
+  // Shares, connections, vcm's figures, mlt's chains and ic's lookups add up over every device
+  // of every rank.
   gather_device_stats();
-  stats_.photons = lane0.integrator->photon_stats();
-  stats_.metropolis = lane0.integrator->metropolis_stats();
-  stats_.ic = lane0.integrator->ic_stats();
   out.layers = gathered_layers(done);
   if (lane0.aov) out.aovs = gathered_aovs();
   out.stats = stats_;

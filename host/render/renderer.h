@@ -116,8 +116,9 @@ struct RenderOutput {
 // gives every device a disjoint range of sample indices sized by its measured speed (a round:
 // all aim at the same pass length, so a slow device holds up a fast one by little); the films
 // are added on the host in device order. Every sample is a function of its index, so the image
-// equals one device's up to the rounding of the final sum. Integrators whose passes depend on
-// each other (sppm, vcm, mlt, ic: IntegratorInfo::multi_device) render on one device only.
+// equals one device's up to the rounding of the final sum. mlt's devices run chains of their
+// own instead, and sppm, whose passes depend on each other, renders on one device only
+// (IntegratorInfo::split).
 class Renderer {
  public:
   // Builds the BVH, uploads the scene and gets the integrator's kernels ready, on one device

@@ -67,7 +67,7 @@ __kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params
   const SceneView scene = SCENE_VIEW();
   MltChain ch = chains[c];
   __global PssCoord* vector = coords + (size_t)c * mlt->chain_stride;
-  const u32 key = pss_chain_key(mlt->seed, c);
+  const u32 key = pss_chain_key(mlt->seed, mlt->chain_base + c);
   const MltDepth n = depths[ch.depth];
   u32 rays = 0;
   for (u32 i = 0; i < mlt->mutations; ++i) mlt_step(&scene, params, mlt, n, &ch, vector, key, importance, splat, &rays);

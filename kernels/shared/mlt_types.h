@@ -40,7 +40,8 @@ typedef struct MltParams {
   float sigma;       /* small steps: standard deviation of the Gaussian perturbation */
   float splat_scale; /* this pass's normalisation: pixels * spp / (chains * mutations) */
   u32 seed;
-  u32 pad;
+  u32 chain_base;    /* the first chain's index among every device's chains: its mutations'
+                        random numbers are keyed by chain_base + c (one device: 0) */
 } MltParams;
 
 /* What the chains of one path length (all chains, for pssmlt) splat with. */
