@@ -91,6 +91,24 @@ class Integrator {
   // Enqueues one pass of params.samples_per_pass (> 0) samples; it completes by the next
   // blocking call on the queue (film read, finish).
   virtual void render_pass(const dev::RenderParams& params, Film& film) = 0;
+  // Start-up work that every device of a render would otherwise do alike before its first
+  // pass (mlt's bootstrap paths), shared out instead: the renderer gives each device of every
+  // rank a range [first, first + count) of the setup_items() items, runs setup_part on it (its
+  // results as bytes), and hands every device the parts of all devices, concatenated in
+  // device and rank order (the items' order), in setup_finish. With no items (the default),
+  // none of this happens. The film is the one the passes render into.
+  virtual uint64_t setup_items(const dev::RenderParams& params) const {
+    (void)params;
+    return 0;
+  }
+  virtual std::string setup_part(const dev::RenderParams& params, Film& film, uint64_t first,
+                                 uint64_t count) {
+    (void)params, (void)film, (void)first, (void)count;
+    return {};
+  }
+  virtual void setup_finish(const dev::RenderParams& params, Film& film, const std::string& parts) {
+    (void)params, (void)film, (void)parts;
+  }
   // Whether the image is the same however the samples are split into passes (each sample
   // is a function of its index alone). Metropolis is not: a pass runs whole mutations per
   // chain, so the renderer gives it a schedule that does not look at the clock.

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <stdexcept>
 #include <string>
 
 #include "cl/programs.h"
@@ -13,7 +15,7 @@ namespace clpt {
 
 static_assert(sizeof(dev::MltChain) == 64, "MltChain should stay 64 bytes");
 static_assert(sizeof(dev::PssCoord) == 16, "PssCoord should stay 16 bytes");
-static_assert(sizeof(dev::MltParams) == 48, "MltParams should stay 48 bytes");
+static_assert(sizeof(dev::MltParams) == 64, "MltParams should stay 64 bytes");
 static_assert(sizeof(dev::MltDepth) == 8, "MltDepth is two floats");
 
 namespace {
@@ -186,8 +188,12 @@ void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
   ctx_.finish();
 }
 
-void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
-  const auto t0 = Clock::now();
+uint64_t Metropolis::setup_items(const dev::RenderParams& params) const {
+  const uint32_t depths = config_.multiplexed ? params.max_depth + 1u : 1u;
+  return uint64_t(config_.bootstrap) * depths;
+}
+
+void Metropolis::set_up(const dev::RenderParams& params, const Film& film) {
   const uint32_t depths = config_.multiplexed ? params.max_depth + 1u : 1u;
   mlt_.dims = dims_for(params);
   mlt_.chains = chains_for(params, film);
@@ -206,20 +212,64 @@ void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
   // random numbers are keyed past the devices' before them (mod 2^32: a key).
   mlt_.chain_base = static_cast<uint32_t>(uint64_t(device_index()) * mlt_.chains);
   params_.write(&params, sizeof(params));
-  mlt_params_.write(&mlt_, sizeof(mlt_));
-
   // The bootstrap's paths with the plain luminance target (importance 1 everywhere).
-  const size_t pixels = film.pixels();
-  importance_ = cl::Buffer::from_vector(ctx_, std::vector<float>(pixels, 1.0f), CL_MEM_READ_ONLY,
-                                        "Metropolis importance");
-  cl::Buffer targets(ctx_, size_t(mlt_.bootstrap) * sizeof(float), CL_MEM_READ_WRITE, nullptr,
-                     "bootstrap targets");
-  cl::Buffer pixel_buffer(ctx_, size_t(mlt_.bootstrap) * sizeof(uint32_t), CL_MEM_READ_WRITE,
-                          nullptr, "bootstrap pixels");
-  bootstrap_kernel_.args(bootstrap_arg_, params_, mlt_params_, importance_, targets, pixel_buffer,
-                         film.ray_counts());
-  bootstrap_kernel_.launch(ctx_, mlt_.bootstrap);
-  std::vector<float> target = targets.read_vector<float>(mlt_.bootstrap);
+  importance_ = cl::Buffer::from_vector(ctx_, std::vector<float>(film.pixels(), 1.0f),
+                                        CL_MEM_READ_ONLY, "Metropolis importance");
+}
+
+std::string Metropolis::setup_part(const dev::RenderParams& params, Film& film, uint64_t first,
+                                   uint64_t count) {
+  const auto t0 = Clock::now();
+  set_up(params, film);
+  // Its share of the bootstrap's paths: the first and the count (two u64), then their targets
+  // and their pixels.
+  const size_t head = 2 * sizeof(uint64_t);
+  std::string part(head + size_t(count) * (sizeof(float) + sizeof(uint32_t)), '\0');
+  std::memcpy(part.data(), &first, sizeof(first));
+  std::memcpy(part.data() + sizeof(first), &count, sizeof(count));
+  if (count > 0) {
+    mlt_.bootstrap_first = static_cast<uint32_t>(first);
+    mlt_.bootstrap_count = static_cast<uint32_t>(count);
+    mlt_params_.write(&mlt_, sizeof(mlt_));
+    cl::Buffer targets(ctx_, size_t(count) * sizeof(float), CL_MEM_READ_WRITE, nullptr,
+                       "bootstrap targets");
+    cl::Buffer pixels(ctx_, size_t(count) * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
+                      "bootstrap pixels");
+    bootstrap_kernel_.args(bootstrap_arg_, params_, mlt_params_, importance_, targets, pixels,
+                           film.ray_counts());
+    bootstrap_kernel_.launch(ctx_, count);
+    targets.read(part.data() + head, size_t(count) * sizeof(float));
+    pixels.read(part.data() + head + size_t(count) * sizeof(float), size_t(count) * sizeof(uint32_t));
+  }
+  stats_.bootstrap_seconds = seconds_since(t0);
+  return part;
+}
+
+void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const std::string& parts) {
+  const auto t0 = Clock::now();
+  started_ = true;
+  const uint32_t depths = mlt_.depths;
+  // Every device's part (setup_part), each placed at its paths; together they must cover
+  // every path once.
+  std::vector<float> target(mlt_.bootstrap);
+  std::vector<uint32_t> pixel(mlt_.bootstrap);
+  uint64_t covered = 0;
+  for (size_t at = 0; at < parts.size();) {
+    uint64_t first = 0, count = 0;
+    if (parts.size() - at < 2 * sizeof(uint64_t)) break;
+    std::memcpy(&first, parts.data() + at, sizeof(first));
+    std::memcpy(&count, parts.data() + at + sizeof(first), sizeof(count));
+    at += 2 * sizeof(uint64_t);
+    if (first + count > mlt_.bootstrap || parts.size() - at < count * (sizeof(float) + sizeof(uint32_t)))
+      break;
+    std::memcpy(target.data() + first, parts.data() + at, count * sizeof(float));
+    at += count * sizeof(float);
+    std::memcpy(pixel.data() + first, parts.data() + at, count * sizeof(uint32_t));
+    at += count * sizeof(uint32_t);
+    covered += count;
+  }
+  if (covered != mlt_.bootstrap)
+    throw std::logic_error("mlt: the devices' bootstrap parts do not cover its paths");
   // With the tile target, the even rounds of paths (i / depths even) estimate the image for
   // the weights and the odd ones, independent of them, give b and the start states: weights
   // from the same paths would make b a ratio of correlated sums, low where a tile's light
@@ -227,7 +277,6 @@ void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
   const bool tiles = config_.importance_tile > 0;
   auto for_weights = [&](size_t i) { return tiles && (i / depths) % 2 == 0; };
   if (tiles) {
-    const std::vector<uint32_t> pixel = pixel_buffer.read_vector<uint32_t>(mlt_.bootstrap);
     std::vector<float> t_w;
     std::vector<uint32_t> p_w;
     for (size_t i = 0; i < target.size(); ++i)
@@ -287,7 +336,7 @@ void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
     log::warn("mlt: all " + std::to_string(mlt_.bootstrap) + " bootstrap paths carry no light; "
               "the image stays black");
     dark_ = true;
-    stats_.bootstrap_seconds = seconds_since(t0);
+    stats_.bootstrap_seconds += seconds_since(t0);
     return;
   }
   if (!config_.resample)
@@ -310,11 +359,12 @@ void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
                        CL_MEM_READ_WRITE, nullptr, "primary sample vectors");
   stats_.device_bytes = chains_.size() + coords_.size() + depths_.size();
   const cl::Buffer starts = cl::Buffer::from_vector(ctx_, start, CL_MEM_READ_ONLY, "chain starts");
+  mlt_params_.write(&mlt_, sizeof(mlt_));
   start_kernel_.args(start_arg_, params_, mlt_params_, starts, importance_, chains_, coords_,
                      film.ray_counts());
   start_kernel_.launch(ctx_, mlt_.chains);
   ctx_.finish();
-  stats_.bootstrap_seconds = seconds_since(t0);
+  stats_.bootstrap_seconds += seconds_since(t0);
   log::verbose("mlt: b = " + std::to_string(stats_.b) + " +- " +
                std::to_string(stats_.b_standard_error) + " from " +
                std::to_string(mlt_.bootstrap) + " paths, " + std::to_string(mlt_.chains) +
@@ -323,10 +373,8 @@ void Metropolis::bootstrap(const dev::RenderParams& params, Film& film) {
 
 void Metropolis::render_pass(const dev::RenderParams& params, Film& film) {
   if (!film.splats()) throw Error(ExitCode::Usage, "Metropolis needs a film with splats");
-  if (!started_) {
-    bootstrap(params, film);
-    started_ = true;
-  }
+  // The bootstrap, where the renderer did not share it out (setup_items) before this pass.
+  if (!started_) setup_finish(params, film, setup_part(params, film, 0, setup_items(params)));
   if (dark_) return;
   // spp mutations per pixel in all, spread over the chains; the scale makes up for the
   // rounding, so that the film's division by spp is exact.

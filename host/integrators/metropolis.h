@@ -2,7 +2,8 @@
 // (Hachisuka et al. 2014, --mlt-mode mmlt) or primary-sample-space MLT over the path tracer
 // (Kelemen et al. 2002, pssmlt). kernels/integrators/mlt.cl, docs/concepts/metropolis.md.
 //
-// The first pass bootstraps: `bootstrap` independent paths (fresh primary sample vectors) per
+// Before the first pass (the renderer's setup, shared out over every device of every rank, or
+// else the first pass itself), a bootstrap: `bootstrap` independent paths (fresh primary sample vectors) per
 // path length (mmlt: bounces 0 to max_depth; pssmlt: one, all lengths in one path) give
 // their target values I; their mean is each length's normalisation b_d. I is the path's
 // luminance, or with the tile target (--mlt-target tile, the default) its luminance times
@@ -30,6 +31,13 @@ class Metropolis final : public Integrator {
   const char* name() const override { return "mlt"; }
   void warm_up(const dev::RenderParams& params, Film& film) override;
   void render_pass(const dev::RenderParams& params, Film& film) override;
+  // The bootstrap's paths, shared out over the devices (Integrator::setup_items): each
+  // device traces its range, and every device then takes b, the tile weights and its chains'
+  // starts from all of them.
+  uint64_t setup_items(const dev::RenderParams& params) const override;
+  std::string setup_part(const dev::RenderParams& params, Film& film, uint64_t first,
+                         uint64_t count) override;
+  void setup_finish(const dev::RenderParams& params, Film& film, const std::string& parts) override;
   bool pass_invariant() const override { return false; }
   const cl::BuildInfo& build_info() const override { return program_.build_info(); }
   MetropolisStats metropolis_stats() const override;
@@ -53,7 +61,8 @@ class Metropolis final : public Integrator {
 
  private:
   uint32_t chains_for(const dev::RenderParams& params, const Film& film) const;
-  void bootstrap(const dev::RenderParams& params, Film& film);
+  // The launch parameters the bootstrap and the chains share, and importance 1 everywhere.
+  void set_up(const dev::RenderParams& params, const Film& film);
 
   const cl::Context& ctx_;
   MltConfig config_;

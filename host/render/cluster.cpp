@@ -33,6 +33,14 @@ std::exception_ptr capture(const std::function<void()>& f) {
   return nullptr;
 }
 
+std::string Cluster::all_gather_bytes(std::string mine) const {
+  if (size() == 1) return mine;
+  std::string all = root() ? mine : std::string();
+  gather_text_to_root(mine, [&](const std::string& theirs) { all += theirs; });
+  broadcast(all, 0);
+  return all;
+}
+
 void Cluster::agree(std::exception_ptr mine) const {
   if (size() == 1) {
     if (mine) std::rethrow_exception(mine);

@@ -53,6 +53,9 @@ class Cluster {
     (void)mine, (void)add;
   }
 
+  // Every rank's bytes, concatenated in rank order, on every rank (gathered to rank 0, then
+  // broadcast from it). Alone: `mine`.
+  std::string all_gather_bytes(std::string mine) const;
   // Every rank says whether it failed (`mine`: its exception, or null). If any did, every rank
   // throws the same Error: the failing rank's code and message, from the lowest such rank.
   // Alone: rethrows `mine`.

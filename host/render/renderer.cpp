@@ -223,39 +223,69 @@ void Renderer::restore(const FilmState& s) {
   start_spp_ = s.samples_per_pixel;
 }
 
-void Renderer::run_round(const std::vector<uint64_t>& first, const std::vector<uint64_t>& n) {
-  auto run = [&](size_t i) {
-    Lane& lane = *lanes_[i];
-    dev::RenderParams p = params_;
-    p.sample_offset = static_cast<uint32_t>(first[i]);
-    p.samples_per_pass = static_cast<uint32_t>(n[i]);
-    const auto t0 = Clock::now();
-    lane.integrator->render_pass(p, *lane.film);
-    if (lane.aov) lane.aov->add(p);
-    lane.ctx->finish();
-    lane.last_seconds = seconds_since(t0);
-  };
+void Renderer::for_each_lane(const std::function<bool(size_t)>& busy,
+                             const std::function<void(size_t)>& f) {
   // One device runs on this thread; several, one host thread each, since an integrator's pass
   // may wait on its device in between launches (bdpt's tiles, pm's map build).
   std::vector<std::thread> threads;
   std::vector<std::exception_ptr> errors(lanes_.size());
   for (size_t i = 1; i < lanes_.size(); ++i)
-    if (n[i])
+    if (busy(i))
       threads.emplace_back([&, i] {
         try {
-          run(i);
+          f(i);
         } catch (...) {
           errors[i] = std::current_exception();
         }
       });
   try {
-    if (n[0]) run(0);
+    if (busy(0)) f(0);
   } catch (...) {
     errors[0] = std::current_exception();
   }
   for (std::thread& t : threads) t.join();
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
+}
+
+void Renderer::run_round(const std::vector<uint64_t>& first, const std::vector<uint64_t>& n) {
+  for_each_lane([&](size_t i) { return n[i] > 0; },
+                [&](size_t i) {
+                  Lane& lane = *lanes_[i];
+                  dev::RenderParams p = params_;
+                  p.sample_offset = static_cast<uint32_t>(first[i]);
+                  p.samples_per_pass = static_cast<uint32_t>(n[i]);
+                  const auto t0 = Clock::now();
+                  lane.integrator->render_pass(p, *lane.film);
+                  if (lane.aov) lane.aov->add(p);
+                  lane.ctx->finish();
+                  lane.last_seconds = seconds_since(t0);
+                });
+}
+
+void Renderer::share_setup(size_t all, size_t mine) {
+  const uint64_t items = lanes_.front()->integrator->setup_items(params_);
+  if (items == 0) return;
+  // Equal shares in device and rank order (no device has been timed yet), each device's
+  // part in its own slot, then every rank's parts to every device.
+  const size_t k = lanes_.size();
+  std::vector<std::string> parts(k);
+  for_each_lane([](size_t) { return true; },
+                [&](size_t i) {
+                  const uint64_t first = items * (mine + i) / all;
+                  const uint64_t last = items * (mine + i + 1) / all;
+                  Lane& lane = *lanes_[i];
+                  parts[i] = lane.integrator->setup_part(params_, *lane.film, first, last - first);
+                });
+  std::string local = std::move(parts[0]);
+  for (size_t i = 1; i < k; ++i) local += parts[i];
+  const std::string whole = cluster_->all_gather_bytes(std::move(local));
+  for_each_lane([](size_t) { return true; },
+                [&](size_t i) {
+                  Lane& lane = *lanes_[i];
+                  lane.integrator->setup_finish(params_, *lane.film, whole);
+                  lane.ctx->finish();
+                });
 }
 
 void Renderer::gather_device_stats() {
@@ -377,6 +407,10 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
     all += size_t(counts[r]);
   }
   for (size_t i = 0; i < k; ++i) lanes_[i]->integrator->set_device_index(uint32_t(mine + i));
+  // Start-up work the integrator shares out over every device of every rank (mlt's bootstrap),
+  // once, counted in the render's time as its first pass would have been.
+  if (!setup_shared_) cluster.agree(capture([&] { share_setup(all, mine); }));
+  setup_shared_ = true;
 
   // A resumed render's AOVs: the checkpoint holds the image's sums only, so the AOV samples
   // it covered are taken again first (on rank 0's first device, which holds sample 0).

@@ -167,8 +167,14 @@ class Renderer {
   // added, on rank 0 (collective).
   std::vector<NamedChannel> gathered_layers(uint64_t done) const;
   std::vector<NamedChannel> gathered_aovs() const;
+  // Runs f(i) for every lane i that busy(i) names, each on a host thread of its own (the
+  // first on this one), waits for all, and rethrows the first lane's error.
+  void for_each_lane(const std::function<bool(size_t)>& busy, const std::function<void(size_t)>& f);
   // Runs every lane's range of the round ([first, first + n) each; n = 0: idle) and waits.
   void run_round(const std::vector<uint64_t>& first, const std::vector<uint64_t>& n);
+  // The integrator's start-up work (Integrator::setup_items) shared out over all `all`
+  // devices of every rank, this rank's from index `mine` on (collective).
+  void share_setup(size_t all, size_t mine);
 
   Cluster alone_;
   const Cluster* cluster_ = &alone_;
@@ -178,6 +184,7 @@ class Renderer {
   RenderStats stats_;
   std::vector<std::unique_ptr<Lane>> lanes_;
   uint64_t start_spp_ = 0;  // samples already in the film (restored from a checkpoint)
+  bool setup_shared_ = false;  // share_setup has run
 };
 
 }  // namespace clpt

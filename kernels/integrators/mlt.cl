@@ -3,7 +3,8 @@
  * over pt's paths or, built with CLPT_MLT_MULTIPLEXED, multiplexed MLT over bdpt's strategies:
  *   mlt_bootstrap  path i of the bootstrap: the target value of the fresh vector of key i,
  *                  a path of i % depths bounces for mmlt (the host estimates each length's
- *                  b from them and picks the chains' start states);
+ *                  b from them and picks the chains' start states); a launch traces the
+ *                  paths MltParams.bootstrap_first on, one per work-item;
  *   mlt_start      chain c starts at bootstrap path start[c] (same key, same vector, same
  *                  length, same path);
  *   mlt_mutate     every chain takes MltParams.mutations steps and splats them.
@@ -18,15 +19,16 @@ static inline u32 mlt_bootstrap_key(u32 seed,
 __kernel void mlt_bootstrap(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                             __constant const MltParams* mlt, __global const float* importance,
                             __global float* target, __global u32* pixel, __global u32* ray_counts) {
-  const u32 i = get_global_id(0);
-  if (i >= mlt->bootstrap) return;
+  const u32 j = get_global_id(0);
+  if (j >= mlt->bootstrap_count) return;
+  const u32 i = mlt->bootstrap_first + j;
   const SceneView scene = SCENE_VIEW();
   const u32 depth = i % mlt->depths;
   const Sampler sampler = pss_fresh(mlt_bootstrap_key(mlt->seed, i), mlt_chain_dims(mlt, depth));
   u32 rays = 0;
   const PssPath path = mlt_path(&scene, params, &sampler, depth, importance, &rays);
-  target[i] = path.target;
-  pixel[i] = path.pixel;
+  target[j] = path.target;
+  pixel[j] = path.pixel;
   atomic_add(ray_counts + i % (params->width * params->height), rays);
 }
 

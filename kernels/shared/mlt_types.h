@@ -32,7 +32,7 @@ typedef struct MltParams {
   u32 dim_stride;    /* chain c's coordinate d is coords[c * chain_stride + d * dim_stride]: */
   u32 chain_stride;  /*   GPUs (chains, 1), so a warp's reads of one dimension coalesce; CPUs
                           (1, dims), so one chain's vector is one run of cache lines */
-  u32 bootstrap;     /* paths of mlt_bootstrap, all path lengths together */
+  u32 bootstrap;     /* paths of the bootstrap, all path lengths together */
   u32 depths;        /* path lengths the chains sample: 1 (pssmlt: every length in one chain)
                         or max_depth + 1 (mmlt: bootstrap path i and its chain have i % depths
                         bounces) */
@@ -42,6 +42,9 @@ typedef struct MltParams {
   u32 seed;
   u32 chain_base;    /* the first chain's index among every device's chains: its mutations'
                         random numbers are keyed by chain_base + c (one device: 0) */
+  u32 bootstrap_first; /* this mlt_bootstrap launch's paths: bootstrap_first to     */
+  u32 bootstrap_count; /*   bootstrap_first + bootstrap_count - 1 (the devices share them) */
+  u32 pad[2];
 } MltParams;
 
 /* What the chains of one path length (all chains, for pssmlt) splat with. */
