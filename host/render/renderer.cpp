@@ -268,31 +268,37 @@ void Renderer::share_setup(size_t all, size_t mine) {
   if (items == 0) return;
   // Equal shares in device and rank order (no device has been timed yet), each device's
   // part in its own slot, then every rank's parts to every device.
+  // A rank whose devices fail says so before the exchange (Cluster::agree), so that no rank
+  // waits there for one that has given up.
   const size_t k = lanes_.size();
   std::vector<std::string> parts(k);
-  for_each_lane([](size_t) { return true; },
-                [&](size_t i) {
-                  const uint64_t first = items * (mine + i) / all;
-                  const uint64_t last = items * (mine + i + 1) / all;
-                  Lane& lane = *lanes_[i];
-                  parts[i] = lane.integrator->setup_part(params_, *lane.film, first, last - first);
-                });
+  cluster_->agree(capture([&] {
+    for_each_lane([](size_t) { return true; },
+                  [&](size_t i) {
+                    const uint64_t first = items * (mine + i) / all;
+                    const uint64_t last = items * (mine + i + 1) / all;
+                    Lane& lane = *lanes_[i];
+                    parts[i] = lane.integrator->setup_part(params_, *lane.film, first, last - first);
+                  });
+  }));
   std::string local = std::move(parts[0]);
   for (size_t i = 1; i < k; ++i) local += parts[i];
   const std::string whole = cluster_->all_gather_bytes(std::move(local));
-  for_each_lane([](size_t) { return true; },
-                [&](size_t i) {
-                  Lane& lane = *lanes_[i];
-                  lane.integrator->setup_finish(params_, *lane.film, whole);
-                  lane.ctx->finish();
-                });
+  cluster_->agree(capture([&] {
+    for_each_lane([](size_t) { return true; },
+                  [&](size_t i) {
+                    Lane& lane = *lanes_[i];
+                    lane.integrator->setup_finish(params_, *lane.film, whole);
+                    lane.ctx->finish();
+                  });
+  }));
 }
 
 void Renderer::gather_device_stats() {
   stats_.devices.clear();
   stats_.connections = 0;
   stats_.vcm = VcmStats{};
-  // The photon maps, mlt's bootstrap and ic's cache are made alike on every device: the first
+  // The photon maps, mlt's normalisation and ic's cache are alike on every device: the first
   // device's figures, with every device's chains and cache lookups added.
   const Integrator& first = *lanes_.front()->integrator;
   stats_.photons = first.photon_stats();
@@ -409,7 +415,7 @@ RenderOutput Renderer::render(const std::atomic<bool>* stop, const Progress& pro
   for (size_t i = 0; i < k; ++i) lanes_[i]->integrator->set_device_index(uint32_t(mine + i));
   // Start-up work the integrator shares out over every device of every rank (mlt's bootstrap),
   // once, counted in the render's time as its first pass would have been.
-  if (!setup_shared_) cluster.agree(capture([&] { share_setup(all, mine); }));
+  if (!setup_shared_) share_setup(all, mine);
   setup_shared_ = true;
 
   // A resumed render's AOVs: the checkpoint holds the image's sums only, so the AOV samples
