@@ -19,6 +19,11 @@ constexpr size_t kRaysPerLaunch = size_t(1) << 21;
 // Grid points of one placement launch: 2^18 candidates of 120 bytes (30 MiB) at most.
 constexpr uint32_t kPlaceChunk = uint32_t(1) << 18;
 
+// Records whose rays one record-ray launch traces (compute_records; warm_up's largest launch).
+size_t records_per_launch(size_t rays_per_record) {
+  return std::max<size_t>(1, kRaysPerLaunch / rays_per_record);
+}
+
 // The cache's own sampler key: its rays must not repeat the image's.
 uint32_t cache_seed(uint32_t seed) { return seed * 0x9e3779b9u + 0x1c0ffee5u; }
 
@@ -116,7 +121,7 @@ void IcRecords::warm_up(const dev::RenderParams& params, size_t pixels) {
   bind_map(rays_kernel_,
            rays_kernel_.args(rays_arg_, place_params_, ic_params_, records_buf_, results_));
   const size_t per = size_t(ic_.rays_theta) * ic_.rays_phi;
-  const size_t batch = std::max<size_t>(1, kRaysPerLaunch / per);  // as compute_records
+  const size_t batch = records_per_launch(per);
   for (size_t n : {per, batch * per}) rays_kernel_.launch(ctx_, n);
   finish_kernel_.args(0, ic_params_, records_buf_, results_);
   for (size_t n : {size_t(1), batch}) finish_kernel_.launch(ctx_, n);
@@ -264,7 +269,7 @@ void IcRecords::place(uint32_t step) {
 void IcRecords::compute_records(size_t first, size_t count) {
   const auto t0 = Clock::now();
   const size_t per = size_t(ic_.rays_theta) * ic_.rays_phi;
-  const size_t batch = std::max<size_t>(1, kRaysPerLaunch / per);
+  const size_t batch = records_per_launch(per);
   const size_t results_bytes = std::min(batch, count) * per * sizeof(float) * 4;
   if (results_.size() < results_bytes)
     results_ = cl::Buffer(ctx_, results_bytes, CL_MEM_READ_WRITE, nullptr,

@@ -188,23 +188,26 @@ void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
   ctx_.finish();
 }
 
+uint32_t Metropolis::depths_for(const dev::RenderParams& params) const {
+  return config_.multiplexed ? params.max_depth + 1u : 1u;
+}
+
 uint64_t Metropolis::setup_items(const dev::RenderParams& params) const {
-  const uint32_t depths = config_.multiplexed ? params.max_depth + 1u : 1u;
-  return uint64_t(config_.bootstrap) * depths;
+  return uint64_t(config_.bootstrap) * depths_for(params);
 }
 
 void Metropolis::set_up(const dev::RenderParams& params, const Film& film) {
-  const uint32_t depths = config_.multiplexed ? params.max_depth + 1u : 1u;
   mlt_.dims = dims_for(params);
   mlt_.chains = chains_for(params, film);
   const bool gpu = ctx_.device().is_gpu();
   mlt_.dim_stride = gpu ? mlt_.chains : 1u;
   mlt_.chain_stride = gpu ? 1u : mlt_.dims;
-  mlt_.depths = depths;
-  if (uint64_t(config_.bootstrap) * depths > 0xffffffffull)
+  mlt_.depths = depths_for(params);
+  const uint64_t paths = setup_items(params);
+  if (paths > 0xffffffffull)
     throw Error(ExitCode::Usage, "mlt: --mlt-bootstrap times the path lengths (--max-depth + 1) "
                                  "exceeds 2^32 paths");
-  mlt_.bootstrap = config_.bootstrap * depths;
+  mlt_.bootstrap = static_cast<uint32_t>(paths);
   mlt_.large_step = config_.large_step;
   mlt_.sigma = config_.sigma;
   mlt_.seed = params.seed;

@@ -69,6 +69,8 @@ class Metropolis final : public Integrator {
   cl::Program program_;
   cl::Kernel bootstrap_kernel_, start_kernel_, mutate_kernel_;
   uint32_t dims_for(const dev::RenderParams& params) const;
+  // Path lengths the chains sample: max_depth + 1 (mmlt) or 1 (pssmlt).
+  uint32_t depths_for(const dev::RenderParams& params) const;
 
   cl::Buffer params_, mlt_params_, depths_, importance_;
   cl::Buffer chains_, coords_;
