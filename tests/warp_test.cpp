@@ -333,6 +333,69 @@ TEST(WarpInvert, UniformDisk) { expect_invert_round_trips({Warp::UniformDisk}); 
 TEST(WarpInvert, UniformTriangle) { expect_invert_round_trips({Warp::UniformTriangle}); }
 
 // ---------------------------------------------------------------------------------------
+// WarpTrig: core/math.cl's cos_sin_turns, the warps' (cos, sin) of 2 pi t, against double
+// precision: over four periods, at every quadrant's and octant's edges and their float
+// neighbours, and densely near 0, where sin must keep its relative accuracy.
+
+std::vector<glm::vec2> cos_sin_turns_at(const std::vector<float>& t) {
+  cl::Context& ctx = test::device_context();
+  const cl_uint n = cl_uint(t.size());
+  cl::Buffer in = cl::Buffer::from_vector(ctx, t);
+  cl::Buffer out(ctx, n * sizeof(glm::vec2), CL_MEM_WRITE_ONLY, nullptr, "cos and sin");
+  cl::Kernel kernel(warp_program(), "cos_sin_turns_at");
+  kernel.args(0, in, out, n);
+  kernel.launch(ctx, n);
+  return out.read_vector<glm::vec2>(n);
+}
+
+TEST(WarpTrig, CosSinTurnsMatchesDoublePrecision) {
+  std::vector<float> t;
+  for (int i = -(1 << 20); i <= (1 << 20); ++i) t.push_back(float(i) * 0x1.0p-18f);  // [-4, 4]
+  for (int k = -32; k <= 32; ++k) {  // eighths of a turn, and the floats beside them
+    const float e = float(k) * 0.125f;
+    t.push_back(e);
+    t.push_back(std::nextafter(e, -10.0f));
+    t.push_back(std::nextafter(e, 10.0f));
+  }
+  for (float x = 0x1.0p-40f; x < 0.1f; x *= 1.01f) {
+    t.push_back(x);
+    t.push_back(-x);
+    t.push_back(0.5f - x);  // sin near its zero at half a turn
+    t.push_back(0.25f - x);  // cos near its zero at a quarter turn
+  }
+  t.push_back(1000.3f);  // far from 0, where t itself is coarse
+  const std::vector<glm::vec2> cs = cos_sin_turns_at(t);
+  double worst_abs = 0.0, worst_ulp = 0.0;
+  float worst_t = 0.0f;
+  for (size_t i = 0; i < t.size(); ++i) {
+    // The reference reduces as exactly in double (t - q/4 has no rounding error), so that
+    // its own error near the zeros of sin and cos away from t = 0 stays far below a float's.
+    const double q = std::nearbyint(4.0 * double(t[i])), r = double(t[i]) - 0.25 * q;
+    const double cr = std::cos(2.0 * kPi * r), sr = std::sin(2.0 * kPi * r);
+    const int quadrant = int(std::fmod(std::fmod(q, 4.0) + 4.0, 4.0));
+    const double c = quadrant == 0 ? cr : quadrant == 1 ? -sr : quadrant == 2 ? -cr : sr;
+    const double s = quadrant == 0 ? sr : quadrant == 1 ? cr : quadrant == 2 ? -sr : -cr;
+    const double err = std::max(std::fabs(cs[i].x - c), std::fabs(cs[i].y - s));
+    // In units of the float spacing at the exact value: both sin and cos relative where they
+    // are small (the spacing of a value below 2^-126 is the subnormal one).
+    auto ulps = [](double got, double want) {
+      const float w = float(std::fabs(want));
+      const double spacing = double(std::nextafter(w, 2.0f)) - double(w);
+      return std::fabs(got - want) / spacing;
+    };
+    const double u = std::max(ulps(cs[i].x, c), ulps(cs[i].y, s));
+    if (u > worst_ulp) worst_t = t[i];
+    worst_abs = std::max(worst_abs, err);
+    worst_ulp = std::max(worst_ulp, u);
+  }
+  std::cout << "[ trig     ] " << t.size() << " arguments: max error " << worst_abs << ", "
+            << worst_ulp << " ulp (at t = " << worst_t << ")\n";
+  EXPECT_LT(worst_abs, 1.2e-7);
+  // OpenCL C 1.2 allows sin and cos 4 ulp; the polynomials measure within 2 (math.cl).
+  EXPECT_LE(worst_ulp, 4.0);
+}
+
+// ---------------------------------------------------------------------------------------
 // Chi2Harness: host samples in double from std::mt19937_64, host pdfs.
 
 using Pdf = std::function<double(const glm::dvec3&)>;

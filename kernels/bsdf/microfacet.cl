@@ -97,10 +97,9 @@ static inline float3 warp_ggx_vndf_2(float2 u, float3 wo, float2 alpha) {
   const float3 vh = normalize((float3)(alpha.x * wo.x, alpha.y * wo.y, wo.z));
   float3 t1, t2;
   ggx_vndf_frame(vh, &t1, &t2);
-  const float r = sqrt(u.x);
-  const float phi = 2.0f * PI_F * u.y;
-  const float p1 = r * cos(phi);
-  float p2 = r * sin(phi);
+  const float2 p = sqrt(u.x) * cos_sin_turns(u.y);
+  const float p1 = p.x;
+  float p2 = p.y;
   const float s = 0.5f * (1.0f + vh.z);
   p2 = (1.0f - s) * sqrt(fmax(0.0f, 1.0f - p1 * p1)) + s * p2;
   const float3 nh = p1 * t1 + p2 * t2 + sqrt(fmax(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;

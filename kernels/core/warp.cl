@@ -26,15 +26,15 @@ static inline float warp_azimuth_invert(float y, float x) {
 static inline float2 warp_concentric_disk(float2 u) {
   const float2 o = 2.0f * u - (float2)(1.0f, 1.0f);
   if (o.x == 0.0f && o.y == 0.0f) return (float2)(0.0f, 0.0f);
-  float r, theta;
+  float r, turns; /* the angle theta in turns */
   if (fabs(o.x) > fabs(o.y)) {
     r = o.x;
-    theta = (PI_F / 4.0f) * (o.y / o.x);
+    turns = 0.125f * (o.y / o.x);
   } else {
     r = o.y;
-    theta = (PI_F / 2.0f) - (PI_F / 4.0f) * (o.x / o.y);
+    turns = 0.25f - 0.125f * (o.x / o.y);
   }
-  return r * (float2)(cos(theta), sin(theta));
+  return r * cos_sin_turns(turns);
 }
 
 static inline float warp_concentric_disk_pdf(float2 p) {
@@ -64,9 +64,7 @@ static inline float2 warp_concentric_disk_invert(float2 p) {
 
 /* Polar map r = sqrt(u.x), phi = 2 pi u.y: simple, but stretches the square near the centre. */
 static inline float2 warp_uniform_disk(float2 u) {
-  const float r = sqrt(u.x);
-  const float phi = 2.0f * PI_F * u.y;
-  return r * (float2)(cos(phi), sin(phi));
+  return sqrt(u.x) * cos_sin_turns(u.y);
 }
 
 static inline float warp_uniform_disk_pdf(float2 p) { return dot(p, p) <= 1.0f ? INV_PI_F : 0.0f; }
@@ -81,8 +79,7 @@ static inline float2 warp_uniform_disk_invert(float2 p) {
 static inline float3 warp_uniform_hemisphere(float2 u) {
   const float z = u.x;
   const float r = sqrt(fmax(0.0f, (1.0f - z) * (1.0f + z)));
-  const float phi = 2.0f * PI_F * u.y;
-  return (float3)(r * cos(phi), r * sin(phi), z);
+  return (float3)(r * cos_sin_turns(u.y), z);
 }
 
 static inline float warp_uniform_hemisphere_pdf(float cos_theta) {
@@ -114,8 +111,7 @@ static inline float2 warp_cosine_hemisphere_invert(float3 w) {
 static inline float3 warp_uniform_sphere(float2 u) {
   const float z = 1.0f - 2.0f * u.x;
   const float r = 2.0f * sqrt(fmax(0.0f, u.x * (1.0f - u.x)));
-  const float phi = 2.0f * PI_F * u.y;
-  return (float3)(r * cos(phi), r * sin(phi), z);
+  return (float3)(r * cos_sin_turns(u.y), z);
 }
 
 static inline float warp_uniform_sphere_pdf(void) { return 0.25f * INV_PI_F; }
@@ -131,8 +127,7 @@ static inline float3 warp_uniform_cone(float2 u, float cos_theta_max) {
   const float one_minus_cos = u.x * (1.0f - cos_theta_max);
   const float cos_theta = fmax(1.0f - one_minus_cos, cos_theta_max);
   const float sin_theta = sqrt(fmax(0.0f, one_minus_cos * (2.0f - one_minus_cos)));
-  const float phi = 2.0f * PI_F * u.y;
-  return (float3)(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
+  return (float3)(sin_theta * cos_sin_turns(u.y), cos_theta);
 }
 
 static inline float warp_uniform_cone_pdf(float cos_theta, float cos_theta_max) {

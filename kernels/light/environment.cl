@@ -38,9 +38,8 @@ static inline float2 env_dir_to_uv(float3 m) {
 }
 
 static inline float3 env_uv_to_dir(float2 uv) {
-  const float theta = PI_F * uv.y, alpha = 2.0f * PI_F * (uv.x - 0.5f);
-  const float st = sin(theta);
-  return (float3)(st * sin(alpha), cos(theta), -st * cos(alpha));
+  const float2 theta = cos_sin_turns(0.5f * uv.y), alpha = cos_sin_turns(uv.x - 0.5f);
+  return (float3)(theta.y * alpha.y, theta.x, -theta.y * alpha.x);
 }
 
 static inline u32 env_texel(const SceneView* s, float2 uv) {

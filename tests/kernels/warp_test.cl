@@ -88,3 +88,10 @@ __kernel void warp_invert_at(int warp, float param, __global const float4* p,
   if (i >= n) return;
   out[i] = warp_invert(warp, p[i].xyz, param);
 }
+
+/* core/math.cl's cos_sin_turns at t[i]: tests/warp_test.cpp's WarpTrig. */
+__kernel void cos_sin_turns_at(__global const float* t, __global float2* out, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  out[i] = cos_sin_turns(t[i]);
+}

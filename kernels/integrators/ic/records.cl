@@ -32,9 +32,9 @@
 /* The record frame's local direction of stratum (j, k) at offset u in it. */
 static inline float3 ic_stratum_dir(u32 j, u32 k, u32 m, u32 n, float2 u) {
   const float s2 = ((float)j + u.x) / (float)m;
-  const float phi = 2.0f * PI_F * ((float)k + u.y) / (float)n;
+  const float2 phi = cos_sin_turns(((float)k + u.y) / (float)n);
   const float sin_t = sqrt(s2), cos_t = sqrt(fmax(0.0f, 1.0f - s2));
-  return (float3)(cos(phi) * sin_t, sin(phi) * sin_t, cos_t);
+  return (float3)(phi * sin_t, cos_t);
 }
 
 /* The mean of tan(theta) over a stratum sin^2 theta in [lo, hi) under the cosine-weighted
