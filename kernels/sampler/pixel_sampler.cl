@@ -38,6 +38,7 @@ typedef struct Sampler {
   u32 sample_index; /* index of this sample within the pixel */
   u32 spp_total;    /* samples the pixel will take; 0 if unknown */
   u32 grid_x;       /* stratified: columns of the 2D grid (a divisor of spp_total) */
+  u32 sample_key;   /* independent: hash of (key, sample index), once per sample */
 } Sampler;
 
 static inline Sampler sampler_init(__constant const RenderParams* params, u32 pixel,
@@ -48,6 +49,7 @@ static inline Sampler sampler_init(__constant const RenderParams* params, u32 pi
   s.sample_index = sample_index;
   s.spp_total = params->spp_total;
   s.grid_x = 1u;
+  s.sample_key = hash_u32(s.key + sample_index * 0x9e3779b9u);
   if (s.type == SAMPLER_STRATIFIED || s.type == SAMPLER_LHS) {
     /* Strata need the sample count; without it, or past it, sample independently. */
     if (sample_index >= s.spp_total)
@@ -62,8 +64,7 @@ static inline Sampler sampler_init(__constant const RenderParams* params, u32 pi
 
 /* Independent sampling: a hash of (pixel key, sample index, dimension). */
 static inline float independent_1d(const Sampler* s, u32 dimension) {
-  const u32 h =
-      hash_u32(hash_u32(s->key + s->sample_index * 0x9e3779b9u) ^ (dimension * 0x85ebca6bu));
+  const u32 h = hash_u32(s->sample_key ^ (dimension * 0x85ebca6bu));
   return u32_to_unit_float(hash_u32(h + dimension));
 }
 
