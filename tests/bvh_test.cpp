@@ -422,8 +422,11 @@ DeviceScene upload(const Bvh& bvh, const Mesh& mesh) {
   return d;
 }
 
-const cl::Program& bvh_program() {
-  return test::test_program("kernels/bvh_test.cl");
+// The traversal as each device kind builds it (kernels/bvh/intersect.cl): a leaf's triangles
+// one at a time (GPUs, CLPT_TRIANGLE_LANES 1) or four at a time in float4 lanes (CPUs, 4).
+// Both run here, whatever the test device.
+const cl::Program& bvh_program(int lanes = 4) {
+  return test::test_program("kernels/bvh_test.cl", "-DCLPT_TRIANGLE_LANES=" + std::to_string(lanes));
 }
 
 struct Rays {
@@ -446,13 +449,13 @@ double g_last_seconds = 0.0;  // kernel time of the last trace, for the rays/s r
 
 template <class Out>
 std::vector<Out> run_rays(const DeviceScene& scene, const Rays& rays, const char* kernel_name,
-                          bool brute = false) {
+                          bool brute = false, int lanes = 4) {
   cl::Context& ctx = test::device_context();
   const uint32_t n = uint32_t(rays.size());
   cl::Buffer org = cl::Buffer::from_vector(ctx, rays.org);
   cl::Buffer dir = cl::Buffer::from_vector(ctx, rays.dir);
   cl::Buffer out(ctx, n * sizeof(Out), CL_MEM_WRITE_ONLY, nullptr, "hits");
-  cl::Kernel kernel(bvh_program(), kernel_name);
+  cl::Kernel kernel(bvh_program(lanes), kernel_name);
   const cl_uint next = kernel.args(0, scene.nodes, scene.triangles, scene.vertices, org, dir, out, n);
   if (brute) kernel.arg(next, scene.num_triangles);
   ctx.finish();
@@ -463,14 +466,14 @@ std::vector<Out> run_rays(const DeviceScene& scene, const Rays& rays, const char
   return out.read_vector<Out>(n);
 }
 
-std::vector<HitRecord> trace_closest(const DeviceScene& s, const Rays& r) {
-  return run_rays<HitRecord>(s, r, "bvh_closest");
+std::vector<HitRecord> trace_closest(const DeviceScene& s, const Rays& r, int lanes = 4) {
+  return run_rays<HitRecord>(s, r, "bvh_closest", false, lanes);
 }
 std::vector<HitRecord> trace_brute_force(const DeviceScene& s, const Rays& r) {
   return run_rays<HitRecord>(s, r, "brute_closest", true);
 }
-std::vector<int> trace_any(const DeviceScene& s, const Rays& r) {
-  return run_rays<int>(s, r, "bvh_any");
+std::vector<int> trace_any(const DeviceScene& s, const Rays& r, int lanes = 4) {
+  return run_rays<int>(s, r, "bvh_any", false, lanes);
 }
 
 glm::vec3 uniform_sphere(std::mt19937& rng) {
@@ -543,21 +546,25 @@ struct Comparison {
   size_t hits = 0, mismatches = 0, ties = 0, any_mismatches = 0;
 };
 
-// BVH closest hits against brute force and against the any-hit query.
+// BVH closest hits against brute force and against the any-hit query, with the leaf's
+// triangles tested four at a time (the CPU build) and one at a time (the GPU build).
 Comparison compare_with_brute_force(const Mesh& mesh, const Rays& rays, const char* what) {
   const Bvh bvh = build_bvh(mesh.positions, mesh.triangles);
   const DeviceScene scene = upload(bvh, mesh);
   const std::vector<HitRecord> ref = trace_brute_force(scene, rays);
   const double brute_seconds = g_last_seconds;
-  const std::vector<HitRecord> got = trace_closest(scene, rays);
+  Comparison c;
+  for (const int lanes : {4, 1}) {
+  SCOPED_TRACE(std::string(what) + ", triangle lanes " + std::to_string(lanes));
+  const std::vector<HitRecord> got = trace_closest(scene, rays, lanes);
   const double bvh_seconds = g_last_seconds;
-  const std::vector<int> any_hit = trace_any(scene, rays);
+  const std::vector<int> any_hit = trace_any(scene, rays, lanes);
   const double any_seconds = g_last_seconds;
-  std::cout << what << ": " << mesh.triangle_count() << " triangles, " << rays.size()
+  c = Comparison{};
+  std::cout << what << " (lanes " << lanes << "): " << mesh.triangle_count() << " triangles, " << rays.size()
             << " rays: closest " << rays.size() / bvh_seconds / 1e6 << " Mrays/s, any "
             << rays.size() / any_seconds / 1e6 << " Mrays/s, brute force "
             << rays.size() / brute_seconds / 1e6 << " Mrays/s\n";
-  Comparison c;
   for (size_t i = 0; i < rays.size(); ++i) {
     const HitRecord &r = ref[i], &g = got[i];
     c.hits += r.hit();
@@ -584,6 +591,7 @@ Comparison compare_with_brute_force(const Mesh& mesh, const Rays& rays, const ch
   // The ray mix must exercise both outcomes.
   EXPECT_GT(c.hits, rays.size() / 10) << what;
   EXPECT_LT(c.hits, rays.size() - rays.size() / 10) << what;
+  }
   return c;
 }
 

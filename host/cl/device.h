@@ -20,6 +20,7 @@ struct DeviceInfo {
   unsigned compute_units = 0;
 
   bool is_gpu() const { return (type & CL_DEVICE_TYPE_GPU) != 0; }
+  bool is_cpu() const { return (type & CL_DEVICE_TYPE_CPU) != 0; }
   bool is_pocl() const;
   bool is_intel_gpu() const;  // a GPU of Intel's own OpenCL platform (its compiler: IGC)
   std::string label() const;  // "P:D name (platform)"

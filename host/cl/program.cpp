@@ -231,10 +231,17 @@ std::string build_options(const std::string& extra) {
   return options;
 }
 
+std::string device_kind_options(const DeviceInfo& dev, const std::string& options) {
+  if (dev.is_cpu() && options.find("CLPT_TRIANGLE_LANES") == std::string::npos)
+    return " -DCLPT_TRIANGLE_LANES=4";
+  return "";
+}
+
 Program::Program(const Context& ctx, const std::string& entry_file, const std::string& extra_options,
                  const KernelSources& sources, const std::string& optional_options) {
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string options = build_options(extra_options);
+  std::string options = build_options(extra_options);
+  options += device_kind_options(ctx.device(), options);
   const std::string source = resolve_kernel_source(entry_file, sources);
   if (!optional_options.empty()) {
     std::string log;

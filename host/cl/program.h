@@ -44,6 +44,11 @@ struct ProgramSpec {
 // kernel's registers and spills in the build log); they are part of the kernel cache's key.
 std::string build_options(const std::string& extra);
 
+// What a device of this kind is given on top of build_options(extra) (the kernel dump has the
+// GPUs' view, none): CPU devices test a BVH leaf's triangles four at a time in float4 lanes,
+// -DCLPT_TRIANGLE_LANES=4 (kernels/bvh/intersect.cl), unless `options` names the macro already.
+std::string device_kind_options(const DeviceInfo& dev, const std::string& options);
+
 struct BuildInfo {
   bool from_cache = false;   // loaded from the on-disk cache
   bool from_memory = false;  // the context had it already (Context::find_program)

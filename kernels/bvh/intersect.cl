@@ -142,6 +142,92 @@ CLPT_INLINE bool intersect_triangle(const SceneView* s, const TriangleRay* r, u3
   return true;
 }
 
+/* How a leaf's triangles are tested: CLPT_TRIANGLE_LANES 4, four at a time in float4 lanes
+ * (intersect_triangle4), which the host asks for on CPU devices (cl::device_kind_options): on
+ * PoCL a lane is one SSE instruction, where the triangle-at-a-time loop ran the arithmetic once
+ * per triangle (Cornell box: 1.35x the incoherent rays per second, pt 0.85x the time;
+ * docs/BENCHMARKS.md). 1 (the default): one at a time, for GPUs, where a work-item's float4 is
+ * four registers and four instructions: Intel's dg2 compiler spilled 85 in pt_render with the
+ * lanes against 53 without. Both give bit-identical hits (tests/bvh_test.cpp runs both). */
+#ifndef CLPT_TRIANGLE_LANES
+#define CLPT_TRIANGLE_LANES 1
+#endif
+
+/* intersect_triangle for the leaf-order triangles tri .. tri + n - 1 (n in 1..4) at once, one
+ * per float4 lane: the same operations in the same order, so each lane's t, b1 and b2 are
+ * bit for bit what intersect_triangle computes (lanes past n repeat the last triangle).
+ * Returns -1 in the lanes that hit with t in (0, tmax), 0 elsewhere. */
+#if CLPT_TRIANGLE_LANES == 4
+CLPT_INLINE int4 intersect_triangle4(const SceneView* s, const TriangleRay* r, u32 tri, u32 n,
+                                     float tmax, float4* t_out, float4* b1_out, float4* b2_out) {
+#pragma OPENCL FP_CONTRACT OFF
+  const int kx = r->kx, ky = r->ky, kz = r->kz;
+  float4 p0x, p0y, p0z, p1x, p1y, p1z, p2x, p2y, p2z;
+#define CLPT_TRI4_LANE(l, c)                                        \
+  {                                                                 \
+    const Triangle T = s->triangles[tri + min((u32)(l), n - 1u)];   \
+    __global const float* q0 = s->vertices[T.v[0]].p;               \
+    __global const float* q1 = s->vertices[T.v[1]].p;               \
+    __global const float* q2 = s->vertices[T.v[2]].p;               \
+    p0x.c = q0[kx];                                                 \
+    p0y.c = q0[ky];                                                 \
+    p0z.c = q0[kz];                                                 \
+    p1x.c = q1[kx];                                                 \
+    p1y.c = q1[ky];                                                 \
+    p1z.c = q1[kz];                                                 \
+    p2x.c = q2[kx];                                                 \
+    p2y.c = q2[ky];                                                 \
+    p2z.c = q2[kz];                                                 \
+  }
+  CLPT_TRI4_LANE(0, x)
+  CLPT_TRI4_LANE(1, y)
+  CLPT_TRI4_LANE(2, z)
+  CLPT_TRI4_LANE(3, w)
+#undef CLPT_TRI4_LANE
+
+  const float4 az = p0z - r->oz, bz = p1z - r->oz, cz = p2z - r->oz;
+  const float4 ax = (p0x - r->ox) - r->sx * az, ay = (p0y - r->oy) - r->sy * az;
+  const float4 bx = (p1x - r->ox) - r->sx * bz, by = (p1y - r->oy) - r->sy * bz;
+  const float4 cx = (p2x - r->ox) - r->sx * cz, cy = (p2y - r->oy) - r->sy * cz;
+
+  const float4 u = cx * by - cy * bx;
+  const float4 v = ax * cy - ay * cx;
+  const float4 w = bx * ay - by * ax;
+  int4 ok = (int4)(0, 1, 2, 3) < (int4)((int)n);
+  ok &= ~(((u < 0.0f) | (v < 0.0f) | (w < 0.0f)) & ((u > 0.0f) | (v > 0.0f) | (w > 0.0f)));
+  const float4 det = u + v + w;
+  ok &= det != 0.0f;
+
+  const float4 tz0 = r->sz * az, tz1 = r->sz * bz, tz2 = r->sz * cz;
+  const float4 tt = u * tz0 + v * tz1 + w * tz2;
+  const float4 inv_det = 1.0f / det;
+  const float4 t = tt * inv_det;
+  ok &= (t > 0.0f) & (t < tmax);
+  if (!any(ok)) return ok;
+  {
+    const float eps = 0x1.0p-24f;
+#define CLPT_GAMMA(n) (((float)(n) * eps) / (1.0f - (float)(n) * eps))
+    const float4 max_zt = fmax(fabs(tz0), fmax(fabs(tz1), fabs(tz2)));
+    const float4 max_xt = fmax(fabs(ax), fmax(fabs(bx), fabs(cx)));
+    const float4 max_yt = fmax(fabs(ay), fmax(fabs(by), fabs(cy)));
+    const float4 delta_z = CLPT_GAMMA(3) * max_zt;
+    const float4 delta_x = CLPT_GAMMA(5) * (max_xt + max_zt);
+    const float4 delta_y = CLPT_GAMMA(5) * (max_yt + max_zt);
+    const float4 delta_e =
+        2.0f * (CLPT_GAMMA(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    const float4 max_e = fmax(fabs(u), fmax(fabs(v), fabs(w)));
+    const float4 delta_t =
+        3.0f * (CLPT_GAMMA(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * fabs(inv_det);
+#undef CLPT_GAMMA
+    ok &= ~(t <= delta_t);
+  }
+  *t_out = t;
+  *b1_out = v * inv_det;
+  *b2_out = w * inv_det;
+  return ok;
+}
+#endif
+
 /* The boxes of a wide node's four children against the ray: each lane's entry distance where
  * the ray enters that child's box at some t in [0, tmax], else +inf. The near and far plane
  * of each axis are picked by the direction's sign (neg_x etc.: 1 where it is negative);
@@ -230,6 +316,27 @@ CLPT_INLINE bool intersect_closest(const SceneView* s, float3 org, float3 dir, f
       __global const BvhNode4* node = nodes + ((entry & ~BVH4_LEAF) >> 2);
       const u32 slot = entry & 3u;
       const u32 first = (u32)~node->child[slot], end = first + node->count[slot];
+#if CLPT_TRIANGLE_LANES == 4
+      for (u32 i = first; i < end; i += 4u) {
+        float4 t, b1, b2;
+        const int4 hit = intersect_triangle4(s, &tr, i, min(end - i, 4u), best_t, &t, &b1, &b2);
+        if (!any(hit)) continue;
+        /* In leaf order, as one triangle at a time would: a later lane replaces the best hit
+         * only when strictly nearer (ties keep the first). */
+#define CLPT_TRI4_ACCEPT(l, c)                                                                  \
+  if (hit.c && t.c < best_t && !alpha_hole(s, i + (l), b1.c, b2.c, org, dir)) {                \
+    best_t = t.c;                                                                               \
+    best_b1 = b1.c;                                                                             \
+    best_b2 = b2.c;                                                                             \
+    best_tri = i + (l);                                                                         \
+  }
+        CLPT_TRI4_ACCEPT(0u, x)
+        CLPT_TRI4_ACCEPT(1u, y)
+        CLPT_TRI4_ACCEPT(2u, z)
+        CLPT_TRI4_ACCEPT(3u, w)
+#undef CLPT_TRI4_ACCEPT
+      }
+#else
       for (u32 i = first; i < end; ++i) {
         float t, b1, b2;
         if (intersect_triangle(s, &tr, i, best_t, &t, &b1, &b2) && !alpha_hole(s, i, b1, b2, org, dir)) {
@@ -239,6 +346,7 @@ CLPT_INLINE bool intersect_closest(const SceneView* s, float3 org, float3 dir, f
           best_tri = i;
         }
       }
+#endif
       entry = BVH4_NONE;
     } else {
       __global const BvhNode4* node = nodes + entry;
@@ -280,11 +388,24 @@ CLPT_INLINE bool intersect_any(const SceneView* s, float3 org, float3 dir, float
         continue;
       }
       const u32 first = (u32)~c, end = first + node->count[k];
+#if CLPT_TRIANGLE_LANES == 4
+      for (u32 i = first; i < end; i += 4u) {
+        float4 th, b1, b2;
+        const int4 hit = intersect_triangle4(s, &tr, i, min(end - i, 4u), tmax, &th, &b1, &b2);
+        if (!any(hit)) continue;
+        if ((hit.x && !alpha_hole(s, i, b1.x, b2.x, org, dir)) ||
+            (hit.y && !alpha_hole(s, i + 1u, b1.y, b2.y, org, dir)) ||
+            (hit.z && !alpha_hole(s, i + 2u, b1.z, b2.z, org, dir)) ||
+            (hit.w && !alpha_hole(s, i + 3u, b1.w, b2.w, org, dir)))
+          return true;
+      }
+#else
       for (u32 i = first; i < end; ++i) {
         float th, b1, b2;
         if (intersect_triangle(s, &tr, i, tmax, &th, &b1, &b2) && !alpha_hole(s, i, b1, b2, org, dir))
           return true;
       }
+#endif
     }
     if (sp == 0) break;
     index = stack[--sp];

@@ -21,12 +21,13 @@ cl::KernelSources test_kernel_sources() {
   return s;
 }
 
-const cl::Program& test_program(const std::string& file) {
+const cl::Program& test_program(const std::string& file, const std::string& options) {
   static std::mutex mutex;
   static std::map<std::string, std::unique_ptr<cl::Program>> programs;
   const std::lock_guard<std::mutex> lock(mutex);
-  auto& program = programs[file];
-  if (!program) program = std::make_unique<cl::Program>(device_context(), file, "", test_kernel_sources());
+  auto& program = programs[file + '\n' + options];
+  if (!program)
+    program = std::make_unique<cl::Program>(device_context(), file, options, test_kernel_sources());
   return *program;
 }
 

@@ -21,7 +21,7 @@ cl::Context& device_context();
 cl::KernelSources test_kernel_sources();
 
 // The test program built from `file` (e.g. "kernels/bsdf_test.cl") with test_kernel_sources(),
-// built once per process and kept.
-const cl::Program& test_program(const std::string& file);
+// built once per process and kept; `options` adds build options (a program of its own).
+const cl::Program& test_program(const std::string& file, const std::string& options = "");
 
 }  // namespace clpt::test
