@@ -657,8 +657,12 @@ TEST(BsdfConsistency, WeightIsEvalOverPdf) {
 // Through the world-space wrapper on random shading frames. The sampled wi is rounded by
 // the local -> world transform and back, so eval and pdf are taken at a direction a few ulps
 // away from the one sampled: the tolerance is 1e-4 for 99.9 % of samples and 1e-2 for all
-// (GGX at alpha 0.09 changes by ~1e-5 per ulp of direction near its peak; the rest are
-// samples within ~1e-6 of the horizon, where cos / pdf is ill-conditioned).
+// but the grazing ones (GGX at alpha 0.09 changes by ~1e-5 per ulp of direction near its
+// peak; the rest are samples within ~1e-6 of the horizon, where cos / pdf is ill-conditioned:
+// a direction's ~1e-7 rounding is a relative 1e-7 / cos there). Grazing: the product of wo's
+// and wi's cosines with the normal that shades below 1e-5 (seen: 4.6e-7 with an error of
+// 1.6 %, tilted_clearcoat_over_delta_coat, after session 28 changed the samples' azimuths);
+// those count only against the 99.9 %.
 TEST(BsdfConsistency, WorldWrapperAndNoLeaks) {
   constexpr uint32_t n = 10000;
   cl::Context& ctx = test::device_context();
@@ -670,7 +674,7 @@ TEST(BsdfConsistency, WorldWrapperAndNoLeaks) {
       kernel.args(0, cfg, mode, cl_uint(31 + mode), out, n);
       kernel.launch(ctx, n);
       const std::vector<glm::vec4> r = out.read_vector<glm::vec4>(4 * n);
-      size_t used = 0, loose = 0, leaks = 0, reverse_wrong = 0;
+      size_t used = 0, loose = 0, leaks = 0, reverse_wrong = 0, grazing = 0;
       double worst = 0.0;
       for (uint32_t i = 0; i < n; ++i) {
         const glm::vec4 ws = r[4 * i], ev = r[4 * i + 1], sides = r[4 * i + 2], wi = r[4 * i + 3];
@@ -688,11 +692,15 @@ TEST(BsdfConsistency, WorldWrapperAndNoLeaks) {
         const double err = std::max(
             rel_diff(double(ws.w), double(ev.w)),
             e1 > 0 ? rel_diff(glm::dvec3(glm::vec3(ws)), glm::dvec3(glm::vec3(ev)) / double(ev.w)) : 1.0);
-        worst = std::max(worst, err);
+        if (std::fabs(sides.y) >= 1e-5f)
+          worst = std::max(worst, err);
+        else
+          ++grazing;
         loose += err > 1e-4;
       }
       std::cout << "[ world    ] " << name << " mode " << mode << ": " << used << " samples, "
-                << loose << " beyond 1e-4, max rel error " << worst << ", leaks " << leaks
+                << loose << " beyond 1e-4, max rel error " << worst << " (" << grazing
+                << " grazing samples aside), leaks " << leaks
                 << ", reverse pdfs off " << reverse_wrong << "\n";
       EXPECT_EQ(leaks, 0u) << name;
       EXPECT_LE(reverse_wrong, used / 1000) << name;
