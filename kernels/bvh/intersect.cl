@@ -83,6 +83,46 @@ CLPT_INLINE TriangleRay triangle_ray(float3 org, float3 dir) {
   return r;
 }
 
+/* The watertight test's arithmetic, written once for its two forms: intersect_triangle on
+ * floats and intersect_triangle4 on float4 lanes (TYPE). Each form loads its vertices and
+ * decides where to stop; the operations and their order are these, which is what keeps the
+ * two forms' hits bit for bit the same.
+ *
+ * CLPT_TRIANGLE_EDGES declares the vertices relative to the origin, sheared so the ray runs
+ * along +z from (0, 0, 0) (az, bz, cz, ax, ay, bx, by, cx, cy), and the scaled barycentrics,
+ * the edge functions u, v, w of the 2D triangle at the origin. P0X .. P2Z: the three vertices'
+ * components in (kx, ky, kz) order; r: the TriangleRay. */
+#define CLPT_TRIANGLE_EDGES(TYPE, r, P0X, P0Y, P0Z, P1X, P1Y, P1Z, P2X, P2Y, P2Z)           \
+  const TYPE az = (P0Z) - (r)->oz, bz = (P1Z) - (r)->oz, cz = (P2Z) - (r)->oz;               \
+  const TYPE ax = ((P0X) - (r)->ox) - (r)->sx * az, ay = ((P0Y) - (r)->oy) - (r)->sy * az;   \
+  const TYPE bx = ((P1X) - (r)->ox) - (r)->sx * bz, by = ((P1Y) - (r)->oy) - (r)->sy * bz;   \
+  const TYPE cx = ((P2X) - (r)->ox) - (r)->sx * cz, cy = ((P2Y) - (r)->oy) - (r)->sy * cz;   \
+  const TYPE u = cx * by - cy * bx;                                                         \
+  const TYPE v = ax * cy - ay * cx;                                                         \
+  const TYPE w = bx * ay - by * ax
+
+/* CLPT_TRIANGLE_T_ERROR declares delta_t, for rejecting t that rounding alone could have
+ * made positive: a conservative bound on the error of the computed t from the errors of the
+ * sheared coordinates and edge functions (the derivation of Pharr, Jakob and Humphreys, PBR
+ * 3rd ed., section 3.9.6). Offsetting the origin is not enough by itself: t's error grows with
+ * the vertices' distance from the origin, so a ray leaving a large triangle (a 2 km ground
+ * plane) could re-hit it or a coplanar neighbour just above t = 0. It reads the names
+ * CLPT_TRIANGLE_EDGES declares, and tz0 .. tz2 (sz times az .. cz) and inv_det (1 / (u + v +
+ * w)). gamma(n) = n eps / (1 - n eps), eps = 2^-24. */
+#define CLPT_GAMMA(n) (((float)(n) * 0x1.0p-24f) / (1.0f - (float)(n) * 0x1.0p-24f))
+#define CLPT_TRIANGLE_T_ERROR(TYPE)                                                           \
+  const TYPE max_zt = fmax(fabs(tz0), fmax(fabs(tz1), fabs(tz2)));                           \
+  const TYPE max_xt = fmax(fabs(ax), fmax(fabs(bx), fabs(cx)));                              \
+  const TYPE max_yt = fmax(fabs(ay), fmax(fabs(by), fabs(cy)));                              \
+  const TYPE delta_z = CLPT_GAMMA(3) * max_zt;                                               \
+  const TYPE delta_x = CLPT_GAMMA(5) * (max_xt + max_zt);                                    \
+  const TYPE delta_y = CLPT_GAMMA(5) * (max_yt + max_zt);                                    \
+  const TYPE delta_e =                                                                       \
+      2.0f * (CLPT_GAMMA(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);        \
+  const TYPE max_e = fmax(fabs(u), fmax(fabs(v), fabs(w)));                                  \
+  const TYPE delta_t =                                                                       \
+      3.0f * (CLPT_GAMMA(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * fabs(inv_det)
+
 /* Intersects leaf-order triangle `tri`; on a hit with t in (0, tmax) stores t and the
  * barycentrics of v[1], v[2]. A ray with a zero or NaN direction hits nothing. */
 CLPT_INLINE bool intersect_triangle(const SceneView* s, const TriangleRay* r, u32 tri, float tmax,
@@ -93,17 +133,8 @@ CLPT_INLINE bool intersect_triangle(const SceneView* s, const TriangleRay* r, u3
   __global const float* p1 = s->vertices[T.v[1]].p;
   __global const float* p2 = s->vertices[T.v[2]].p;
   const int kx = r->kx, ky = r->ky, kz = r->kz;
-
-  /* Vertices relative to the origin, sheared so the ray runs along +z from (0, 0, 0). */
-  const float az = p0[kz] - r->oz, bz = p1[kz] - r->oz, cz = p2[kz] - r->oz;
-  const float ax = (p0[kx] - r->ox) - r->sx * az, ay = (p0[ky] - r->oy) - r->sy * az;
-  const float bx = (p1[kx] - r->ox) - r->sx * bz, by = (p1[ky] - r->oy) - r->sy * bz;
-  const float cx = (p2[kx] - r->ox) - r->sx * cz, cy = (p2[ky] - r->oy) - r->sy * cz;
-
-  /* Scaled barycentrics: edge functions of the 2D triangle at the origin. */
-  const float u = cx * by - cy * bx;
-  const float v = ax * cy - ay * cx;
-  const float w = bx * ay - by * ax;
+  CLPT_TRIANGLE_EDGES(float, r, p0[kx], p0[ky], p0[kz], p1[kx], p1[ky], p1[kz], p2[kx], p2[ky],
+                      p2[kz]);
   if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
   const float det = u + v + w;
   if (det == 0.0f) return false; /* degenerate, or the ray lies in the triangle's plane */
@@ -113,27 +144,8 @@ CLPT_INLINE bool intersect_triangle(const SceneView* s, const TriangleRay* r, u3
   const float inv_det = 1.0f / det;
   const float t = tt * inv_det;
   if (!(t > 0.0f && t < tmax)) return false; /* also rejects NaN */
-
-  /* Reject t that rounding alone could have made positive: a conservative bound on the
-   * error of the computed t from the errors of the sheared coordinates and edge functions
-   * (the derivation of Pharr, Jakob and Humphreys, PBR 3rd ed., section 3.9.6). Offsetting
-   * the origin is not enough by itself: t's error grows with the vertices' distance from
-   * the origin, so a ray leaving a large triangle (a 2 km ground plane) could re-hit it or
-   * a coplanar neighbour just above t = 0. gamma(n) = n eps / (1 - n eps), eps = 2^-24. */
   {
-    const float eps = 0x1.0p-24f;
-#define CLPT_GAMMA(n) (((float)(n) * eps) / (1.0f - (float)(n) * eps))
-    const float max_zt = fmax(fabs(tz0), fmax(fabs(tz1), fabs(tz2)));
-    const float max_xt = fmax(fabs(ax), fmax(fabs(bx), fabs(cx)));
-    const float max_yt = fmax(fabs(ay), fmax(fabs(by), fabs(cy)));
-    const float delta_z = CLPT_GAMMA(3) * max_zt;
-    const float delta_x = CLPT_GAMMA(5) * (max_xt + max_zt);
-    const float delta_y = CLPT_GAMMA(5) * (max_yt + max_zt);
-    const float delta_e = 2.0f * (CLPT_GAMMA(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-    const float max_e = fmax(fabs(u), fmax(fabs(v), fabs(w)));
-    const float delta_t =
-        3.0f * (CLPT_GAMMA(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * fabs(inv_det);
-#undef CLPT_GAMMA
+    CLPT_TRIANGLE_T_ERROR(float);
     if (t <= delta_t) return false;
   }
   *t_out = t;
@@ -185,14 +197,7 @@ CLPT_INLINE int4 intersect_triangle4(const SceneView* s, const TriangleRay* r, u
   CLPT_TRI4_LANE(3, w)
 #undef CLPT_TRI4_LANE
 
-  const float4 az = p0z - r->oz, bz = p1z - r->oz, cz = p2z - r->oz;
-  const float4 ax = (p0x - r->ox) - r->sx * az, ay = (p0y - r->oy) - r->sy * az;
-  const float4 bx = (p1x - r->ox) - r->sx * bz, by = (p1y - r->oy) - r->sy * bz;
-  const float4 cx = (p2x - r->ox) - r->sx * cz, cy = (p2y - r->oy) - r->sy * cz;
-
-  const float4 u = cx * by - cy * bx;
-  const float4 v = ax * cy - ay * cx;
-  const float4 w = bx * ay - by * ax;
+  CLPT_TRIANGLE_EDGES(float4, r, p0x, p0y, p0z, p1x, p1y, p1z, p2x, p2y, p2z);
   int4 ok = (int4)(0, 1, 2, 3) < (int4)((int)n);
   ok &= ~(((u < 0.0f) | (v < 0.0f) | (w < 0.0f)) & ((u > 0.0f) | (v > 0.0f) | (w > 0.0f)));
   const float4 det = u + v + w;
@@ -205,20 +210,7 @@ CLPT_INLINE int4 intersect_triangle4(const SceneView* s, const TriangleRay* r, u
   ok &= (t > 0.0f) & (t < tmax);
   if (!any(ok)) return ok;
   {
-    const float eps = 0x1.0p-24f;
-#define CLPT_GAMMA(n) (((float)(n) * eps) / (1.0f - (float)(n) * eps))
-    const float4 max_zt = fmax(fabs(tz0), fmax(fabs(tz1), fabs(tz2)));
-    const float4 max_xt = fmax(fabs(ax), fmax(fabs(bx), fabs(cx)));
-    const float4 max_yt = fmax(fabs(ay), fmax(fabs(by), fabs(cy)));
-    const float4 delta_z = CLPT_GAMMA(3) * max_zt;
-    const float4 delta_x = CLPT_GAMMA(5) * (max_xt + max_zt);
-    const float4 delta_y = CLPT_GAMMA(5) * (max_yt + max_zt);
-    const float4 delta_e =
-        2.0f * (CLPT_GAMMA(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-    const float4 max_e = fmax(fabs(u), fmax(fabs(v), fabs(w)));
-    const float4 delta_t =
-        3.0f * (CLPT_GAMMA(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * fabs(inv_det);
-#undef CLPT_GAMMA
+    CLPT_TRIANGLE_T_ERROR(float4);
     ok &= ~(t <= delta_t);
   }
   *t_out = t;
