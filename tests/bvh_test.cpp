@@ -555,42 +555,42 @@ Comparison compare_with_brute_force(const Mesh& mesh, const Rays& rays, const ch
   const double brute_seconds = g_last_seconds;
   Comparison c;
   for (const int lanes : {4, 1}) {
-  SCOPED_TRACE(std::string(what) + ", triangle lanes " + std::to_string(lanes));
-  const std::vector<HitRecord> got = trace_closest(scene, rays, lanes);
-  const double bvh_seconds = g_last_seconds;
-  const std::vector<int> any_hit = trace_any(scene, rays, lanes);
-  const double any_seconds = g_last_seconds;
-  c = Comparison{};
-  std::cout << what << " (lanes " << lanes << "): " << mesh.triangle_count() << " triangles, " << rays.size()
-            << " rays: closest " << rays.size() / bvh_seconds / 1e6 << " Mrays/s, any "
-            << rays.size() / any_seconds / 1e6 << " Mrays/s, brute force "
-            << rays.size() / brute_seconds / 1e6 << " Mrays/s\n";
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const HitRecord &r = ref[i], &g = got[i];
-    c.hits += r.hit();
-    bool ok = r.hit() == g.hit();
-    if (ok && r.hit() && r.triangle != g.triangle) {
-      ok = std::abs(r.t - g.t) <= 1e-5f * std::max(r.t, g.t);
-      c.ties += ok;
-    } else if (ok && r.hit()) {
-      ok = r.t == g.t && r.b1 == g.b1 && r.b2 == g.b2;
+    SCOPED_TRACE(std::string(what) + ", triangle lanes " + std::to_string(lanes));
+    const std::vector<HitRecord> got = trace_closest(scene, rays, lanes);
+    const double bvh_seconds = g_last_seconds;
+    const std::vector<int> any_hit = trace_any(scene, rays, lanes);
+    const double any_seconds = g_last_seconds;
+    c = Comparison{};
+    std::cout << what << " (lanes " << lanes << "): " << mesh.triangle_count() << " triangles, "
+              << rays.size() << " rays: closest " << rays.size() / bvh_seconds / 1e6 << " Mrays/s, any "
+              << rays.size() / any_seconds / 1e6 << " Mrays/s, brute force "
+              << rays.size() / brute_seconds / 1e6 << " Mrays/s\n";
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const HitRecord &r = ref[i], &g = got[i];
+      c.hits += r.hit();
+      bool ok = r.hit() == g.hit();
+      if (ok && r.hit() && r.triangle != g.triangle) {
+        ok = std::abs(r.t - g.t) <= 1e-5f * std::max(r.t, g.t);
+        c.ties += ok;
+      } else if (ok && r.hit()) {
+        ok = r.t == g.t && r.b1 == g.b1 && r.b2 == g.b2;
+      }
+      if (!ok && ++c.mismatches <= 5)
+        ADD_FAILURE() << what << " ray " << i << " org " << rays.org[i].x << " " << rays.org[i].y
+                      << " " << rays.org[i].z << " dir " << rays.dir[i].x << " " << rays.dir[i].y
+                      << " " << rays.dir[i].z << " tmax " << rays.dir[i].w << ": brute force "
+                      << (r.hit() ? std::to_string(r.triangle) + " at " + std::to_string(r.t) : "miss")
+                      << ", BVH "
+                      << (g.hit() ? std::to_string(g.triangle) + " at " + std::to_string(g.t) : "miss");
+      if ((any_hit[i] != 0) != g.hit() && ++c.any_mismatches <= 5)
+        ADD_FAILURE() << what << " ray " << i << ": any-hit " << any_hit[i] << " but closest "
+                      << (g.hit() ? "hit" : "missed");
     }
-    if (!ok && ++c.mismatches <= 5)
-      ADD_FAILURE() << what << " ray " << i << " org " << rays.org[i].x << " " << rays.org[i].y
-                    << " " << rays.org[i].z << " dir " << rays.dir[i].x << " " << rays.dir[i].y
-                    << " " << rays.dir[i].z << " tmax " << rays.dir[i].w << ": brute force "
-                    << (r.hit() ? std::to_string(r.triangle) + " at " + std::to_string(r.t) : "miss")
-                    << ", BVH "
-                    << (g.hit() ? std::to_string(g.triangle) + " at " + std::to_string(g.t) : "miss");
-    if ((any_hit[i] != 0) != g.hit() && ++c.any_mismatches <= 5)
-      ADD_FAILURE() << what << " ray " << i << ": any-hit " << any_hit[i] << " but closest "
-                    << (g.hit() ? "hit" : "missed");
-  }
-  EXPECT_EQ(c.mismatches, 0u) << what;
-  EXPECT_EQ(c.any_mismatches, 0u) << what;
-  // The ray mix must exercise both outcomes.
-  EXPECT_GT(c.hits, rays.size() / 10) << what;
-  EXPECT_LT(c.hits, rays.size() - rays.size() / 10) << what;
+    EXPECT_EQ(c.mismatches, 0u) << what;
+    EXPECT_EQ(c.any_mismatches, 0u) << what;
+    // The ray mix must exercise both outcomes.
+    EXPECT_GT(c.hits, rays.size() / 10) << what;
+    EXPECT_LT(c.hits, rays.size() - rays.size() / 10) << what;
   }
   return c;
 }
