@@ -716,6 +716,43 @@ TEST(BsdfConsistency, WorldWrapperAndNoLeaks) {
   }
 }
 
+// Next-event estimation takes f |cos| and the BSDF's density from one call
+// (bsdf_eval_cos_pdf: one frame, one set of lobes); it must give what the two separate calls
+// give: f everywhere, the density wherever f is not 0, in every configuration and mode. The
+// same arithmetic runs in both, so the figures agree to the last bit on PoCL (seen: all
+// equal); the bound leaves room for a compiler that contracts the two copies differently.
+TEST(BsdfConsistency, EvalWithPdfIsEvalAndPdf) {
+  constexpr uint32_t n = 4000;
+  cl::Context& ctx = test::device_context();
+  for (const auto& [name, c] : consistency_configs()) {
+    for (cl_int mode : {kRadiance, kImportance}) {
+      cl::Buffer cfg = cl::Buffer::from_vector(ctx, pack(c));
+      cl::Buffer out(ctx, 2 * n * sizeof(glm::vec4), CL_MEM_WRITE_ONLY, nullptr, "eval pdf");
+      cl::Kernel kernel(bsdf_program(), "bsdf_eval_pdf_check");
+      kernel.args(0, cfg, mode, cl_uint(57 + mode), out, n);
+      kernel.launch(ctx, n);
+      const std::vector<glm::vec4> r = out.read_vector<glm::vec4>(2 * n);
+      size_t nonzero = 0, exact = 0, wrong = 0;
+      for (uint32_t i = 0; i < n; ++i) {
+        const glm::vec4 one = r[2 * i], two = r[2 * i + 1];
+        const bool black = !(two.x > 0 || two.y > 0 || two.z > 0);
+        if (black) {  // the density is not asked for there
+          wrong += glm::vec3(one) != glm::vec3(0.0f);
+          continue;
+        }
+        ++nonzero;
+        exact += one == two;
+        const double err = std::max(rel_diff(double(one.w), double(two.w)),
+                                    rel_diff(glm::dvec3(glm::vec3(one)), glm::dvec3(glm::vec3(two))));
+        wrong += err > 1e-5;
+      }
+      EXPECT_EQ(wrong, 0u) << name << " mode " << mode << ": " << nonzero << " non-zero, " << exact
+                           << " equal to the last bit";
+      if (c.roughness > 0.0f) EXPECT_GT(nonzero, n / 10) << name;  // the check saw the lobes
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------------------
 // BsdfEnergy
 

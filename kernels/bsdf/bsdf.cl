@@ -95,6 +95,16 @@ static inline float3 bsdf_eval_cos(const SurfaceHit* sh, float3 wo, float3 wi, i
   return gltf_bsdf_eval(&sh->bsdf, f.nc, wo_l, wi_l, mode);
 }
 
+/* bsdf_eval_cos in xyz and, wherever that is not 0, bsdf_pdf_w in w: one frame and one set
+ * of lobes for both (next-event estimation's MIS weight needs both). All 0 where the
+ * geometric sides disagree. */
+static inline float4 bsdf_eval_cos_pdf(const SurfaceHit* sh, float3 wo, float3 wi, int mode) {
+  const BsdfFrame f = bsdf_frame(sh, wo);
+  const float3 wo_l = bsdf_to_local(&f, wo), wi_l = bsdf_to_local(&f, wi);
+  if (!bsdf_sides_agree(&f, sh, wo_l, wi_l, wi)) return (float4)(0.0f);
+  return gltf_bsdf_eval_pdf(&sh->bsdf, f.nc, wo_l, wi_l, mode);
+}
+
 /* f(wo, wi) of the non-delta lobes without the cosine: photon density estimation, whose
  * photons' flux per area already holds the cosine at their arrival. The frame f =
  * bsdf_frame(sh, wo) and wo_l = wo in it are made once for all the photons of an estimate. */

@@ -464,6 +464,26 @@ static inline float gltf_bsdf_pdf(const BsdfParams* p, float3 nc, float3 wo, flo
   return gltf_pdf_layered(p, nc, wo, wi);
 }
 
+/* gltf_bsdf_eval in xyz and gltf_bsdf_pdf in w at once, from one set of lobes: next-event
+ * estimation's MIS weight needs both at a light sample's direction. */
+CLPT_NOINLINE float4 gltf_eval_pdf_layered(const BsdfParams* p, float3 nc, float3 wo, float3 wi,
+                                           int mode) {
+  const bool flip = wo.z < 0.0f;
+  const GltfLobes L = gltf_lobes(p, nc, gltf_flip(wo, flip), !flip);
+  const float pdf = gltf_pdf_up(&L, gltf_flip(wo, flip), gltf_flip(wi, flip));
+  return (float4)(gltf_eval_up(p, &L, gltf_flip(wo, flip), gltf_flip(wi, flip), mode), pdf);
+}
+
+static inline float4 gltf_bsdf_eval_pdf(const BsdfParams* p, float3 nc, float3 wo, float3 wi,
+                                        int mode) {
+  if (wo.z == 0.0f) return (float4)(0.0f);
+  if (gltf_is_lambert(p)) {
+    if (!(wo.z * wi.z > 0.0f)) return (float4)(0.0f);
+    return (float4)(p->base_color * (INV_PI_F * fabs(wi.z)), warp_cosine_hemisphere_pdf(fabs(wi.z)));
+  }
+  return gltf_eval_pdf_layered(p, nc, wo, wi, mode);
+}
+
 /* Whether some lobe is not a Dirac delta (NEE and MIS make sense). */
 static inline bool gltf_bsdf_has_smooth_lobe(const BsdfParams* p) {
   if (!(ggx_alpha_anisotropic(p->roughness, p->anisotropy).x < GGX_ALPHA_DELTA)) return true;

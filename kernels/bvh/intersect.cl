@@ -405,16 +405,42 @@ CLPT_INLINE bool intersect_any(const SceneView* s, float3 org, float3 dir, float
   return false;
 }
 
-/* Whether anything blocks the segment from org to target. Both ends must already be off the
+/* A shadow ray: whether anything is hit with t in (0, tmax) is the question; tmax 0: none
+ * to trace (nothing can block it). Made before the shading it waits for, so that a GPU keeps
+ * these seven values live across that shading instead of the inputs they come from. */
+typedef struct ShadowRay {
+  float3 org, dir;
+  float tmax;
+} ShadowRay;
+
+/* The shadow ray of the segment from org to target. Both ends must already be off the
  * surfaces they lie on (offset_ray_origin in core/ray.cl, towards each other): the segment is
  * shortened only by a relative 1e-4 for rounding, and that alone does not keep a short
  * segment from ending inside the target's own surface, since each end's offset is a fixed
  * number of ulps (issue 14: a light 5 cm from a surface facing it shadowed itself). */
-CLPT_INLINE bool segment_occluded(const SceneView* s, float3 org, float3 target) {
+CLPT_INLINE ShadowRay segment_ray(float3 org, float3 target) {
+  ShadowRay r;
+  r.org = org;
   const float3 d = target - org;
   const float len = length(d);
-  if (!(len > 0.0f) || !isfinite(len)) return false;
-  return intersect_any(s, org, d / len, len * (1.0f - 1e-4f));
+  if (!(len > 0.0f) || !isfinite(len)) {
+    r.dir = (float3)(0.0f, 0.0f, 1.0f);
+    r.tmax = 0.0f;
+    return r;
+  }
+  r.dir = d / len;
+  r.tmax = len * (1.0f - 1e-4f);
+  return r;
+}
+
+CLPT_INLINE bool shadow_ray_occluded(const SceneView* s, const ShadowRay* r) {
+  return r->tmax > 0.0f && intersect_any(s, r->org, r->dir, r->tmax);
+}
+
+/* Whether anything blocks the segment from org to target (segment_ray). */
+CLPT_INLINE bool segment_occluded(const SceneView* s, float3 org, float3 target) {
+  const ShadowRay r = segment_ray(org, target);
+  return shadow_ray_occluded(s, &r);
 }
 
 #endif

@@ -59,13 +59,25 @@ static inline LightSample light_illuminate(const SceneView* s, float3 p, float u
   return ls;
 }
 
-/* Whether light sample ls is hidden from org, a point already off the receiving surface
- * towards ls->wi: a shadow ray to an infinitely far light, or a segment to the light point,
- * moved off an area light's own surface (bvh/intersect.cl, segment_occluded). */
-static inline bool light_sample_occluded(const SceneView* s, float3 org, const LightSample* ls) {
-  if (!isfinite(ls->dist)) return intersect_any(s, org, ls->wi, INFINITY);
+/* The shadow ray of light sample ls from org, a point already off the receiving surface
+ * towards ls->wi: along wi to an infinitely far light, or the segment to the light point,
+ * moved off an area light's own surface (bvh/intersect.cl, segment_ray). */
+static inline ShadowRay light_sample_shadow_ray(float3 org, const LightSample* ls) {
+  if (!isfinite(ls->dist)) {
+    ShadowRay r;
+    r.org = org;
+    r.dir = ls->wi;
+    r.tmax = INFINITY;
+    return r;
+  }
   const float3 target = dot(ls->n, ls->n) > 0.0f ? offset_ray_origin_towards(ls->p, ls->n, -ls->wi) : ls->p;
-  return segment_occluded(s, org, target);
+  return segment_ray(org, target);
+}
+
+/* Whether light sample ls is hidden from org (light_sample_shadow_ray). */
+static inline bool light_sample_occluded(const SceneView* s, float3 org, const LightSample* ls) {
+  const ShadowRay r = light_sample_shadow_ray(org, ls);
+  return shadow_ray_occluded(s, &r);
 }
 
 /* light_illuminate's density for a ray that hit emitter triangle `tri` (leaf order) at

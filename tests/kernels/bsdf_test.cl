@@ -87,12 +87,9 @@ __kernel void bsdf_eval_pairs(__global const float* cfg, int mode, __global cons
  *   (weight, pdf_w) of a sample, (eval_cos, pdf) at the sampled wi,
  *   (dot(ng, wo) dot(ng, wi), the same with the normal that shades, is_delta, the reverse pdf
  *   of the point reached from wi's side), (wi, the reverse pdf of sh as it stands). */
-__kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
-                               __global float4* out, uint n) {
-  const uint i = get_global_id(0);
-  if (i >= n) return;
-  const float4 r0 = test_random_4d(seed, 4u * i), r1 = test_random_4d(seed, 4u * i + 1u);
-  const float4 r2 = test_random_4d(seed, 4u * i + 2u);
+/* A surface point of configuration cfg with a random geometric normal, a shading normal
+ * tilted from it, the coat's normal in ns's frame, and a random wo (r0, r1.xy). */
+static SurfaceHit test_world_hit(__global const float* cfg, float4 r0, float4 r1, float3* wo_out) {
   SurfaceHit sh;
   sh.p = (float3)(0.0f);
   sh.ng = warp_uniform_sphere(r0.xy);
@@ -115,6 +112,18 @@ __kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
   if (fabs(dot(wo, sh.ng)) < 1e-3f) wo = sh.ng;
   sh.front = dot(wo, sh.ng) > 0.0f ? 1u : 0u;
   sh.flipped = 0u;
+  *wo_out = wo;
+  return sh;
+}
+
+__kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
+                               __global float4* out, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const float4 r0 = test_random_4d(seed, 4u * i), r1 = test_random_4d(seed, 4u * i + 1u);
+  const float4 r2 = test_random_4d(seed, 4u * i + 2u);
+  float3 wo;
+  SurfaceHit sh = test_world_hit(cfg, r0, r1, &wo);
   const float3 ng0 = sh.ng, ns0 = sh.ns;
   SurfaceHit reverse = sh; /* the same point reached along -wi instead, normals as built */
   if (r1.z < 0.5f) bsdf_orient(&sh, wo);
@@ -131,6 +140,22 @@ __kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
   out[4u * i + 2u] = (float4)(dot(ng0, wo) * dot(ng0, bs.wi), dot(n_eff, wo) * dot(n_eff, bs.wi),
                               (float)bs.is_delta, bsdf_pdf_w(&reverse, bs.wi, wo));
   out[4u * i + 3u] = (float4)(bs.wi, bsdf_pdf_w(&sh, bs.wi, wo));
+}
+
+/* bsdf_eval_cos_pdf (next-event estimation's one call) against bsdf_eval_cos and bsdf_pdf_w
+ * at a random wi: out[2i] the one, out[2i + 1] the two. */
+__kernel void bsdf_eval_pdf_check(__global const float* cfg, int mode, uint seed,
+                                  __global float4* out, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const float4 r0 = test_random_4d(seed, 3u * i), r1 = test_random_4d(seed, 3u * i + 1u);
+  const float4 r2 = test_random_4d(seed, 3u * i + 2u);
+  float3 wo;
+  SurfaceHit sh = test_world_hit(cfg, r0, r1, &wo);
+  if (r1.z < 0.5f) bsdf_orient(&sh, wo);
+  const float3 wi = warp_uniform_sphere(r2.xy);
+  out[2u * i] = bsdf_eval_cos_pdf(&sh, wo, wi, mode);
+  out[2u * i + 1u] = (float4)(bsdf_eval_cos(&sh, wo, wi, mode), bsdf_pdf_w(&sh, wo, wi));
 }
 
 /* The GGX visible-normal warp, alpha = (along x, along y) (equal: the isotropic path): h for

@@ -23,10 +23,13 @@ static inline float3 pt_continue(__constant const RenderParams* p, const SceneVi
                                  float2 cone, u32 channel, u32 stream, u32* rays) {
   float3 L = (float3)(0.0f);
   PathWalk w = walk_at_vertex(sh, wo, depth, cone, channel, stream);
+  /* The next direction is picked before next-event estimation at each vertex (the dimensions
+   * say which numbers it takes, not the order): after NEE only what walk_scatter reads of
+   * the vertex stays live, not its whole BSDF (GPU registers). */
+  BsdfSample bs = camera_scatter_sample(p, s, &w.sh, w.wo,
+                                        sample_2d(sampler, walk_dim(&w, DIM_BSDF_DIR)),
+                                        sample_1d(sampler, walk_dim(&w, DIM_BSDF_LOBE)));
   for (;;) {
-    const BsdfSample bs = camera_scatter_sample(p, s, &w.sh, w.wo,
-                                                sample_2d(sampler, walk_dim(&w, DIM_BSDF_DIR)),
-                                                sample_1d(sampler, walk_dim(&w, DIM_BSDF_LOBE)));
     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
     if (!walk_next(s, sampler, &w, rays)) {
       L += w.beta * nee_emission_escaped(p, s, w.dir, w.pdf_w, w.delta);
@@ -34,6 +37,8 @@ static inline float3 pt_continue(__constant const RenderParams* p, const SceneVi
     }
     L += w.beta * nee_emission_hit(p, s, &w.sh, w.wo, w.hit.t, w.pdf_w, w.delta);
     if (w.depth >= p->max_depth) break;
+    bs = camera_scatter_sample(p, s, &w.sh, w.wo, sample_2d(sampler, walk_dim(&w, DIM_BSDF_DIR)),
+                               sample_1d(sampler, walk_dim(&w, DIM_BSDF_LOBE)));
     L += w.beta * nee_direct(p, s, sampler, &w.sh, w.wo, offset_ray_origin(w.sh.p, w.sh.ng),
                              w.depth, w.stream, rays);
   }
