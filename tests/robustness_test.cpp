@@ -425,7 +425,7 @@ TEST(UnreadableInput, ExtremeCameraAspectIsASceneErrorNamingTheFile) {
 // naming the file, and the refused run's peak memory (the child's ru_maxrss, libraries
 // included: about 130 MiB for clpt before it sets up a device) stays under 256 MiB.
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || defined(CLPT_SANITIZED)
 // AddressSanitizer's shadow memory and quarantine multiply every process's footprint: the
 // bound is for the Release build; under the sanitizers these tests check exit codes,
 // messages and that nothing crashes.

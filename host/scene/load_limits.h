@@ -48,7 +48,7 @@ struct LoadLimits {
   // Stack bytes a level of JSON nesting or node depth may take, with room to spare: the
   // parser and the node walk measured about 540 and 670 bytes per level (a Release build
   // crashed past about 15 500 and 12 500 levels in 8 MiB), so 2 KiB a level is a 3x margin.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || defined(CLPT_SANITIZED)
   // AddressSanitizer's redzones make every frame several times larger.
   static constexpr uint64_t kStackBytesPerLevel = 8192;
 #else
