@@ -44,6 +44,15 @@ ln -s /etc/OpenCL/vendors/pocl.icd build-asan/icd/pocl.icd
 export OCL_ICD_VENDORS="$PWD/build-asan/icd"
 # clpt_tests and what it runs (clpt, clpt-diff); not clpt-raybench, which no suite here runs.
 cmake --build --preset asan --target clpt_tests
+# PoCL's compiled kernels from the Release suite's run, where there was one (scripts/test.sh
+# runs it first): the sanitized programs build the same kernel sources with the same options,
+# and PoCL finds an entry only under the hash of both, so the CLI tests need not compile every
+# integrator again (about 100 s of a clean CI run's 255 s here). The kernels themselves are not
+# instrumented either way (PoCL's own LLVM compiles them).
+if [ -d build/test-cache/pocl ] && [ ! -e build-asan/test-cache/pocl ]; then
+  mkdir -p build-asan/test-cache
+  cp -a build/test-cache/pocl build-asan/test-cache/
+fi
 built=$(date +%s)
 
 # ctest runs a group of a suite per process (tests/GroupTests.cmake): SUITE or SUITE.partK.
