@@ -81,12 +81,6 @@ __kernel void bsdf_eval_pairs(__global const float* cfg, int mode, __global cons
   out[i] = (float4)(gltf_bsdf_eval(&p, nc, o, d, mode), gltf_bsdf_pdf(&p, nc, o, d));
 }
 
-/* The world-space wrapper (bsdf.cl) on random surface frames: ng uniform, ns tilted from it
- * by up to ~35 degrees, wo on either side (sh.front says which), normals oriented by
- * bsdf_orient or not. Per item, 4 float4:
- *   (weight, pdf_w) of a sample, (eval_cos, pdf) at the sampled wi,
- *   (dot(ng, wo) dot(ng, wi), the same with the normal that shades, is_delta, the reverse pdf
- *   of the point reached from wi's side), (wi, the reverse pdf of sh as it stands). */
 /* A surface point of configuration cfg with a random geometric normal, a shading normal
  * tilted from it, the coat's normal in ns's frame, and a random wo (r0, r1.xy). */
 static SurfaceHit test_world_hit(__global const float* cfg, float4 r0, float4 r1, float3* wo_out) {
@@ -116,6 +110,12 @@ static SurfaceHit test_world_hit(__global const float* cfg, float4 r0, float4 r1
   return sh;
 }
 
+/* The world-space wrapper (bsdf.cl) on random surface frames: ng uniform, ns tilted from it
+ * by up to ~35 degrees, wo on either side (sh.front says which), normals oriented by
+ * bsdf_orient or not. Per item, 4 float4:
+ *   (weight, pdf_w) of a sample, (eval_cos, pdf) at the sampled wi,
+ *   (dot(ng, wo) dot(ng, wi), the same with the normal that shades, is_delta, the reverse pdf
+ *   of the point reached from wi's side), (wi, the reverse pdf of sh as it stands). */
 __kernel void bsdf_world_check(__global const float* cfg, int mode, uint seed,
                                __global float4* out, uint n) {
   const uint i = get_global_id(0);

@@ -14,6 +14,13 @@
 #include "integrators/stages/direct_light.cl"
 #include "integrators/stages/walk.cl"
 
+/* The camera side's next direction at the walk's vertex, in the walk's dimensions. */
+static inline BsdfSample pt_scatter_sample(__constant const RenderParams* p, const SceneView* s,
+                                           const Sampler* sampler, const PathWalk* w) {
+  return camera_scatter_sample(p, s, &w->sh, w->wo, sample_2d(sampler, walk_dim(w, DIM_BSDF_DIR)),
+                               sample_1d(sampler, walk_dim(w, DIM_BSDF_LOBE)));
+}
+
 /* Continues a path from vertex `sh` (normals oriented to wo, at bounce `depth`, reached
  * with the ray cone `cone` and dispersion channel `channel`, with the throughput up to it
  * folded out: the result is to be multiplied by the caller's beta).
@@ -26,9 +33,7 @@ static inline float3 pt_continue(__constant const RenderParams* p, const SceneVi
   /* The next direction is picked before next-event estimation at each vertex (the dimensions
    * say which numbers it takes, not the order): after NEE only what walk_scatter reads of
    * the vertex stays live, not its whole BSDF (GPU registers). */
-  BsdfSample bs = camera_scatter_sample(p, s, &w.sh, w.wo,
-                                        sample_2d(sampler, walk_dim(&w, DIM_BSDF_DIR)),
-                                        sample_1d(sampler, walk_dim(&w, DIM_BSDF_LOBE)));
+  BsdfSample bs = pt_scatter_sample(p, s, sampler, &w);
   for (;;) {
     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
     if (!walk_next(s, sampler, &w, rays)) {
@@ -37,8 +42,7 @@ static inline float3 pt_continue(__constant const RenderParams* p, const SceneVi
     }
     L += w.beta * nee_emission_hit(p, s, &w.sh, w.wo, w.hit.t, w.pdf_w, w.delta);
     if (w.depth >= p->max_depth) break;
-    bs = camera_scatter_sample(p, s, &w.sh, w.wo, sample_2d(sampler, walk_dim(&w, DIM_BSDF_DIR)),
-                               sample_1d(sampler, walk_dim(&w, DIM_BSDF_LOBE)));
+    bs = pt_scatter_sample(p, s, sampler, &w);
     L += w.beta * nee_direct(p, s, sampler, &w.sh, w.wo, offset_ray_origin(w.sh.p, w.sh.ng),
                              w.depth, w.stream, rays);
   }

@@ -60,9 +60,8 @@ static inline BsdfSample camera_scatter_sample(__constant const RenderParams* p,
  * own sampling (the default, --hemisphere bsdf). */
 static inline float4 nee_eval(__constant const RenderParams* p, const SceneView* s,
                               const SurfaceHit* sh, float3 wo, float3 wi) {
-  float4 f = bsdf_eval_cos_pdf(sh, wo, wi, TRANSPORT_RADIANCE);
-  if (p->hemisphere != HEMISPHERE_BSDF) f.w = camera_scatter_pdf(p, s, sh, wo, wi);
-  return f;
+  if (p->hemisphere == HEMISPHERE_BSDF) return bsdf_eval_cos_pdf(sh, wo, wi, TRANSPORT_RADIANCE);
+  return (float4)(bsdf_eval_cos(sh, wo, wi, TRANSPORT_RADIANCE), camera_scatter_pdf(p, s, sh, wo, wi));
 }
 
 /* Next-event estimation at a vertex: light_samples shadow rays, each weighted 1/N. The
