@@ -246,7 +246,7 @@ TEST_F(Mpi, ARankThatFailsStopsEveryRankWithItsError) {
 TEST_F(Mpi, DeviceRankGivesEachRankItsOwnDevice) {
   const std::vector<std::string> args = {kCornell, "-q", "--device", "rank", "--resolution", "16x16",
                                          "--spp", "8", "-o", path("r.exr"), "--stats=" + path("r.json")};
-  const test::RunResult r = mpirun({args, args}, {{"POCL_DEVICES", "basic basic"}});
+  const test::RunResult r = mpirun({args, args}, {{"POCL_DEVICES", "pthread pthread"}});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json stats = nlohmann::json::parse(test::read_file(path("r.json")));
   ASSERT_EQ(stats["devices"].size(), 2u);
