@@ -61,15 +61,16 @@ Metropolis::Metropolis(const cl::Context& ctx, const SceneBuffers& scene, const 
     : ctx_(ctx),
       config_(checked(config)),
       program_(ctx, config_.multiplexed ? programs::kMmlt : programs::kPssmlt),
-      bootstrap_kernel_(program_, "mlt_bootstrap"),
-      start_kernel_(program_, "mlt_start"),
+      bootstrap_kernel_(program_, "mlt_begin"),
+      start_kernel_(program_, "mlt_begin"),
       mutate_kernel_(program_, "mlt_mutate"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
       mlt_params_(ctx, sizeof(dev::MltParams), CL_MEM_READ_ONLY, nullptr, "Metropolis parameters"),
       depths_(ctx, sizeof(dev::MltDepth), CL_MEM_READ_ONLY, nullptr, "Metropolis normalisations"),
       importance_(ctx, sizeof(float), CL_MEM_READ_ONLY, nullptr, "Metropolis importance"),
       chains_(ctx, sizeof(dev::MltChain), CL_MEM_READ_WRITE, nullptr, "Metropolis chains"),
-      coords_(ctx, sizeof(dev::PssCoord), CL_MEM_READ_WRITE, nullptr, "primary sample vectors") {
+      coords_(ctx, sizeof(dev::PssCoord), CL_MEM_READ_WRITE, nullptr, "primary sample vectors"),
+      unused_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "mlt_begin's unused buffers") {
   bootstrap_arg_ = scene.bind(bootstrap_kernel_, 0);
   start_arg_ = scene.bind(start_kernel_, 0);
   mutate_arg_ = scene.bind(mutate_kernel_, 0);
@@ -165,6 +166,21 @@ uint32_t Metropolis::chains_for(const dev::RenderParams& params, const Film& fil
                         : default_chains(film.pixels(), dims_for(params), kDefaultChainBudget);
 }
 
+// mlt_begin's two launches (kernels/integrators/mlt.cl): each binds the buffers the other
+// writes to a placeholder the kernel leaves alone.
+const cl::Kernel& Metropolis::bind_bootstrap(const cl::Buffer& targets, const cl::Buffer& pixels,
+                                        Film& film) {
+  bootstrap_kernel_.args(bootstrap_arg_, params_, mlt_params_, cl_uint(0), unused_, importance_,
+                         targets, pixels, unused_, unused_, film.ray_counts());
+  return bootstrap_kernel_;
+}
+
+const cl::Kernel& Metropolis::bind_start(const cl::Buffer& starts, Film& film) {
+  start_kernel_.args(start_arg_, params_, mlt_params_, cl_uint(1), starts, importance_, unused_,
+                     unused_, chains_, coords_, film.ray_counts());
+  return start_kernel_;
+}
+
 void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
   // Every kernel once over as many work-items as its real launches (PoCL compiles a
   // work-group function per grid size class at the first launch of each), with no
@@ -175,13 +191,9 @@ void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
   const uint32_t chains = chains_for(params, film);
   cl::Buffer targets(ctx_, sizeof(float), CL_MEM_READ_WRITE, nullptr, "bootstrap targets");
   cl::Buffer pixels(ctx_, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "bootstrap pixels");
-  cl::Buffer start(ctx_, sizeof(uint32_t), CL_MEM_READ_ONLY, nullptr, "chain starts");
-  bootstrap_kernel_.args(bootstrap_arg_, params_, mlt_params_, importance_, targets, pixels,
-                         film.ray_counts());
-  bootstrap_kernel_.launch(ctx_, config_.bootstrap);
-  start_kernel_.args(start_arg_, params_, mlt_params_, start, importance_, chains_, coords_,
-                     film.ray_counts());
-  start_kernel_.launch(ctx_, chains);
+  cl::Buffer starts(ctx_, sizeof(uint32_t), CL_MEM_READ_ONLY, nullptr, "chain starts");
+  bind_bootstrap(targets, pixels, film).launch(ctx_, config_.bootstrap);
+  bind_start(starts, film).launch(ctx_, chains);
   mutate_kernel_.args(mutate_arg_, params_, mlt_params_, depths_, importance_, chains_, coords_,
                       film.splat(), film.ray_counts());
   mutate_kernel_.launch(ctx_, chains);
@@ -238,9 +250,7 @@ std::string Metropolis::setup_part(const dev::RenderParams& params, Film& film, 
                        "bootstrap targets");
     cl::Buffer pixels(ctx_, size_t(count) * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
                       "bootstrap pixels");
-    bootstrap_kernel_.args(bootstrap_arg_, params_, mlt_params_, importance_, targets, pixels,
-                           film.ray_counts());
-    bootstrap_kernel_.launch(ctx_, count);
+    bind_bootstrap(targets, pixels, film).launch(ctx_, count);
     targets.read(part.data() + head, size_t(count) * sizeof(float));
     pixels.read(part.data() + head + size_t(count) * sizeof(float), size_t(count) * sizeof(uint32_t));
   }
@@ -363,9 +373,7 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
   stats_.device_bytes = chains_.size() + coords_.size() + depths_.size();
   const cl::Buffer starts = cl::Buffer::from_vector(ctx_, start, CL_MEM_READ_ONLY, "chain starts");
   mlt_params_.write(&mlt_, sizeof(mlt_));
-  start_kernel_.args(start_arg_, params_, mlt_params_, starts, importance_, chains_, coords_,
-                     film.ray_counts());
-  start_kernel_.launch(ctx_, mlt_.chains);
+  bind_start(starts, film).launch(ctx_, mlt_.chains);
   ctx_.finish();
   stats_.bootstrap_seconds += seconds_since(t0);
   log::verbose("mlt: b = " + std::to_string(stats_.b) + " +- " +

@@ -67,13 +67,17 @@ class Metropolis final : public Integrator {
   const cl::Context& ctx_;
   MltConfig config_;
   cl::Program program_;
+  // One kernel, mlt_begin, in two launches: the bootstrap's paths and the chains' start.
   cl::Kernel bootstrap_kernel_, start_kernel_, mutate_kernel_;
+  const cl::Kernel& bind_bootstrap(const cl::Buffer& targets, const cl::Buffer& pixels, Film& film);
+  const cl::Kernel& bind_start(const cl::Buffer& starts, Film& film);
   uint32_t dims_for(const dev::RenderParams& params) const;
   // Path lengths the chains sample: max_depth + 1 (mmlt) or 1 (pssmlt).
   uint32_t depths_for(const dev::RenderParams& params) const;
 
   cl::Buffer params_, mlt_params_, depths_, importance_;
   cl::Buffer chains_, coords_;
+  cl::Buffer unused_;  // 4 bytes: mlt_begin's arguments that one launch does not use
   dev::MltParams mlt_{};
   bool started_ = false;
   bool dark_ = false;  // every bootstrap path was black: nothing to mutate

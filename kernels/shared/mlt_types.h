@@ -26,7 +26,7 @@ typedef struct PssCoord {
 
 /* What one Metropolis launch needs besides RenderParams. */
 typedef struct MltParams {
-  u32 chains;        /* chains in flight (work-items of mlt_start and mlt_mutate) */
+  u32 chains;        /* chains in flight (work-items of mlt_begin's start and mlt_mutate) */
   u32 mutations;     /* proposals per chain in this launch */
   u32 dims;          /* coordinates of a chain's vector */
   u32 dim_stride;    /* chain c's coordinate d is coords[c * chain_stride + d * dim_stride]: */
@@ -42,7 +42,7 @@ typedef struct MltParams {
   u32 seed;
   u32 chain_base;    /* the first chain's index among every device's chains: its mutations'
                         random numbers are keyed by chain_base + c (one device: 0) */
-  u32 bootstrap_first; /* this mlt_bootstrap launch's paths: bootstrap_first to     */
+  u32 bootstrap_first; /* this bootstrap launch's paths: bootstrap_first to         */
   u32 bootstrap_count; /*   bootstrap_first + bootstrap_count - 1 (the devices share them) */
   u32 pad[2];
 } MltParams;
