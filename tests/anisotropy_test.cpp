@@ -30,7 +30,7 @@
 #include "support/scenes.h"
 #include "util/log.h"
 
-namespace clpt {
+namespace clpt::anisotropy_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -150,4 +150,4 @@ TEST(GltfConformance, AnisotropyAssetsReadTheExtension) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::anisotropy_test

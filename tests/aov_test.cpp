@@ -24,7 +24,7 @@
 #include "support/scenes.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::aov_test {
 namespace {
 
 constexpr uint32_t kSize = 32;
@@ -177,4 +177,4 @@ TEST(AovOptions, NamesAreChecked) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::aov_test

@@ -50,7 +50,7 @@
 #include "support/mesh.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::bdpt_mis_test {
 namespace {
 
 constexpr int kSlots = 8;      // MIS_TEST_SLOTS
@@ -329,4 +329,4 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<MisCase>& info) { return std::string(info.param.name); });
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::bdpt_mis_test

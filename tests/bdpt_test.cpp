@@ -27,7 +27,7 @@
 #include "support/scenes.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::bdpt_test {
 namespace {
 
 using test::FurnaceCase;
@@ -224,4 +224,4 @@ TEST(Bdpt, RefusesOrthographicCameras) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::bdpt_test

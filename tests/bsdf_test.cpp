@@ -27,7 +27,7 @@
 #include "support/chi2.h"
 #include "support/device.h"
 
-namespace clpt {
+namespace clpt::bsdf_test {
 namespace {
 
 using test::Chi2Grid;
@@ -748,7 +748,9 @@ TEST(BsdfConsistency, EvalWithPdfIsEvalAndPdf) {
       }
       EXPECT_EQ(wrong, 0u) << name << " mode " << mode << ": " << nonzero << " non-zero, " << exact
                            << " equal to the last bit";
-      if (c.roughness > 0.0f) EXPECT_GT(nonzero, n / 10) << name;  // the check saw the lobes
+      if (c.roughness > 0.0f) {
+        EXPECT_GT(nonzero, n / 10) << name;  // the check saw the lobes
+      }
     }
   }
 }
@@ -981,4 +983,4 @@ TEST(BsdfLambertLimit, SpecularZeroIsLambert) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::bsdf_test

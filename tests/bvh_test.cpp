@@ -23,7 +23,7 @@
 #include "support/mesh.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::bvh_test {
 namespace {
 
 using test::Mesh;
@@ -931,4 +931,4 @@ TEST(Reintersect, RandomSoup) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::bvh_test

@@ -16,7 +16,7 @@
 #include "render/camera_setup.h"
 #include "support/device.h"
 
-namespace clpt {
+namespace clpt::camera_test {
 namespace {
 
 const cl::Program& camera_program() {
@@ -127,4 +127,4 @@ TEST(ThinLens, DefaultFocusIsTheSceneCentreAlongTheView) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::camera_test

@@ -9,7 +9,7 @@
 #include "io/image_io.h"
 #include "support/run.h"
 
-namespace clpt {
+namespace clpt::checkpoint_test {
 namespace {
 namespace fs = std::filesystem;
 using test::run_clpt;
@@ -137,4 +137,4 @@ TEST_F(ResumeAndSave, DamagedCheckpointsAreClearErrors) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::checkpoint_test

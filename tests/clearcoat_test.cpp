@@ -29,7 +29,7 @@
 #include "support/scenes.h"
 #include "util/log.h"
 
-namespace clpt {
+namespace clpt::clearcoat_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -237,4 +237,4 @@ TEST(GltfConformance, ClearCoatTestReadsTheExtension) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::clearcoat_test

@@ -16,7 +16,7 @@
 #include "support/parse_options.h"
 #include "support/run.h"
 
-namespace clpt {
+namespace clpt::cli_test {
 namespace {
 namespace fs = std::filesystem;
 using test::run_clpt;
@@ -418,9 +418,9 @@ TEST_F(Cli, SecondInterruptLeavesAtOnceWithoutWriting) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::cli_test
 
-namespace clpt {
+namespace clpt::cli_test {
 namespace {
 
 TEST_F(Cli, CameraByIndexAndByName) {
@@ -514,4 +514,4 @@ TEST_F(Cli, HugeCameraIndexIsOutOfRangeAndATinyTimeStillRenders) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::cli_test

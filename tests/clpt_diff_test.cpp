@@ -22,7 +22,7 @@
 #include "support/run.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::clpt_diff_test {
 namespace {
 namespace fs = std::filesystem;
 
@@ -329,4 +329,4 @@ TEST_F(ClptDiff, ZTestFromVarianceChannels) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::clpt_diff_test

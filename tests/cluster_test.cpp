@@ -11,7 +11,7 @@
 #include "render/cluster.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::cluster_test {
 namespace {
 
 // Rank 0 of two; rank 1 failed with `code` (or not, code < 0) and `message`.
@@ -83,4 +83,4 @@ TEST(ClusterAgree, NoFailureThrowsNothingAndAloneRethrowsAsIs) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::cluster_test

@@ -39,6 +39,7 @@
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
+namespace compressed_geometry_test {
 namespace {
 
 const fs::path kShared = CLPT_SHARED_SCENES_DIR;
@@ -528,3 +529,5 @@ TEST(GltfConformance, EveryExtensionAssetLoadsOrIsRefusedClearly) {
 }
 
 }  // namespace
+
+}  // namespace compressed_geometry_test

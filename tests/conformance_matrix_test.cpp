@@ -39,7 +39,7 @@
 #include "support/reference_render.h"
 #include "support/stage.h"
 
-namespace clpt {
+namespace clpt::conformance_matrix_test {
 namespace {
 
 using test::StageLight;
@@ -343,4 +343,4 @@ TEST(MatrixDesign, CoversEveryIntegratorOfTheTable) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::conformance_matrix_test

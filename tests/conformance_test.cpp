@@ -10,7 +10,7 @@
 #include "support/device.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::conformance_test {
 namespace {
 namespace fs = std::filesystem;
 
@@ -68,4 +68,4 @@ TEST(Conformance, EveryExtensionSceneRendersOrFailsClearly) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::conformance_test

@@ -18,7 +18,7 @@
 #include "support/reference_render.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::cross_strategy_test {
 namespace {
 
 struct Strategy {
@@ -128,4 +128,4 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::cross_strategy_test

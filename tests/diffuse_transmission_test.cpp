@@ -19,7 +19,7 @@
 #include "support/gltf_plane.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::diffuse_transmission_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -56,4 +56,4 @@ TEST(DiffuseTransmission, SheetUnderAConstantSkyShowsItsClosedForm) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::diffuse_transmission_test

@@ -22,7 +22,7 @@
 #include "support/mesh.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::dispersion_test {
 namespace {
 
 constexpr uint32_t kSize = 32;
@@ -172,4 +172,4 @@ TEST(GltfConformance, DispersionTestReadsTheExtension) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::dispersion_test

@@ -11,7 +11,7 @@
 #include "support/device.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::estimator_test {
 namespace {
 
 struct Combo {
@@ -84,9 +84,9 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::estimator_test
 
-namespace clpt {
+namespace clpt::estimator_test {
 namespace {
 
 // The planes are 2000 units wide on purpose: a ray leaving such a large triangle is where
@@ -136,9 +136,9 @@ TEST(AmbientOcclusion, SlabMatchesClosedForm) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::estimator_test
 
-namespace clpt {
+namespace clpt::estimator_test {
 namespace {
 
 // A floor lit by two emitters that each defeat one strategy: a dim 20 x 20 m emitter 0.2 m
@@ -205,9 +205,9 @@ TEST(MisVariance, PowerHeuristicNotWorseThanBetterStrategy) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::estimator_test
 
-namespace clpt {
+namespace clpt::estimator_test {
 namespace {
 
 // ConvergenceRate: an unbiased estimator with independent samples has MSE proportional to
@@ -243,4 +243,4 @@ TEST(ConvergenceRate, IndependentSamplingQuartersRelMseAtFourTimesTheSamples) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::estimator_test

@@ -17,7 +17,7 @@
 #include "support/device.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::glossy_mis_test {
 namespace {
 
 constexpr uint32_t kSize = 32;
@@ -111,4 +111,4 @@ TEST(GlossyMis, LightSamplingAloneAgreesWithMis) { expect_agrees_with_mis(dev::D
 TEST(GlossyMis, BsdfSamplingAloneAgreesWithMis) { expect_agrees_with_mis(dev::DIRECT_BSDF); }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::glossy_mis_test

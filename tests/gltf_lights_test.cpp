@@ -14,7 +14,7 @@
 #include "util/error.h"
 #include "util/log.h"
 
-namespace clpt {
+namespace clpt::gltf_lights_test {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -180,4 +180,4 @@ TEST(GltfLights, SharedShadowScenesLoad) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::gltf_lights_test

@@ -33,6 +33,7 @@
 
 namespace fs = std::filesystem;
 
+namespace gltf_loader_test {
 namespace {
 
 const fs::path kShared = CLPT_SHARED_SCENES_DIR;
@@ -930,3 +931,5 @@ TEST(GltfConformance, WaterBottleTextures) {
   }
   EXPECT_EQ(s.tangents.size(), s.positions.size());
 }
+
+}  // namespace gltf_loader_test

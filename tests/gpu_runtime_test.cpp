@@ -20,7 +20,7 @@
 #include "support/device.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::gpu_runtime_test {
 namespace {
 
 TEST(PassSchedule, SlowDeviceStaysWithinThePassTime) {
@@ -114,4 +114,4 @@ TEST(DeviceErrors, ResourceErrorsNameTheKernelAndTheBuffers) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::gpu_runtime_test

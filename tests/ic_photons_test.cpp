@@ -30,7 +30,7 @@
 #include "support/run.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::ic_photons_test {
 namespace {
 
 // ic with photon-gathering records, or pm with its final gather cached.
@@ -189,4 +189,4 @@ TEST(IcPhotonCli, StatsShowTheCacheAtWork) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::ic_photons_test

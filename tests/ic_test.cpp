@@ -46,7 +46,7 @@
 #include "support/scenes.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::ic_test {
 namespace {
 
 glm::vec3 vec(const float* v) { return glm::vec3(v[0], v[1], v[2]); }
@@ -546,4 +546,4 @@ TEST(IcCli, StatsMarksAndDeterminism) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::ic_test

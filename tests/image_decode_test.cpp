@@ -20,7 +20,7 @@
 #include "io/image_io.h"
 #include "scene/image_decode.h"
 
-namespace clpt {
+namespace clpt::image_decode_test {
 namespace {
 
 std::vector<unsigned char> small_png() {
@@ -319,4 +319,4 @@ TEST(ImageDecode, Ktx2IsNamed) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::image_decode_test

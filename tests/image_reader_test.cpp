@@ -14,7 +14,7 @@
 #include "io/image_io.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::image_reader_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -100,4 +100,4 @@ TEST(ImageReader, MultiPartExrReads) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::image_reader_test

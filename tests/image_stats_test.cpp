@@ -9,7 +9,7 @@
 #include "stats/image_stats.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::image_stats_test {
 namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
@@ -324,4 +324,4 @@ TEST(ImageStats, BatchSigmaIsAStandardError) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::image_stats_test

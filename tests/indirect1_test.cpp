@@ -39,7 +39,7 @@
 #include "support/scenes.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::indirect1_test {
 namespace {
 
 using test::parse_error;
@@ -238,4 +238,4 @@ TEST(IndirectCli, StatsNameTheGeneratorAndImagesAgree) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::indirect1_test

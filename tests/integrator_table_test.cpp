@@ -18,6 +18,7 @@
 #include "options.h"
 #include "util/error.h"
 
+namespace integrator_table_test {
 namespace {
 
 using clpt::FilmKind;
@@ -127,3 +128,5 @@ TEST(IntegratorTable, RowsSayWhatTheReadmeSays) {
   EXPECT_EQ(clpt::find_integrator("direct")->max_depth_cap, 1u);
   EXPECT_TRUE(clpt::find_integrator("lt")->traces_light_paths);
 }
+
+}  // namespace integrator_table_test

@@ -25,7 +25,7 @@
 #include "support/thin_film.h"
 #include "util/log.h"
 
-namespace clpt {
+namespace clpt::iridescence_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -143,4 +143,4 @@ TEST(GltfConformance, IridescenceAssetsReadTheExtension) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::iridescence_test

@@ -21,7 +21,7 @@
 #include "support/point_sets.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::kdtree_test {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -359,4 +359,4 @@ TEST(KdTree, IsBalanced) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::kdtree_test

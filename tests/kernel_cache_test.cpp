@@ -13,7 +13,7 @@
 #include "support/device.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::kernel_cache_test {
 namespace {
 namespace fs = std::filesystem;
 
@@ -276,4 +276,4 @@ TEST(KernelSource, MissingIncludeIsAClearError) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::kernel_cache_test

@@ -27,7 +27,7 @@
 #include "support/device.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::kernel_programs_test {
 namespace {
 namespace fs = std::filesystem;
 
@@ -179,4 +179,4 @@ TEST_F(KernelDump, RefusesAFileAndAFolderOfOtherThings) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::kernel_programs_test

@@ -28,7 +28,7 @@
 #include "support/run.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::light_test {
 namespace {
 namespace fs = std::filesystem;
 using test::Chi2Grid;
@@ -751,4 +751,4 @@ TEST(LightCli, RendersWithEnvironmentMap) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::light_test

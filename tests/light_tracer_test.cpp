@@ -32,7 +32,7 @@
 #include "support/scenes.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::light_tracer_test {
 namespace {
 
 const cl::Program& lt_program() {
@@ -376,4 +376,4 @@ TEST(LightTracer, RefusesCheckpoints) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::light_tracer_test

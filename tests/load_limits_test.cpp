@@ -19,7 +19,7 @@
 #include "scene/load_limits.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::load_limits_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -144,4 +144,4 @@ TEST(LoadLimits, MemoryBudgetRefusesATinyFileThatNeedsGigabytes) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::load_limits_test

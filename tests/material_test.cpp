@@ -16,7 +16,7 @@
 #include "scene/tangents.h"
 #include "support/device.h"
 
-namespace clpt {
+namespace clpt::material_test {
 namespace {
 
 const cl::Program& material_program() {
@@ -306,4 +306,4 @@ TEST(Tangents, QuadWithKnownUvs) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::material_test

@@ -40,7 +40,7 @@
 #include "support/scenes.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::mlt_test {
 namespace {
 
 // ---- The toy target of tests/kernels/mlt_test.cl, on the host. ----
@@ -423,4 +423,4 @@ TEST(MltOptions, RendererChecksItsConfig) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::mlt_test

@@ -18,7 +18,7 @@
 #include "support/run.h"
 #include "support/split_render.h"
 
-namespace clpt {
+namespace clpt::mpi_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -307,4 +307,4 @@ TEST_F(Mpi, CheckpointsOfRanksResumeToOneProcesssImage) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::mpi_test

@@ -24,7 +24,7 @@
 #include "support/split_render.h"
 #include "support/run.h"
 
-namespace clpt {
+namespace clpt::multi_device_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -257,4 +257,4 @@ TEST_F(MultiDevice, AllNamesEveryDeviceAndAListIsChecked) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::multi_device_test

@@ -26,7 +26,7 @@
 #include "support/scenes.h"
 #include "util/log.h"
 
-namespace clpt {
+namespace clpt::normal_map16_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -100,7 +100,9 @@ TEST(NormalMap16, ASixteenBitTexelCountsTwiceAgainstTheLimit) {
     ASSERT_EQ(scene.textures.size(), 1u);
     EXPECT_EQ(scene.textures[0].wide, limit == 2u);
     ASSERT_EQ(scene.textures[0].texels.size(), limit == 2u ? 2u : 1u);
-    if (limit == 1u) EXPECT_EQ(scene.textures[0].texels[0], 128u | 128u << 8 | 255u << 16 | 255u << 24);
+    if (limit == 1u) {
+      EXPECT_EQ(scene.textures[0].texels[0], 128u | 128u << 8 | 255u << 16 | 255u << 24);
+    }
   }
 }
 
@@ -141,4 +143,4 @@ TEST(NormalMap16, MipLevelsKeepSixteenBits) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::normal_map16_test

@@ -13,7 +13,7 @@
 #include "shared/bdpt_types.h"
 #include "support/device.h"
 
-namespace clpt {
+namespace clpt::path_vertex_test {
 namespace {
 
 TEST(PathVertex, StoresTheBsdfAndTheSideExactly) {
@@ -64,4 +64,4 @@ TEST(PathVertex, StoresTheBsdfAndTheSideExactly) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::path_vertex_test

@@ -35,7 +35,7 @@
 #include "support/device.h"
 #include "support/point_sets.h"
 
-namespace clpt {
+namespace clpt::photon_map_test {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -321,4 +321,4 @@ TEST(PhotonGrid, GatherEqualsBruteForce) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::photon_map_test

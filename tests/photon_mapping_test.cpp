@@ -29,7 +29,7 @@
 #include "support/render.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::photon_mapping_test {
 namespace {
 
 using test::render;
@@ -293,4 +293,4 @@ TEST(PhotonMapping, PmIsReproducible) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::photon_mapping_test

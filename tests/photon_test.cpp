@@ -19,7 +19,7 @@
 #include "support/device.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::photon_test {
 namespace {
 
 struct DeviceScene {
@@ -130,4 +130,4 @@ TEST(PhotonPower, CausticPhotonsComeOnlyFromDeltaOrGlossyScattering) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::photon_test

@@ -32,7 +32,7 @@
 #include "support/render.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::pixel_filter_test {
 namespace {
 
 struct FilterCase {
@@ -302,4 +302,4 @@ INSTANTIATE_TEST_SUITE_P(Integrators, PixelFilterSplat, ::testing::ValuesIn(kSpl
                          });
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::pixel_filter_test

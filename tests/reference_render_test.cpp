@@ -11,7 +11,7 @@
 #include "support/reference_render.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::reference_render_test {
 namespace {
 
 void expect_same(const FilmResult& a, const FilmResult& b, const char* what) {
@@ -57,4 +57,4 @@ TEST(ReferenceRender, CachedEqualsRendered) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::reference_render_test

@@ -12,7 +12,7 @@
 #include "support/reference_match.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::render_test {
 namespace {
 
 using test::FurnaceCase;
@@ -83,4 +83,4 @@ TEST(Determinism, OtherSeedOtherImage) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::render_test

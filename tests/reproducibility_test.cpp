@@ -17,7 +17,7 @@
 #include "io/image_io.h"
 #include "support/run.h"
 
-namespace clpt {
+namespace clpt::reproducibility_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -62,4 +62,4 @@ INSTANTIATE_TEST_SUITE_P(Integrators, Reproducible,
                          [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::reproducibility_test

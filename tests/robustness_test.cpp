@@ -51,7 +51,7 @@
 
 extern char** environ;
 
-namespace clpt {
+namespace clpt::robustness_test {
 namespace {
 namespace fs = std::filesystem;
 
@@ -941,4 +941,4 @@ TEST(UnreadableInput, BufferThatIsAFolderFifoOrDeviceIsNamedAsSuch) {
   }
 }
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::robustness_test

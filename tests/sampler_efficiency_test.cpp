@@ -21,7 +21,7 @@
 #include "support/device.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::sampler_efficiency_test {
 namespace {
 
 // A diffuse floor under a 1 m square light 1 m above it, seen from straight above by an
@@ -100,4 +100,4 @@ INSTANTIATE_TEST_SUITE_P(Samplers, SamplerEfficiency,
                          });
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::sampler_efficiency_test

@@ -25,7 +25,7 @@
 #include "shared/render_types.h"
 #include "support/device.h"
 
-namespace clpt {
+namespace clpt::sampler_test {
 namespace {
 
 using u32 = uint32_t;
@@ -786,4 +786,4 @@ TEST(SamplerVariance, SmoothIntegrandMseBelowIndependent) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::sampler_test

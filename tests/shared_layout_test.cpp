@@ -17,7 +17,7 @@
 #include "shared/vcm_types.h"
 #include "support/device.h"
 
-namespace clpt {
+namespace clpt::shared_layout_test {
 namespace {
 
 struct Entry {
@@ -26,10 +26,9 @@ struct Entry {
 };
 
 std::vector<Entry> host_layout() {
-  using namespace dev;
   std::vector<Entry> e;
-#define LAYOUT_STRUCT(T) e.push_back({"sizeof(" #T ")", uint32_t(sizeof(T))});
-#define LAYOUT_FIELD(T, f) e.push_back({"offsetof(" #T ", " #f ")", uint32_t(offsetof(T, f))});
+#define LAYOUT_STRUCT(T) e.push_back({"sizeof(" #T ")", uint32_t(sizeof(dev::T))});
+#define LAYOUT_FIELD(T, f) e.push_back({"offsetof(" #T ", " #f ")", uint32_t(offsetof(dev::T, f))});
 #include "kernels/layout_fields.h"
 #undef LAYOUT_STRUCT
 #undef LAYOUT_FIELD
@@ -63,4 +62,4 @@ TEST(SharedLayout, FixedSizes) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::shared_layout_test

@@ -29,7 +29,7 @@
 #include "support/scenes.h"
 #include "util/log.h"
 
-namespace clpt {
+namespace clpt::sheen_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -221,4 +221,4 @@ TEST(GltfConformance, SheenAssetsReadTheExtension) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::sheen_test

@@ -39,7 +39,7 @@
 
 #include <unistd.h>
 
-namespace clpt {
+namespace clpt::texture_lod_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -313,4 +313,4 @@ TEST(TextureLod, PhotonMappersConeThroughAMirror) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::texture_lod_test

@@ -18,7 +18,7 @@
 #include "scene/scene.h"
 #include "support/device.h"
 
-namespace clpt {
+namespace clpt::texture_test {
 namespace {
 
 const cl::Program& texture_program() {
@@ -317,4 +317,4 @@ TEST(TextureLod, TrilinearBetweenLevels) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::texture_test

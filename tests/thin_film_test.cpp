@@ -22,7 +22,7 @@
 
 #include "support/thin_film.h"
 
-namespace clpt {
+namespace clpt::thin_film_test {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -146,4 +146,4 @@ TEST(ThinFilm, ThickFilmsAreIncoherentAndNoFilmIsTheBase) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::thin_film_test

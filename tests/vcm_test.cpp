@@ -41,7 +41,7 @@
 #include "support/scenes.h"
 #include "util/error.h"
 
-namespace clpt {
+namespace clpt::vcm_test {
 namespace {
 
 using test::FurnaceCase;
@@ -290,4 +290,4 @@ TEST(VcmCli, StatsFigures) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::vcm_test

@@ -8,7 +8,7 @@
 
 #include "io/view_transform.h"
 
-namespace clpt {
+namespace clpt::view_transform_test {
 namespace {
 
 std::array<float, 3> encode(ViewTransform v, float r, float g, float b, float exposure = 0.0f) {
@@ -119,4 +119,4 @@ TEST(ViewTransform, GreyRampsAreMonotonicInRange) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::view_transform_test

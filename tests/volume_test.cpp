@@ -12,7 +12,7 @@
 #include "support/device.h"
 #include "support/scenes.h"
 
-namespace clpt {
+namespace clpt::volume_test {
 namespace {
 
 Image render_cube(bool volume) {
@@ -47,4 +47,4 @@ TEST(Volume, BeerLambertThroughIndexMatchedCube) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::volume_test

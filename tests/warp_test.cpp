@@ -20,7 +20,7 @@
 #include "kernels/warp_ids.h"
 #include "support/device.h"
 
-namespace clpt {
+namespace clpt::warp_test {
 namespace {
 
 using test::Chi2Grid;
@@ -640,4 +640,4 @@ TEST(Chi2Harness, PlanarDomains) {
 }
 
 }  // namespace
-}  // namespace clpt
+}  // namespace clpt::warp_test

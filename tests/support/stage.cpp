@@ -10,7 +10,7 @@
 namespace clpt::test {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
+constexpr float kPiF = 3.14159265358979f;
 const glm::vec3 kCameraOrigin(0.5f, 0.32f, 1.0f);
 constexpr float kYfov = 0.55f;
 const glm::vec3 kSphereCentre(0.5f, 0.2f, -0.5f);
@@ -88,9 +88,9 @@ void add_uv_sphere(Scene& scene, glm::vec3 c, float r, const Material& m, int se
   const bool tangents = !scene.tangents.empty() || m.normal_texture.used() || m.anisotropy_strength > 0.0f;
   if (tangents && scene.tangents.empty()) scene.tangents.assign(scene.positions.size(), glm::vec4(0.0f));
   for (int i = 0; i <= rings; ++i) {
-    const float theta = kPi * float(i) / float(rings);
+    const float theta = kPiF * float(i) / float(rings);
     for (int j = 0; j <= segments; ++j) {
-      const float phi = 2.0f * kPi * float(j) / float(segments);
+      const float phi = 2.0f * kPiF * float(j) / float(segments);
       const glm::vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta),
                         -std::sin(theta) * std::sin(phi));
       scene.positions.push_back(c + r * n);
@@ -296,8 +296,8 @@ void add_light(Scene& scene, StageLight light) {
       l.position = glm::vec3(0.2f, 0.8f, -0.2f);
       l.direction = glm::normalize(kSphereCentre - l.position);
       l.intensity = 1.5f;
-      l.inner_cone = 25.0f * kPi / 180.0f;
-      l.outer_cone = 35.0f * kPi / 180.0f;
+      l.inner_cone = 25.0f * kPiF / 180.0f;
+      l.outer_cone = 35.0f * kPiF / 180.0f;
       scene.lights.push_back(l);
       break;
     }
