@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 scripts/install-deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build --target clpt
+cmake --preset release  # CMakePresets.json: build/, Release, Ninja, unity mode
+cmake --build --preset release --target clpt
 ./build/clpt --device=pocl scenes/cornell_box.gltf --resolution 512x512 --spp 256 -o cornell_box.png
 echo "quickstart: wrote $(pwd)/cornell_box.png"
