@@ -188,12 +188,10 @@ void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
   dev::MltParams none{};
   params_.write(&params, sizeof(params));
   mlt_params_.write(&none, sizeof(none));
+  // No work-item reads or writes a buffer here, so the placeholder stands for all of them.
   const uint32_t chains = chains_for(params, film);
-  cl::Buffer targets(ctx_, sizeof(float), CL_MEM_READ_WRITE, nullptr, "bootstrap targets");
-  cl::Buffer pixels(ctx_, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "bootstrap pixels");
-  cl::Buffer starts(ctx_, sizeof(uint32_t), CL_MEM_READ_ONLY, nullptr, "chain starts");
-  bind_bootstrap(targets, pixels, film).launch(ctx_, config_.bootstrap);
-  bind_start(starts, film).launch(ctx_, chains);
+  bind_bootstrap(unused_, unused_, film).launch(ctx_, config_.bootstrap);
+  bind_start(unused_, film).launch(ctx_, chains);
   mutate_kernel_.args(mutate_arg_, params_, mlt_params_, depths_, importance_, chains_, coords_,
                       film.splat(), film.ray_counts());
   mutate_kernel_.launch(ctx_, chains);
