@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <memory>
+#include <random>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -134,6 +136,83 @@ TEST(Material, ResolveReadsTexturesUv1AndColor) {
       EXPECT_NEAR(r[i].emission[c], want, 1e-5 + 1e-6 * want) << "channel " << c;
       EXPECT_NEAR(r[i].emission_at[c], r[i].emission[c], 1e-6f) << "channel " << c;
     }
+  }
+}
+
+// The plain material's shortcut (material_resolve_plain) against the general resolve: for
+// materials with neither textures nor layers, every BSDF input, the shading normal and the
+// emission are the same bit for bit, with and without COLOR_0 (which multiplies the base
+// colour); the host flags exactly those materials MATERIAL_PLAIN, and one texture or one
+// layer clears the flag.
+std::vector<int> resolve_plain_both(const DeviceScene& ds, const std::vector<glm::vec2>& xy) {
+  cl::Context& ctx = test::device_context();
+  std::vector<glm::vec4> org, dir;
+  for (glm::vec2 p : xy) {
+    org.emplace_back(p, 1.0f, 0.0f);
+    dir.emplace_back(0.0f, 0.0f, -1.0f, 0.0f);
+  }
+  const uint32_t n = uint32_t(xy.size());
+  cl::Buffer bo = cl::Buffer::from_vector(ctx, org), bd = cl::Buffer::from_vector(ctx, dir);
+  cl::Buffer out(ctx, 2 * n * sizeof(int), CL_MEM_WRITE_ONLY, nullptr, "plain and full");
+  cl::Kernel k(material_program(), "resolve_plain_both");
+  const cl_uint next = ds.buffers->bind(k, 0);
+  k.args(next, bo, bd, out, n);
+  k.launch(ctx, n);
+  ctx.finish();
+  return out.read_vector<int>(2 * n);
+}
+
+TEST(Material, ResolvePlainIsResolveFull) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const std::vector<glm::vec2> pts = {{0.2f, 0.3f}, {0.7f, 0.9f}, {0.9f, 0.1f}, {0.5f, 0.5f}};
+  for (int i = 0; i < 24; ++i) {
+    Material m;
+    m.base_color = glm::vec4(u(rng), u(rng), u(rng), u(rng));
+    m.metallic = i % 3 == 0 ? 0.0f : u(rng);
+    m.roughness = u(rng);
+    m.transmission = i % 2 == 0 ? 0.0f : u(rng);
+    m.dispersion = i % 4 < 2 ? 0.0f : 20.0f / (20.0f + 40.0f * u(rng));
+    m.ior = 1.0f + u(rng);
+    m.specular = u(rng);
+    m.specular_color = glm::vec3(u(rng), u(rng), u(rng));
+    m.diffuse_transmission_color = glm::vec3(u(rng), u(rng), u(rng));
+    m.iridescence_ior = 1.0f + u(rng);
+    m.iridescence_thickness_max = 100.0f + 500.0f * u(rng);
+    if (i % 5 == 0) m.emission = glm::vec3(u(rng), 2.0f * u(rng), 0.0f);
+    const bool extra = i % 2 == 0;  // COLOR_0 (with TEXCOORD_1 and tangents) or none
+    SCOPED_TRACE(testing::Message() << "material " << i << " extra " << extra);
+    DeviceScene ds(quad_scene(m, {}, extra));
+    const std::vector<int> r = resolve_plain_both(ds, pts);
+    for (size_t k = 0; k < pts.size(); ++k) {
+      EXPECT_EQ(r[2 * k], 0) << "point " << k << ": fields that differ (bit = field)";
+      EXPECT_EQ(r[2 * k + 1], 1) << "point " << k << ": not flagged plain";
+    }
+  }
+  // One texture, or one layer, and the material takes the general path.
+  std::vector<std::pair<const char*, Material>> not_plain;
+  auto add = [&](const char* what, auto set) {
+    Material m;
+    set(m);
+    not_plain.emplace_back(what, m);
+  };
+  add("base colour texture", [](Material& m) { m.base_color_texture.texture = 0; });
+  add("emissive texture", [](Material& m) {
+    m.emission = glm::vec3(1.0f);
+    m.emissive_texture.texture = 0;
+  });
+  add("clearcoat normal texture only", [](Material& m) { m.clearcoat_normal_texture.texture = 0; });
+  add("clearcoat", [](Material& m) { m.clearcoat = 0.5f; });
+  add("iridescence", [](Material& m) { m.iridescence = 0.5f; });
+  add("diffuse transmission", [](Material& m) { m.diffuse_transmission = 0.5f; });
+  add("sheen", [](Material& m) { m.sheen_color = glm::vec3(0.0f, 0.0f, 0.25f); });
+  add("anisotropy", [](Material& m) { m.anisotropy_strength = 0.5f; });
+  for (const auto& [what, m] : not_plain) {
+    SCOPED_TRACE(what);
+    DeviceScene ds(quad_scene(m, {texture(1, 1, {rgba(10, 200, 30)})}));
+    const std::vector<int> r = resolve_plain_both(ds, {{0.3f, 0.6f}});
+    ASSERT_GE(r[0], 0) << "no hit";
+    EXPECT_EQ(r[1], 0) << "flagged plain";
   }
 }
 

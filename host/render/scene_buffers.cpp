@@ -70,10 +70,19 @@ dev::Material to_device(const Material& m) {
       &m.diffuse_transmission_texture, &m.diffuse_transmission_color_texture,
       &m.sheen_color_texture,    &m.sheen_roughness_texture,   &m.anisotropy_texture,
       &m.clearcoat_normal_texture};
+  bool any_texture = false;
   for (int i = 0; i < dev::TEX_SLOT_COUNT; ++i) {
     d.tex[i] = to_device(*refs[i]);
+    any_texture = any_texture || d.tex[i].texture >= 0;
     if (refs[i]->used() && i != dev::TEX_EMISSIVE) d.flags |= dev::MATERIAL_TEXTURED;
   }
+  // The kernels' tests for each layer, as they are written there (material_resolve_full), on
+  // the device struct's own values (fmax, as the kernels' max_component).
+  const bool layered = d.clearcoat > 0.0f || d.iridescence > 0.0f ||
+                       d.diffuse_transmission > 0.0f ||
+                       std::fmax(d.sheen_color[0], std::fmax(d.sheen_color[1], d.sheen_color[2])) > 0.0f ||
+                       (d.flags & dev::MATERIAL_ANISOTROPIC) != 0u;
+  if (!any_texture && !layered) d.flags |= dev::MATERIAL_PLAIN;
   return d;
 }
 

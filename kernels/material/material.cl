@@ -97,8 +97,10 @@ static inline void material_anisotropy(const SceneView* s, __global const Materi
   sh->bsdf.anisotropy_t = dir / dl;
 }
 
-static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
-  __global const Material* m = &s->materials[sh->material];
+/* The BSDF inputs of material m at sh from its factors, textures, vertex colour and layers:
+ * the general case (material_resolve below takes the plain one's shortcut). */
+CLPT_NOINLINE void material_resolve_full(const SceneView* s, __global const Material* m,
+                                         SurfaceHit* sh) {
   const float2 uv0 = sh->uv, uv1 = sh->uv1;
   const TexPoint q = {uv0, uv1, sh->tex_lod};
   const float4 white = (float4)(1.0f);
@@ -165,6 +167,44 @@ static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
   sh->emission = material_emission_uv(s, m, uv0, uv1);
   if (m->tex[TEX_NORMAL].texture >= 0)
     sh->ns = material_normal_map(s, &m->tex[TEX_NORMAL], m->normal_scale, sh, &q);
+}
+
+/* A plain material (MATERIAL_PLAIN, decided by the host: no texture in any slot, emissive
+ * included, and no layer: clearcoat, iridescence, diffuse transmission, sheen and anisotropy
+ * all off): its factors times the vertex colour. Bit for bit what material_resolve_full
+ * gives it, since every slot then reads its fallback 1 and x * 1 = x exactly
+ * (Material.ResolvePlainIsResolveFull), without the seventeen slot look-ups and the layers'
+ * tests: on PoCL those were 9 % of a Cornell box render (docs/BENCHMARKS.md, session 31). */
+static inline void material_resolve_plain(__global const Material* m, SurfaceHit* sh) {
+  sh->bsdf.base_color = (vload4(0, m->base_color) * sh->color).xyz;
+  sh->bsdf.metallic = m->metallic;
+  sh->bsdf.roughness = m->roughness;
+  sh->bsdf.transmission = m->transmission;
+  sh->bsdf.specular = m->specular;
+  sh->bsdf.specular_color = vload3(0, m->specular_color);
+  sh->bsdf.ior = m->ior;
+  sh->bsdf.dispersion = m->transmission > 0.0f ? m->dispersion : 0.0f;
+  sh->bsdf.clearcoat = sh->bsdf.clearcoat_roughness = 0.0f;
+  sh->bsdf.clearcoat_n = sh->ns;
+  sh->bsdf.iridescence = 0.0f;
+  sh->bsdf.iridescence_ior = m->iridescence_ior;
+  sh->bsdf.iridescence_thickness = m->iridescence_thickness_max;
+  sh->bsdf.diffuse_transmission = 0.0f;
+  sh->bsdf.diffuse_transmission_color = vload3(0, m->diffuse_transmission_color);
+  sh->bsdf.sheen_color = (float3)(0.0f);
+  sh->bsdf.sheen_roughness = 0.0f;
+  sh->bsdf.anisotropy = 0.0f;
+  sh->bsdf.anisotropy_t = (float3)(0.0f);
+  sh->emission = (m->flags & MATERIAL_EMISSIVE) ? vload3(0, m->emission) : (float3)(0.0f);
+}
+
+/* The BSDF inputs, shading normal and emission of the hit's material. */
+static inline void material_resolve(const SceneView* s, SurfaceHit* sh) {
+  __global const Material* m = &s->materials[sh->material];
+  if (m->flags & MATERIAL_PLAIN)
+    material_resolve_plain(m, sh);
+  else
+    material_resolve_full(s, m, sh);
 }
 
 /* The hit's surface with its material resolved: what integrators shade with. */

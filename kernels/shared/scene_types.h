@@ -106,8 +106,11 @@ enum MaterialFlags {
   MATERIAL_ALPHA_BLEND = 8u, /* alphaMode BLEND: stochastic transparency with probability 1 - alpha */
   MATERIAL_VOLUME = 16u,     /* KHR_materials_volume attenuation inside (closed meshes) */
   MATERIAL_ANISOTROPIC = 32u, /* KHR_materials_anisotropy with a strength > 0 */
-  MATERIAL_TEXTURED = 64u     /* a slot other than the emissive one has a texture (the
+  MATERIAL_TEXTURED = 64u,    /* a slot other than the emissive one has a texture (the
                                * footprint of a lookup matters) */
+  MATERIAL_PLAIN = 128u       /* no texture in any slot and no layer (clearcoat, iridescence,
+                               * diffuse transmission, sheen, anisotropy): the factors alone
+                               * (material/material.cl's material_resolve_plain) */
 };
 
 typedef struct Material {
