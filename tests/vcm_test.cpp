@@ -139,7 +139,7 @@ TEST(CrossIntegrator, VcmMatchesPtOnCornellBox) {
   test::expect_matches_reference(test::render_batches(scene, s, 16, 700), ref, "vcm cornell");
   // Tiles of about 100 light paths: each camera path merges with its tile's light vertices
   // only, over eta = pi r^2 (paths of the tile).
-  s.bdpt.memory_bytes = 8 * (sizeof(dev::PathVertex) + 12) * 100;
+  s.bdpt.memory_bytes = 8 * (sizeof(dev::PathVertex) + sizeof(dev::GridPoint) + 24) * 100;
   test::expect_matches_reference(test::render_batches(scene, s, 16, 1700), ref, "vcm tiles");
 }
 

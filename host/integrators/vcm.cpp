@@ -5,6 +5,7 @@
 
 #include "cl/programs.h"
 #include "shared/bdpt_types.h"
+#include "shared/photon_types.h"
 #include "util/error.h"
 #include "util/timer.h"
 
@@ -18,7 +19,8 @@ VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const S
       subpaths_(subpaths),
       program_(ctx, programs::kVcm),
       light_kernel_(program_, "vcm_light"),
-      insert_kernel_(program_, "vcm_grid_insert"),
+      count_kernel_(program_, "vcm_grid_count"),
+      fill_kernel_(program_, "vcm_grid_fill"),
       camera_kernel_(program_, "vcm_camera"),
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
       vcm_params_(ctx, sizeof(dev::VcmParams), CL_MEM_READ_ONLY, nullptr, "VCM parameters"),
@@ -31,8 +33,11 @@ VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const S
 }
 
 size_t VertexConnectionMerging::tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels) {
+  // Per slot: the vertex, its grid point, its cache entry and up to two buckets' start and
+  // cursor.
   const size_t per_path =
-      size_t(capacity) * (sizeof(dev::PathVertex) + 3 * sizeof(uint32_t)) + sizeof(uint32_t);
+      size_t(capacity) * (sizeof(dev::PathVertex) + sizeof(dev::GridPoint) + 5 * sizeof(uint32_t)) +
+      sizeof(uint32_t);
   return std::clamp<size_t>(budget_bytes / per_path, 1, std::max<size_t>(pixels, 1));
 }
 
@@ -98,17 +103,23 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
                            "VCM light vertices");
     vertex_counts_ = cl::Buffer(ctx_, tile * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
                                 "VCM light vertex counts");
-    next_ = cl::Buffer(ctx_, slots * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM grid links");
+    points_ = cl::Buffer(ctx_, slots * sizeof(dev::GridPoint), CL_MEM_READ_WRITE, nullptr,
+                         "VCM grid points");
     cache_ = cl::Buffer(ctx_, slots * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
                         "VCM light vertex cache");
     size_t buckets = 1024;
     while (buckets < slots) buckets *= 2;
-    heads_ = cl::Buffer(ctx_, buckets * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM grid");
+    starts_ = cl::Buffer(ctx_, (buckets + 1) * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
+                         "VCM grid bucket starts");
+    cursor_ = cl::Buffer(ctx_, buckets * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
+                         "VCM grid cursors");
+    bucket_starts_.assign(buckets + 1, 0u);
     mask_ = static_cast<uint32_t>(buckets - 1);
     capacity_ = capacity;
     tile_ = tile;
   }
-  stats_.device_bytes = vertices_.size() + vertex_counts_.size() + next_.size() + heads_.size() +
+  stats_.device_bytes = vertices_.size() + vertex_counts_.size() + points_.size() +
+                        starts_.size() + cursor_.size() +
                         cache_.size() +
                         connection_counts_.size() + stored_counts_.size() + merge_counts_.size() +
                         merge_sum_.size();
@@ -129,11 +140,12 @@ void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& fil
   light_kernel_.args(light_arg_, params_, vcm_params_, none, none, none, vertices_, vertex_counts_,
                      film.splat(), film.ray_counts(), connection_counts_, stored_counts_);
   light_kernel_.launch(ctx_, 1);
-  insert_kernel_.args(0, params_, vcm_params_, none, vertices_, vertex_counts_, heads_, next_,
-                      cache_, cache_count_);
-  insert_kernel_.launch(ctx_, 1);
+  count_kernel_.args(0, vcm_params_, none, vertices_, vertex_counts_, starts_, cache_, cache_count_);
+  count_kernel_.launch(ctx_, 1);
+  fill_kernel_.args(0, vcm_params_, none, vertices_, vertex_counts_, cursor_, points_);
+  fill_kernel_.launch(ctx_, 1);
   camera_kernel_.args(camera_arg_, params_, vcm_params_, none, none, none, vertices_,
-                      vertex_counts_, cache_, cache_count_, heads_, next_, film.sum(), film.sum_sq(), film.splat(), merge_sum_,
+                      vertex_counts_, cache_, cache_count_, starts_, points_, film.sum(), film.sum_sq(), film.splat(), merge_sum_,
                       film.ray_counts(), connection_counts_, merge_counts_);
   camera_kernel_.launch(ctx_, 1);
 }
@@ -155,17 +167,34 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
     // order: the insert waits for it anyway).
     ctx_.finish();
     const auto t0 = Clock::now();
-    if (merging) heads_.fill_zero();
+    if (merging) starts_.fill_zero();
     if (caching) cache_count_.fill_zero();
-    insert_kernel_.args(0, params_, vcm_params_, count, vertices_, vertex_counts_, heads_, next_,
-                        cache_, cache_count_);
-    insert_kernel_.launch(ctx_, size_t(count) * capacity_);
+    const size_t slots = size_t(count) * capacity_;
+    count_kernel_.args(0, vcm_params_, count, vertices_, vertex_counts_, starts_, cache_, cache_count_);
+    count_kernel_.launch(ctx_, slots);
+    if (merging) {
+      // The counts become each bucket's first point (an exclusive sum; the total last), and
+      // the fill's cursors start there.
+      const size_t buckets = size_t(mask_) + 1;
+      starts_.read(bucket_starts_.data(), buckets * sizeof(uint32_t));
+      uint32_t sum = 0;
+      for (size_t b = 0; b < buckets; ++b) {
+        const uint32_t n = bucket_starts_[b];
+        bucket_starts_[b] = sum;
+        sum += n;
+      }
+      bucket_starts_[buckets] = sum;
+      starts_.write(bucket_starts_.data(), (buckets + 1) * sizeof(uint32_t));
+      cursor_.write(bucket_starts_.data(), buckets * sizeof(uint32_t));
+      fill_kernel_.args(0, vcm_params_, count, vertices_, vertex_counts_, cursor_, points_);
+      fill_kernel_.launch(ctx_, slots);
+    }
     ctx_.finish();
     stats_.grid_seconds += seconds_since(t0);
     if (merging) ++stats_.grids;
   }
   camera_kernel_.args(camera_arg_, params_, vcm_params_, sample, first, count, vertices_,
-                      vertex_counts_, cache_, cache_count_, heads_, next_, film.sum(), film.sum_sq(), film.splat(), merge_sum_,
+                      vertex_counts_, cache_, cache_count_, starts_, points_, film.sum(), film.sum_sq(), film.splat(), merge_sum_,
                       film.ray_counts(), connection_counts_, merge_counts_);
   camera_kernel_.launch(ctx_, count);
 }

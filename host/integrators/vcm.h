@@ -2,10 +2,11 @@
 // al. 2012, docs/concepts/vcm.md). Per sample index one pass with its own merge radius
 // r_i = r_0 (i + 1)^((alpha - 1) / 2) (Knaus and Zwicker 2011's rate, as SmallVCM), and per
 // tile of pixel indices three kernels: vcm_light traces one light subpath per pixel index
-// (camera connections splatted, vertices stored), vcm_grid_insert hashes the tile's vertices
-// into a grid of cells 2r wide, vcm_camera traces one camera subpath per pixel that connects
+// (camera connections splatted, vertices stored), vcm_grid_count and vcm_grid_fill sort the
+// tile's vertices by the bucket of their cell (cells 2r wide; the host sums the counts into
+// bucket starts between them), vcm_camera traces one camera subpath per pixel that connects
 // to its own light subpath and merges with the whole tile's. Tiles are as large as the
-// memory budget allows (vertices, grid links and buckets); eta = pi r^2 (paths of the tile)
+// memory budget allows (vertices, grid points and buckets); eta = pi r^2 (paths of the tile)
 // so a merge's normalisation and its MIS weights are right for any tile size.
 // Like bdpt, its film has splats: no per-pixel variance, sums not bit-reproducible.
 #pragma once
@@ -60,9 +61,13 @@ class VertexConnectionMerging final : public Integrator {
   VcmConfig config_;  // its radius resolved
   BdptConfig subpaths_;
   cl::Program program_;
-  cl::Kernel light_kernel_, insert_kernel_, camera_kernel_;
+  cl::Kernel light_kernel_, count_kernel_, fill_kernel_, camera_kernel_;
   cl::Buffer params_, vcm_params_;
-  cl::Buffer vertices_, vertex_counts_, heads_, next_;
+  cl::Buffer vertices_, vertex_counts_;
+  // The merge grid, cell-sorted (spatial/hash_grid.cl): per bucket its count and then its
+  // first point (buckets + 1 entries), the fill's cursors, the points in bucket order.
+  cl::Buffer starts_, cursor_, points_;
+  std::vector<uint32_t> bucket_starts_;  // the host's exclusive sum of the counts
   cl::Buffer cache_, cache_count_;  // light vertex caching: the tile's stored vertices' slots
   // Per pixel index, allocated with the first pass.
   cl::Buffer connection_counts_, stored_counts_, merge_counts_, merge_sum_;

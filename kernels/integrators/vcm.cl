@@ -3,9 +3,12 @@
  * a tile of pixel indices [path_offset, path_offset + path_count):
  *   vcm_light        one light subpath per pixel index: camera connections splatted, its
  *                    vertices stored in its own light_vertex_capacity slots;
- *   vcm_grid_insert  every stored vertex of the tile into the hashed grid (one work-item per
- *                    slot; empty slots skipped) when merging, and with light vertex caching
- *                    (--bdpt-lvc) its slot onto the tile's list of stored vertices;
+ *   vcm_grid_count   every stored vertex of the tile counted into its grid bucket (one
+ *                    work-item per slot; empty slots skipped) when merging, and with light
+ *                    vertex caching (--bdpt-lvc) its slot onto the tile's list of stored
+ *                    vertices; the host then sums the counts into bucket starts;
+ *   vcm_grid_fill    every stored vertex placed in its bucket's run of the cell-sorted grid
+ *                    (spatial/hash_grid.cl) when merging;
  *   vcm_camera       one camera subpath per pixel: connections to its own light subpath,
  *                    merges with the whole tile's, added to the film (and the merged part to
  *                    merge_sum, for the picture of what merging contributes).
@@ -35,26 +38,37 @@ __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   stored_counts[path] += stored;
 }
 
-__kernel void vcm_grid_insert(__constant const RenderParams* params, __constant const VcmParams* vcm,
-                              u32 path_count, __global const PathVertex* vertices,
-                              __global const u32* vertex_counts, volatile __global u32* heads,
-                              __global u32* next, __global u32* cache,
-                              volatile __global u32* cache_count) {
+__kernel void vcm_grid_count(__constant const VcmParams* vcm, u32 path_count,
+                             __global const PathVertex* vertices, __global const u32* vertex_counts,
+                             volatile __global u32* counts, __global u32* cache,
+                             volatile __global u32* cache_count) {
   const u32 slot = get_global_id(0);
   const u32 capacity = vcm->light_vertex_capacity;
   if (slot >= path_count * capacity) return;
   if (slot % capacity >= vertex_counts[slot / capacity]) return;
   if (vcm_mode_merges(vcm->mode))
-    grid_insert_point(vload3(0, vertices[slot].p), slot, vcm->inv_cell, vcm->mask, heads, next);
+    grid_count_point(vload3(0, vertices[slot].p), vcm->inv_cell, vcm->mask, counts);
   if (vcm->lvc) cache[atomic_inc(cache_count)] = slot;
+}
+
+__kernel void vcm_grid_fill(__constant const VcmParams* vcm, u32 path_count,
+                            __global const PathVertex* vertices, __global const u32* vertex_counts,
+                            volatile __global u32* cursor, __global GridPoint* points) {
+  const u32 slot = get_global_id(0);
+  const u32 capacity = vcm->light_vertex_capacity;
+  if (slot >= path_count * capacity) return;
+  if (slot % capacity >= vertex_counts[slot / capacity]) return;
+  __global const PathVertex* y = vertices + slot;
+  grid_fill_point(vload3(0, y->p), vload3(0, y->ng), y->depth, slot, vcm->inv_cell, vcm->mask,
+                  cursor, points);
 }
 
 __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                          __constant const VcmParams* vcm, u32 sample_index, u32 path_offset,
                          u32 path_count, __global const PathVertex* vertices,
                          __global const u32* vertex_counts, __global const u32* cache,
-                         __global const u32* cache_count, __global const u32* heads,
-                         __global const u32* next, __global float4* film_sum,
+                         __global const u32* cache_count, __global const u32* starts,
+                         __global const GridPoint* points, __global float4* film_sum,
                          __global float4* film_sum_sq, __global float4* splat, __global float4* merge_sum,
                          __global u32* ray_counts, __global u32* connection_counts,
                          __global u32* merge_counts) {
@@ -70,7 +84,7 @@ __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params
       params, vcm, &scene, &sampler, pixel % params->width, pixel / params->width,
       vertices + (size_t)i * vcm->light_vertex_capacity,
       vcm_mode_connects(vcm->mode) ? vertex_counts[i] : 0u, vertices,
-      cache, vcm->lvc ? cache_count[0] : 0u, heads, next, &merged, &rays, &connections,
+      cache, vcm->lvc ? cache_count[0] : 0u, starts, points, &merged, &rays, &connections,
       &merges);
   if (!film_camera_splat(params, splat, &sampler, pixel, L)) film_add(&film, L);
   film_store(film_sum, film_sum_sq, pixel, &film);

@@ -51,6 +51,17 @@ typedef struct Photon {
   float pad2;
 } Photon;
 
+/* A point of a cell-sorted hashed grid (kernels/spatial/hash_grid.cl), the grid's points of
+ * one bucket side by side: its position, its index in the points' own array, and what a
+ * query tests before it reads the point's own record: the surface's normal and a small key
+ * (vcm: the light vertex's depth). */
+typedef struct GridPoint {
+  float p[3];
+  u32 index;
+  float n[3];
+  u32 key;
+} GridPoint;
+
 /* A node of the left-balanced, heap-ordered kd-tree (host/photon/kdtree.h: node i's
  * children are 2i + 1 and 2i + 2): its photon's position and photon_index << 2 | split axis
  * (3: a leaf). 16 bytes, read by a kernel as one float4. */

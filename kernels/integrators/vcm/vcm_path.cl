@@ -84,8 +84,8 @@ static inline float3 vcm_merge(__constant const RenderParams* p, __constant cons
                                const StrategyMis* m, const SurfaceHit* sh, float3 wo,
                                const SubpathState* st,
                                u32 k, __global const PathVertex* vertices,
-                               __global const u32* heads,
-                               __global const u32* next, u32* merges) {
+                               __global const u32* starts,
+                               __global const GridPoint* points, u32* merges) {
   float3 sum = (float3)(0.0f);
   const float r2 = v->radius * v->radius;
   const float3 x = sh->p;
@@ -96,17 +96,19 @@ static inline float3 vcm_merge(__constant const RenderParams* p, __constant cons
     for (int cy = lo.y; cy <= hi.y; ++cy)
       for (int cx = lo.x; cx <= hi.x; ++cx) {
         const int3 c = (int3)(cx, cy, cz);
-        for (u32 e = heads[grid_bucket(c, v->mask)]; e != 0u; e = next[e - 1u]) {
-          __global const PathVertex* y = vertices + (e - 1u);
-          const float3 yp = vload3(0, y->p);
+        const u32 b = grid_bucket(c, v->mask);
+        for (u32 j = starts[b], end = starts[b + 1u]; j < end; ++j) {
+          __global const GridPoint* g = points + j;
+          const float3 yp = vload3(0, g->p);
           const float3 d = yp - x;
           if (dot(d, d) > r2) continue;
           const int3 yc = grid_cell(yp, v->inv_cell);
           if (yc.x != cx || yc.y != cy || yc.z != cz) continue; /* another cell's vertex */
-          if (y->depth + k - 1u > p->max_depth) continue;
-          const float3 n_y = vload3(0, y->ng);
+          if (g->key + k - 1u > p->max_depth) continue; /* the vertex's depth */
+          const float3 n_y = vload3(0, g->n);
           const float c_n = dot(n_y, sh->ng);
           if (fabs(c_n) < PHOTON_NORMAL_COS) continue;
+          __global const PathVertex* y = vertices + g->index;
           const float3 wi = rotate_between(n_y, c_n >= 0.0f ? sh->ng : -sh->ng, vload3(0, y->wo));
           const float3 f = bsdf_eval_in_frame(sh, &shading.frame, shading.wo_local, wi,
                                               TRANSPORT_RADIANCE);
@@ -133,8 +135,8 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
                                      const SceneView* s, const Sampler* sampler, u32 x, u32 y,
                                      __global const PathVertex* lv, u32 count,
                                      __global const PathVertex* vertices, __global const u32* cache,
-                                     u32 cached, __global const u32* heads,
-                                     __global const u32* next,
+                                     u32 cached, __global const u32* starts,
+                                     __global const GridPoint* points,
                                      float3* merged, u32* rays, u32* connections, u32* merges) {
   const StrategyMis m = vcm_mis(v);
   const bool connect = vcm_mode_connects(v->mode);
@@ -182,7 +184,7 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
         L += st.beta * sum * ((float)cached / ((float)v->lvc * (float)v->light_paths));
       }
       if (merge) {
-        const float3 M = st.beta * vcm_merge(p, v, &m, sh, wo, &st, k, vertices, heads, next,
+        const float3 M = st.beta * vcm_merge(p, v, &m, sh, wo, &st, k, vertices, starts, points,
                                              merges) * v->vm_normalization;
         L += M;
         *merged += M;
