@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "cl/programs.h"
 #include "shared/bdpt_types.h"
@@ -174,16 +175,11 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
     count_kernel_.launch(ctx_, slots);
     if (merging) {
       // The counts become each bucket's first point (an exclusive sum; the total last), and
-      // the fill's cursors start there.
+      // the fill's cursors start there: read one place on, start 0, running sums.
       const size_t buckets = size_t(mask_) + 1;
-      starts_.read(bucket_starts_.data(), buckets * sizeof(uint32_t));
-      uint32_t sum = 0;
-      for (size_t b = 0; b < buckets; ++b) {
-        const uint32_t n = bucket_starts_[b];
-        bucket_starts_[b] = sum;
-        sum += n;
-      }
-      bucket_starts_[buckets] = sum;
+      bucket_starts_[0] = 0;
+      starts_.read(bucket_starts_.data() + 1, buckets * sizeof(uint32_t));
+      std::partial_sum(bucket_starts_.begin(), bucket_starts_.end(), bucket_starts_.begin());
       starts_.write(bucket_starts_.data(), (buckets + 1) * sizeof(uint32_t));
       cursor_.write(bucket_starts_.data(), buckets * sizeof(uint32_t));
       fill_kernel_.args(0, vcm_params_, count, vertices_, vertex_counts_, cursor_, points_);

@@ -38,14 +38,20 @@ __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   stored_counts[path] += stored;
 }
 
+/* Whether slot `slot` of the tile's path_count light paths holds a stored vertex (one
+ * work-item per slot in the grid kernels; a path fills its first vertex_counts slots). */
+static inline bool vcm_slot_stored(__constant const VcmParams* vcm, u32 path_count,
+                                   __global const u32* vertex_counts, u32 slot) {
+  const u32 capacity = vcm->light_vertex_capacity;
+  return slot < path_count * capacity && slot % capacity < vertex_counts[slot / capacity];
+}
+
 __kernel void vcm_grid_count(__constant const VcmParams* vcm, u32 path_count,
                              __global const PathVertex* vertices, __global const u32* vertex_counts,
                              volatile __global u32* counts, __global u32* cache,
                              volatile __global u32* cache_count) {
   const u32 slot = get_global_id(0);
-  const u32 capacity = vcm->light_vertex_capacity;
-  if (slot >= path_count * capacity) return;
-  if (slot % capacity >= vertex_counts[slot / capacity]) return;
+  if (!vcm_slot_stored(vcm, path_count, vertex_counts, slot)) return;
   if (vcm_mode_merges(vcm->mode))
     grid_count_point(vload3(0, vertices[slot].p), vcm->inv_cell, vcm->mask, counts);
   if (vcm->lvc) cache[atomic_inc(cache_count)] = slot;
@@ -55,9 +61,7 @@ __kernel void vcm_grid_fill(__constant const VcmParams* vcm, u32 path_count,
                             __global const PathVertex* vertices, __global const u32* vertex_counts,
                             volatile __global u32* cursor, __global GridPoint* points) {
   const u32 slot = get_global_id(0);
-  const u32 capacity = vcm->light_vertex_capacity;
-  if (slot >= path_count * capacity) return;
-  if (slot % capacity >= vertex_counts[slot / capacity]) return;
+  if (!vcm_slot_stored(vcm, path_count, vertex_counts, slot)) return;
   __global const PathVertex* y = vertices + slot;
   grid_fill_point(vload3(0, y->p), vload3(0, y->ng), y->depth, slot, vcm->inv_cell, vcm->mask,
                   cursor, points);
