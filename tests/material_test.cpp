@@ -67,23 +67,34 @@ struct Resolved {
   glm::vec4 hit, base, ns, emission, emission_at;
 };
 
-// Rays straight down -z onto the quad at the given (x, y).
-std::vector<Resolved> resolve(const DeviceScene& ds, const std::vector<glm::vec2>& xy) {
+// Runs texture_test.cl's `kernel` (scene, origins, directions, out, n) over rays straight
+// down -z from the origins given; per_ray values of T come back for each ray.
+template <typename T>
+std::vector<T> launch_down_rays(const DeviceScene& ds, const char* kernel,
+                                const std::vector<glm::vec4>& org, size_t per_ray, const char* what) {
   cl::Context& ctx = test::device_context();
-  std::vector<glm::vec4> org, dir;
-  for (glm::vec2 p : xy) {
-    org.emplace_back(p, 1.0f, 0.0f);
-    dir.emplace_back(0.0f, 0.0f, -1.0f, 0.0f);
-  }
-  const uint32_t n = uint32_t(xy.size());
+  const std::vector<glm::vec4> dir(org.size(), glm::vec4(0, 0, -1, 0));
+  const uint32_t n = uint32_t(org.size());
   cl::Buffer bo = cl::Buffer::from_vector(ctx, org), bd = cl::Buffer::from_vector(ctx, dir);
-  cl::Buffer out(ctx, n * sizeof(Resolved), CL_MEM_WRITE_ONLY, nullptr, "resolved");
-  cl::Kernel k(material_program(), "resolve_rays");
+  cl::Buffer out(ctx, per_ray * n * sizeof(T), CL_MEM_WRITE_ONLY, nullptr, what);
+  cl::Kernel k(material_program(), kernel);
   const cl_uint next = ds.buffers->bind(k, 0);
   k.args(next, bo, bd, out, n);
   k.launch(ctx, n);
   ctx.finish();
-  return out.read_vector<Resolved>(n);
+  return out.read_vector<T>(per_ray * n);
+}
+
+// Origins at height 1 above the quad's points (x, y).
+std::vector<glm::vec4> above(const std::vector<glm::vec2>& xy) {
+  std::vector<glm::vec4> org;
+  for (glm::vec2 p : xy) org.emplace_back(p, 1.0f, 0.0f);
+  return org;
+}
+
+// Rays straight down -z onto the quad at the given (x, y).
+std::vector<Resolved> resolve(const DeviceScene& ds, const std::vector<glm::vec2>& xy) {
+  return launch_down_rays<Resolved>(ds, "resolve_rays", above(xy), 1, "resolved");
 }
 
 Texture texture(uint32_t w, uint32_t h, std::vector<uint32_t> texels, bool nearest = true) {
@@ -145,21 +156,7 @@ TEST(Material, ResolveReadsTexturesUv1AndColor) {
 // colour); the host flags exactly those materials MATERIAL_PLAIN, and one texture or one
 // layer clears the flag.
 std::vector<int> resolve_plain_both(const DeviceScene& ds, const std::vector<glm::vec2>& xy) {
-  cl::Context& ctx = test::device_context();
-  std::vector<glm::vec4> org, dir;
-  for (glm::vec2 p : xy) {
-    org.emplace_back(p, 1.0f, 0.0f);
-    dir.emplace_back(0.0f, 0.0f, -1.0f, 0.0f);
-  }
-  const uint32_t n = uint32_t(xy.size());
-  cl::Buffer bo = cl::Buffer::from_vector(ctx, org), bd = cl::Buffer::from_vector(ctx, dir);
-  cl::Buffer out(ctx, 2 * n * sizeof(int), CL_MEM_WRITE_ONLY, nullptr, "plain and full");
-  cl::Kernel k(material_program(), "resolve_plain_both");
-  const cl_uint next = ds.buffers->bind(k, 0);
-  k.args(next, bo, bd, out, n);
-  k.launch(ctx, n);
-  ctx.finish();
-  return out.read_vector<int>(2 * n);
+  return launch_down_rays<int>(ds, "resolve_plain_both", above(xy), 2, "plain and full");
 }
 
 TEST(Material, ResolvePlainIsResolveFull) {
@@ -272,17 +269,7 @@ TEST(Material, NormalMapGivesExpectedShadingNormal) {
 
 // Alpha rays: many rays down -z from distinct points over the quad.
 std::vector<int> alpha_rays(const DeviceScene& ds, const std::vector<glm::vec4>& org) {
-  cl::Context& ctx = test::device_context();
-  const std::vector<glm::vec4> dir(org.size(), glm::vec4(0, 0, -1, 0));
-  const uint32_t n = uint32_t(org.size());
-  cl::Buffer bo = cl::Buffer::from_vector(ctx, org), bd = cl::Buffer::from_vector(ctx, dir);
-  cl::Buffer out(ctx, 2 * n * sizeof(int), CL_MEM_WRITE_ONLY, nullptr, "alpha hits");
-  cl::Kernel k(material_program(), "alpha_rays");
-  const cl_uint next = ds.buffers->bind(k, 0);
-  k.args(next, bo, bd, out, n);
-  k.launch(ctx, n);
-  ctx.finish();
-  return out.read_vector<int>(2 * n);
+  return launch_down_rays<int>(ds, "alpha_rays", org, 2, "alpha hits");
 }
 
 // MASK: alpha = factor alpha x texture alpha x COLOR_0 alpha (0.8); the left half of the
