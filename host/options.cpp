@@ -283,15 +283,24 @@ struct Parser {
                    "bpt (connections: bdpt), ppm (merging: photon mapping), lt or pt [vcm]")
         ->type_name("MODE");
     app.add_option("--vcm-radius", o.vcm_radius,
-                   "vcm: the first pass's merge radius [1 pixel footprint at the scene's centre]")
+                   "vcm: the first pass's merge radius [pixel footprints at the scene's centre: 1.5 "
+                   "with --vcm-shrink pixel, 1 with pass]")
         ->type_name("DIST")
         ->check(CLI::PositiveNumber.description(""))
         ->check(kFinite);
+    app.add_option("--vcm-shrink", o.vcm_shrink,
+                   "vcm: how the merge radius shrinks: pixel (each pixel's own, shrunk as sppm's by "
+                   "the merges its first merging vertex finds: a pixel that finds none keeps its "
+                   "radius; needs the box filter) or pass (one radius for every pixel, by "
+                   "--vcm-alpha's rate) [pixel; pass with another filter]")
+        ->type_name("RULE");
     app.add_flag("--vcm-merged", o.vcm_merged,
                  "vcm: add a 'merged' layer to the EXR: the part of each pixel that merging "
                  "contributed");
     app.add_option("--vcm-alpha", o.vcm_alpha,
-                   "vcm: radius of pass i is r (i + 1)^((alpha - 1) / 2) [0.75]")
+                   "vcm: with --vcm-shrink pixel the fraction of a pixel's merges kept as its radius "
+                   "shrinks, as sppm's; with pass, radius of pass i is r (i + 1)^((alpha - 1) / 2) "
+                   "[0.6 with pixel, 0.75 with pass]")
         ->type_name("A")
         ->check(CLI::Range(0.01f, 1.0f).description(""))
         ->check(kFinite);
@@ -449,7 +458,9 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
                            "--ic-no-gradients", "--ic-show-records", "--ic-photons"})
     o.ic_set = o.ic_set || p.app.count(name) > 0;
   o.indirect_set = p.app.count("--indirect") > 0;
-  for (const char* name : {"--vcm-mode", "--vcm-radius", "--vcm-alpha", "--vcm-merged"})
+  o.vcm_shrink_set = p.app.count("--vcm-shrink") > 0;
+  o.vcm_alpha_set = p.app.count("--vcm-alpha") > 0;
+  for (const char* name : {"--vcm-mode", "--vcm-radius", "--vcm-alpha", "--vcm-shrink", "--vcm-merged"})
     o.vcm_set = o.vcm_set || p.app.count(name) > 0;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
   auto one_of = [](const char* option, const std::string& value,
@@ -587,9 +598,20 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
     throw Error(ExitCode::Usage, "--indirect needs --integrator indirect1");
   if (reads(OPTIONS_INDIRECT)) one_of("--indirect", o.indirect, {"receiver", "source", "surface"});
   if (!reads(OPTIONS_VCM) && o.vcm_set)
-    throw Error(ExitCode::Usage, "--vcm-mode, --vcm-radius, --vcm-alpha and --vcm-merged need --integrator "
-                                 "vcm");
-  if (reads(OPTIONS_VCM)) one_of("--vcm-mode", o.vcm_mode, {"vcm", "bpt", "ppm", "lt", "pt"});
+    throw Error(ExitCode::Usage, "--vcm-mode, --vcm-radius, --vcm-alpha, --vcm-shrink and --vcm-merged "
+                                 "need --integrator vcm");
+  if (reads(OPTIONS_VCM)) {
+    one_of("--vcm-mode", o.vcm_mode, {"vcm", "bpt", "ppm", "lt", "pt"});
+    // A light vertex connected to the camera is weighted with the eta of the one pixel its
+    // film position lies in: a wider filter would spread it over pixels of other radii.
+    const bool pixel_box = o.filter == "box" && o.filter_radius == 0.5f;
+    if (o.vcm_shrink.empty()) o.vcm_shrink = pixel_box ? "pixel" : "pass";
+    one_of("--vcm-shrink", o.vcm_shrink, {"pass", "pixel"});
+    if (o.vcm_shrink == "pixel" && !pixel_box)
+      throw Error(ExitCode::Usage, "--vcm-shrink pixel needs the box filter of radius 0.5");
+    // The equal-time sweeps of docs/BENCHMARKS.md (session 32) chose both defaults.
+    if (o.vcm_alpha == 0.0f) o.vcm_alpha = o.vcm_shrink == "pixel" ? 0.6f : 0.75f;
+  }
   if (o.pm_filter != "cone" && o.pm_filter != "epanechnikov" && o.pm_filter != "box")
     throw Error(ExitCode::Usage, "--pm-filter " + o.pm_filter + ": expected cone, epanechnikov "
                                  "or box");

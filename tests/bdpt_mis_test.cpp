@@ -134,6 +134,9 @@ struct MisCase {
   uint32_t heuristic;       // dev::MIS_POWER or dev::MIS_BALANCE
   size_t min_refracting;    // paths that must pass through a surface (the glass sphere)
   float eta = 0.0f;         // vcm: pi r^2 N_merge; 0: bdpt (no merging)
+  // > 0: the light subpaths are traced with this eta and moved to eta's by their EtaSlopes
+  // (vcm's --vcm-shrink pixel); 0: traced with eta.
+  float eta_traced = 0.0f;
 };
 void PrintTo(const MisCase& c, std::ostream* os) { *os << c.name; }
 
@@ -142,7 +145,7 @@ struct PathRecords {
   std::vector<int> meta;
 };
 
-PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta) {
+PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta, float eta_traced) {
   cl::Context& ctx = test::device_context();
   const Bvh bvh = build_bvh(scene.positions, scene.triangles);
   const FlatScene flat = flatten_scene(scene, bvh);
@@ -169,7 +172,7 @@ PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta) {
   cl::Buffer meta(ctx, size_t(kPaths) * 4 * sizeof(int), CL_MEM_WRITE_ONLY, nullptr, "meta");
   cl::Kernel k(mis_program(), "bdpt_mis_paths");
   const cl_uint a = buffers.bind(k, 0);
-  k.args(a, params, kPaths, eta, rec, rec_raw, rec_vm, pcam, plight, meta);
+  k.args(a, params, kPaths, eta, eta_traced, rec, rec_raw, rec_vm, pcam, plight, meta);
   k.launch(ctx, kPaths);
   return {rec.read_vector<float>(floats), rec_raw.read_vector<float>(floats),
           rec_vm.read_vector<float>(floats), pcam.read_vector<float>(floats),
@@ -217,7 +220,7 @@ class BdptMis : public ::testing::TestWithParam<MisCase> {};
 
 TEST_P(BdptMis, RecursiveEqualsExplicit) {
   const MisCase& c = GetParam();
-  const PathRecords r = run_paths(c.scene(), c.heuristic, c.eta);
+  const PathRecords r = run_paths(c.scene(), c.heuristic, c.eta, c.eta_traced);
   const double n_light = double(kWidth) * kHeight;
   const double exponent = c.heuristic == dev::MIS_BALANCE ? 1.0 : 2.0;
 
@@ -325,7 +328,13 @@ INSTANTIATE_TEST_SUITE_P(
                       MisCase{"iridescent_sphere_power", iridescent_sphere_box, dev::MIS_POWER, 100},
                       MisCase{"cornell_power_vcm", test::cornell_box, dev::MIS_POWER, 0, kEta},
                       MisCase{"glossy_balance_vcm", glossy_box, dev::MIS_BALANCE, 0, kEta},
-                      MisCase{"glass_sphere_power_vcm", glass_sphere_box, dev::MIS_POWER, 100, kEta}),
+                      MisCase{"glass_sphere_power_vcm", glass_sphere_box, dev::MIS_POWER, 100, kEta},
+                      // Traced with another eta and rebased (per-pixel radii): 9 times and a
+                      // fifth of the one the weights are checked for.
+                      MisCase{"cornell_power_vcm_rebased", test::cornell_box, dev::MIS_POWER, 0, kEta,
+                              9.0f * kEta},
+                      MisCase{"glossy_balance_vcm_rebased", glossy_box, dev::MIS_BALANCE, 0, kEta,
+                              0.2f * kEta}),
     [](const ::testing::TestParamInfo<MisCase>& info) { return std::string(info.param.name); });
 
 }  // namespace

@@ -88,7 +88,7 @@ TEST_F(Mpi, TwoRanksRenderWhatOneProcessRenders) {
     std::vector<std::string> more;
   };
   for (const Case& c : {Case{"pt", 1e-10, {}}, Case{"lt", 1e-8, {}}, Case{"bdpt", 1e-8, {}},
-                        Case{"vcm", 1e-8, {"--vcm-merged"}}, Case{"ic", 1e-10, {}}}) {
+                        Case{"vcm", 1e-8, {"--vcm-merged", "--vcm-shrink", "pass"}}  /* per-pixel radii do not split */, Case{"ic", 1e-10, {}}}) {
     SCOPED_TRACE(c.integrator);
     std::vector<std::string> args = {"--integrator", c.integrator, "--resolution", "32x32",
                                      "--spp", "16", "--seed", "5", "--max-depth", "4"};
@@ -192,7 +192,7 @@ TEST_F(Mpi, FiveRanksAddUpThroughTheTree) {
     std::vector<std::string> args = {"--integrator", integrator, "--resolution", "24x24", "--spp", "10",
                                      "--seed", "3", "--max-depth", "3"};
     if (name == "pt") args.insert(args.end(), {"--aov", "albedo,material-id"});
-    else args.push_back("--vcm-merged");
+    else args.insert(args.end(), {"--vcm-merged", "--vcm-shrink", "pass"});  // split: the pass rule
     const nlohmann::json one = render(name + "-one", 0, args);
     const nlohmann::json five = render(name + "-five", 5, args);
     if (one.is_null() || five.is_null()) continue;

@@ -59,7 +59,9 @@ class MultiDevice : public test::TestFolder {
 // what splits (vcm's merged layer).
 std::vector<std::string> extra_options(const std::string& integrator) {
   if (integrator == "pm") return {"--photons", "20000", "--caustic-photons", "5000", "--final-gather", "2"};
-  if (integrator == "vcm") return {"--vcm-merged"};
+  // Per-pixel radii shrink with each device's own passes, so two devices render another
+  // (equally consistent) image than one: the identity holds for the pass rule.
+  if (integrator == "vcm") return {"--vcm-merged", "--vcm-shrink", "pass"};
   return {};
 }
 
@@ -207,6 +209,34 @@ TEST_F(MultiDevice, CheckpointsAndAovsAreOneDevicesToo) {
     }
     EXPECT_LT(worst, 1e-5);
   }
+}
+
+// vcm's per-pixel radii (its default with the box filter) follow from every pass before, as
+// sppm's: on two devices vcm takes the pass rule (with that rule's alpha) and renders what
+// `--vcm-shrink pass` renders on one; naming the per-pixel rule there is a usage error.
+TEST_F(MultiDevice, VcmTakesThePassRuleWhenSplit) {
+  const std::vector<std::string> args = {"--integrator", "vcm", "--resolution", "24x24",
+                                         "--spp", "8", "--seed", "5", "--max-depth", "3"};
+  auto with = [&](std::vector<std::string> more) {
+    std::vector<std::string> a = args;
+    a.insert(a.end(), more.begin(), more.end());
+    return a;
+  };
+  const nlohmann::json two = render("vcm-two", "0:0,0:1", args);
+  const nlohmann::json one = render("vcm-one", "0:0", with({"--vcm-shrink", "pass"}));
+  const nlohmann::json own = render("vcm-own", "0:0", args);
+  if (two.is_null() || one.is_null() || own.is_null()) return;
+  EXPECT_EQ(two["vcm"]["shrink"], "pass");
+  EXPECT_FLOAT_EQ(two["vcm"]["alpha"].get<float>(), 0.75f);
+  EXPECT_EQ(two["vcm"]["first_radius"], one["vcm"]["first_radius"]);
+  EXPECT_EQ(own["vcm"]["shrink"], "pixel");
+  const test::Agreement g = test::agreement(read_image(path("vcm-two.exr")), read_image(path("vcm-one.exr")));
+  EXPECT_LT(g.rel_mse, 1e-8);
+  const test::RunResult named = clpt(with({"--device", "0:0,0:1", "--vcm-shrink", "pixel", "-o",
+                                           path("named.exr")}));
+  EXPECT_EQ(named.exit_code, int(ExitCode::Usage));
+  EXPECT_NE(named.err.find("--vcm-shrink pixel renders on one device"), std::string::npos) << named.err;
+  EXPECT_FALSE(fs::exists(path("named.exr")));
 }
 
 // pm's final-gather cache (an irradiance cache over the global map) is built alike on every

@@ -52,10 +52,13 @@ constexpr uint32_t kSize = 32;
 // at 32 x 32 would be 0.06): merging's bias stays below what these tests can see.
 constexpr float kRadius = 0.01f;
 
+// The pass rule (--vcm-shrink pass, its alpha) unless the test asks for per-pixel radii.
 RenderSettings vcm_settings(uint32_t mode, uint64_t spp, uint32_t size = kSize) {
   RenderSettings s = test::render_settings("vcm", spp, size);
   s.vcm.mode = mode;
   s.vcm.radius = kRadius;
+  s.vcm.pixel_radius = false;
+  s.vcm.alpha = 0.75f;
   return s;
 }
 
@@ -67,9 +70,14 @@ TEST_P(SphereFurnaceVcm, MatchesClosedForm) {
   const FurnaceCase c = GetParam();
   const Scene scene = test::furnace_scene(c.rho, 1.0f);
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
-  for (const uint32_t mode : {dev::VCM_MODE_VCM, dev::VCM_MODE_PPM}) {
-    const char* name = mode == dev::VCM_MODE_VCM ? "vcm" : "ppm";
+  for (const int variant : {0, 1, 2}) {
+    const uint32_t mode = variant == 1 ? dev::VCM_MODE_PPM : dev::VCM_MODE_VCM;
+    const char* name = variant == 0 ? "vcm" : variant == 1 ? "ppm" : "vcm, per-pixel radii";
     RenderSettings s = vcm_settings(mode, 32, 16);
+    s.vcm.pixel_radius = variant == 2;
+    // Per pixel, radii far from the pass's (r^2 falls as i^-0.96 where vertices arrive, the
+    // pass's as i^-0.49), so that every weight must take the pixel's eta, light tracing's too.
+    if (variant == 2) s.vcm.alpha = 0.51f;
     s.max_depth = c.max_depth;
     s.vcm.radius = 0.5f;  // the inner sphere's radius is 1, the outer one's 5
     const BatchMean bm = batch_mean(test::render_batches(scene, s, 30, 5000));
@@ -143,6 +151,23 @@ TEST(CrossIntegrator, VcmMatchesPtOnCornellBox) {
   test::expect_matches_reference(test::render_batches(scene, s, 16, 1700), ref, "vcm tiles");
 }
 
+// --vcm-shrink pixel: each pixel merges with its own radius, and every weight of its paths
+// (the light vertices' too, moved along their EtaSlopes, and the light tracer's, with the eta
+// of the pixel it lands in) uses that pixel's eta. In tiles a light path splats into pixels of
+// other tiles, whose radii must be the pass's, not the next's.
+TEST(CrossIntegrator, VcmWithPixelRadiiMatchesPt) {
+  const Scene scene = test::cornell_box();
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  RenderSettings s = vcm_settings(dev::VCM_MODE_VCM, 32);
+  s.vcm.pixel_radius = true;
+  s.vcm.alpha = 0.6f;
+  s.vcm.radius = 2.0f * kRadius;  // radii that stay large where few light vertices arrive
+  test::expect_matches_reference(test::render_batches(scene, s, 16, 3700), ref, "vcm pixel radii");
+  s.bdpt.memory_bytes = 8 * (sizeof(dev::PathVertex) + sizeof(dev::GridPoint) + 32) * 100;
+  test::expect_matches_reference(test::render_batches(scene, s, 16, 4700), ref,
+                                 "vcm pixel radii, tiles");
+}
+
 // Light vertex caching (--bdpt-lvc, as bdpt's): each camera vertex connects to 2 vertices
 // drawn from all the tile's stored light vertices, scaled by their count / (2 paths).
 TEST(CrossIntegrator, VcmWithLightVertexCachingMatchesPt) {
@@ -208,6 +233,19 @@ TEST(VcmOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-radius", "-1"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-alpha", "0"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-alpha", "1.5"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-shrink", "pass"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-shrink", "pixel"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-shrink", "ray"}), ExitCode::Usage);
+  // Per-pixel radii need every splat in one pixel: another filter takes the pass rule, and
+  // asking for both is an error.
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--filter", "tent"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--filter", "tent", "--vcm-shrink",
+                         "pixel"}),
+            ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--filter-radius", "1", "--vcm-shrink",
+                         "pixel"}),
+            ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "pt", "--vcm-shrink", "pass"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--variance"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--checkpoint", "c.ckpt"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--vcm-mode", "bpt"}), ExitCode::Usage);  // not vcm
@@ -240,6 +278,19 @@ TEST(VcmCli, StatsFigures) {
   EXPECT_GT(v["merges"].get<uint64_t>(), 0u);
   EXPECT_GT(v["connections"].get<uint64_t>(), 4u * 24u * 16u);
   EXPECT_EQ(v["grids"].get<uint64_t>(), 4u);
+  // The default rule with the box filter: per-pixel radii, which only shrink, and some do
+  // (the lit pixels find light vertices within 0.05 in 4 passes).
+  EXPECT_EQ(v["shrink"].get<std::string>(), "pixel");
+  const nlohmann::json& pr = v["pixel_radius"];
+  EXPECT_LE(pr["min"].get<float>(), pr["mean"].get<float>());
+  EXPECT_LE(pr["mean"].get<float>(), pr["max"].get<float>());
+  EXPECT_LE(pr["max"].get<float>(), 0.05f);
+  EXPECT_LT(pr["min"].get<float>(), 0.05f);
+  const nlohmann::json p = run("p", {"--vcm-radius", "0.05", "--vcm-shrink", "pass"});
+  ASSERT_FALSE(p.is_null());
+  EXPECT_EQ(p["vcm"]["shrink"].get<std::string>(), "pass");
+  EXPECT_FLOAT_EQ(p["vcm"]["alpha"].get<float>(), 0.75f);
+  EXPECT_FALSE(p["vcm"].contains("pixel_radius"));
   // --vcm-merged: an EXR layer with the part of each pixel that merging gave, a share of the
   // pixel (merges are weighted by MIS, all terms positive): between 0 and the pixel, some of
   // the image, not all of it.

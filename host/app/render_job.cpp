@@ -139,6 +139,9 @@ RenderSettings render_settings(const Options& opt) {
                                                   : dev::INDIRECT_RECEIVER;
   settings.vcm.radius = opt.vcm_radius;
   settings.vcm.alpha = opt.vcm_alpha;
+  settings.vcm.pixel_radius = opt.vcm_shrink == "pixel";  // resolved by parse_options
+  settings.vcm.shrink_given = opt.vcm_shrink_set;
+  settings.vcm.alpha_given = opt.vcm_alpha_set;
   return settings;
 }
 

@@ -135,7 +135,8 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
                 {"tiles_per_pass", v.tiles},
                 {"first_radius", v.first_radius},
                 {"last_radius", v.last_radius},
-                {"alpha", opt.vcm_alpha},
+                {"alpha", v.alpha},
+                {"shrink", v.pixel_radii ? "pixel" : "pass"},
                 {"light_vertices", v.light_vertices},
                 {"connections", v.connections},
                 {"connections_per_second", double(v.connections) / secs},
@@ -144,6 +145,10 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
                 {"grids", v.grids},
                 {"grid_seconds", v.grid_seconds},
                 {"device_bytes", v.device_bytes}};
+    if (v.pixel_radius_count)
+      j["vcm"]["pixel_radius"] = {{"min", v.pixel_radius_min},
+                                  {"mean", v.pixel_radius_sum / double(v.pixel_radius_count)},
+                                  {"max", v.pixel_radius_max}};
   }
   // Rays of camera-side paths; photon rays are under "photons".
   j["rays"] = film.rays;

@@ -122,6 +122,15 @@ void VcmStats::add(const VcmStats& o) {
   grid_seconds += o.grid_seconds;
   device_bytes += o.device_bytes;
   tiles = std::max(tiles, o.tiles);  // per pass, alike on every device
+  alpha = std::max(alpha, o.alpha);  // alike on every device
+  pixel_radii = std::max(pixel_radii, o.pixel_radii);
+  if (o.pixel_radius_count) {
+    const bool first = pixel_radius_count == 0;
+    pixel_radius_min = first ? o.pixel_radius_min : std::min(pixel_radius_min, o.pixel_radius_min);
+    pixel_radius_max = first ? o.pixel_radius_max : std::max(pixel_radius_max, o.pixel_radius_max);
+    pixel_radius_sum += o.pixel_radius_sum;
+    pixel_radius_count += o.pixel_radius_count;
+  }
   if (o.passes) {
     // Radii shrink with the sample index: the largest first, the smallest last (passes ==
     // o.passes: this held no pass before, so the other's radii are the only ones).

@@ -78,6 +78,12 @@ struct VcmStats {
   uint64_t grids = 0;             // grids built
   double grid_seconds = 0.0;      // building them (device)
   float first_radius = 0.0f, last_radius = 0.0f;
+  float alpha = 0.0f;             // the shrink's (as the renderer resolved it)
+  uint32_t pixel_radii = 0;       // 1: per-pixel radii (--vcm-shrink pixel), 0: the pass rule
+  // --vcm-shrink pixel: the pixels' radii after the last pass (count 0: not kept per pixel).
+  float pixel_radius_min = 0.0f, pixel_radius_max = 0.0f;
+  double pixel_radius_sum = 0.0;
+  uint64_t pixel_radius_count = 0;
   size_t device_bytes = 0;
 };
 
@@ -194,7 +200,12 @@ constexpr double kIcRefineShare = 0.25;
 struct VcmConfig {
   uint32_t mode = 0;        // dev::VcmMode (--vcm-mode)
   float radius = 0.0f;      // the first pass's merge radius; 0: half default_merge_radius
-  float alpha = 0.75f;      // radius_i = radius (i + 1)^((alpha - 1) / 2)
+  // The defaults are the command line's with the box filter (parse_options resolves them).
+  float alpha = 0.6f;       // per pixel sppm's shrink; per pass radius_i = radius (i + 1)^((alpha - 1) / 2)
+  bool pixel_radius = true;  // --vcm-shrink pixel: each pixel's radius, shrunk by its merges
+  // Whether the command line named the rule and alpha (else the renderer may choose: the pass
+  // rule with its own alpha when the passes are split over devices or ranks).
+  bool shrink_given = false, alpha_given = false;
 };
 
 // The scene's lengths the integrators' default radii are measured in (the renderer's).

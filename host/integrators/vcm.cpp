@@ -26,7 +26,7 @@ VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const S
       params_(ctx, sizeof(dev::RenderParams), CL_MEM_READ_ONLY, nullptr, "render parameters"),
       vcm_params_(ctx, sizeof(dev::VcmParams), CL_MEM_READ_ONLY, nullptr, "VCM parameters"),
       cache_count_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM light vertex cache count") {
-  config_.radius = first_radius(config.radius, scale);
+  config_.radius = first_radius(config.radius, scale, config.pixel_radius);
   if (!(config_.radius > 0.0f) || !std::isfinite(config_.radius))
     throw Error(ExitCode::Usage, "vcm needs a positive merge radius");
   light_arg_ = scene.bind(light_kernel_, 0);
@@ -34,23 +34,26 @@ VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const S
 }
 
 size_t VertexConnectionMerging::tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels) {
-  // Per slot: the vertex, its grid point, its cache entry and up to two buckets' start and
-  // cursor.
+  // Per slot: the vertex and its slopes, its grid point, its cache entry and up to two
+  // buckets' start and cursor.
   const size_t per_path =
-      size_t(capacity) * (sizeof(dev::PathVertex) + sizeof(dev::GridPoint) + 5 * sizeof(uint32_t)) +
+      size_t(capacity) * (sizeof(dev::PathVertex) + 2 * sizeof(float) + sizeof(dev::GridPoint) +
+                          5 * sizeof(uint32_t)) +
       sizeof(uint32_t);
   return std::clamp<size_t>(budget_bytes / per_path, 1, std::max<size_t>(pixels, 1));
 }
 
-float VertexConnectionMerging::first_radius(float given, const SceneScale& scale) {
-  // One pixel footprint at the scene's centre: half sppm's default radius (the --vcm-radius
-  // sweep in docs/BENCHMARKS.md, session 11). A radius near the scene's size merges every
+float VertexConnectionMerging::first_radius(float given, const SceneScale& scale, bool pixel) {
+  // One pixel footprint at the scene's centre, half sppm's default radius, when the radius
+  // shrinks per pass (the --vcm-radius sweep in docs/BENCHMARKS.md, session 11); 1.5 when each
+  // pixel's shrinks by its own merges (session 32's sweep). A radius near the scene's size merges every
   // light vertex at every camera vertex, and one below float resolution at the scene's scale
   // puts them all in one saturated grid cell: either is a render that does not end. 10 % and
   // 1e-6 of the diagonal bound it. The default is held inside the bounds: at a tiny
   // resolution (8x8) a footprint is above 10 %, and a radius nobody asked for is no usage error.
   const float lo = 1e-6f * scale.diagonal, hi = 0.1f * scale.diagonal;
-  if (!(given > 0.0f)) return std::clamp(0.5f * default_merge_radius(scale), lo, hi);
+  if (!(given > 0.0f))
+    return std::clamp((pixel ? 0.75f : 0.5f) * default_merge_radius(scale), lo, hi);
   if (!(given <= hi && given >= lo))
     throw Error(ExitCode::Usage, "--vcm-radius " + std::to_string(given) +
                                      " is outside [1e-6, 0.1] times the scene's diagonal (" +
@@ -75,11 +78,18 @@ dev::VcmParams VertexConnectionMerging::pass_params(const VcmConfig& c, uint32_t
   v.inv_cell = 1.0f / (2.0f * r);
   v.mask = mask;
   v.light_paths = paths;
+  v.pixel_radius = c.pixel_radius && dev::vcm_mode_merges(c.mode) ? 1u : 0u;
+  v.alpha = c.alpha;
+  v.eta_per_r2 = float(3.14159265358979323846 * double(std::max(paths, 1u)));
   return v;
 }
 
 void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& film) {
   if (!film.splats()) throw Error(ExitCode::Usage, "vcm needs a film with splats");
+  // Per-pixel radii only where every contribution lands in one pixel (the command line
+  // refuses them with another filter; settings made in code fall back to the pass rule).
+  pixel_radius_ = config_.pixel_radius && dev::vcm_mode_merges(config_.mode) &&
+                  params.filter == dev::FILTER_BOX && params.filter_radius == 0.5f;
   const uint32_t capacity = vertex_capacity(params.max_depth);
   const size_t pixels = film.pixels();
   if (pixels_ != pixels) {
@@ -94,6 +104,18 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
     merge_sum_ = cl::Buffer(ctx_, pixels * 4 * sizeof(float), CL_MEM_READ_WRITE, nullptr,
                             "VCM merged radiance");
     merge_sum_.fill_zero();
+    // Every pixel starts at the first radius, with no merges behind it.
+    const std::vector<float> start = [&] {
+      std::vector<float> rn(2 * pixels, 0.0f);
+      for (size_t i = 0; i < pixels; ++i) rn[2 * i] = config_.radius;
+      return rn;
+    }();
+    radii_ = cl::Buffer(ctx_, pixels * 2 * sizeof(float), CL_MEM_READ_WRITE, nullptr,
+                        "VCM per-pixel radii");
+    next_radii_ = cl::Buffer(ctx_, pixels * 2 * sizeof(float), CL_MEM_READ_WRITE, nullptr,
+                             "VCM per-pixel radii, next pass");
+    radii_.write(start.data(), start.size() * sizeof(float));
+    next_radii_.write(start.data(), start.size() * sizeof(float));
     pixels_ = pixels;
     width_ = film.width();
   }
@@ -104,6 +126,8 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
                            "VCM light vertices");
     vertex_counts_ = cl::Buffer(ctx_, tile * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
                                 "VCM light vertex counts");
+    slopes_ = cl::Buffer(ctx_, slots * 2 * sizeof(float), CL_MEM_READ_WRITE, nullptr,
+                         "VCM light vertex slopes");
     points_ = cl::Buffer(ctx_, slots * sizeof(dev::GridPoint), CL_MEM_READ_WRITE, nullptr,
                          "VCM grid points");
     cache_ = cl::Buffer(ctx_, slots * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
@@ -119,7 +143,8 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
     capacity_ = capacity;
     tile_ = tile;
   }
-  stats_.device_bytes = vertices_.size() + vertex_counts_.size() + points_.size() +
+  stats_.device_bytes = vertices_.size() + slopes_.size() + vertex_counts_.size() + points_.size() +
+                        radii_.size() + next_radii_.size() +
                         starts_.size() + cursor_.size() +
                         cache_.size() +
                         connection_counts_.size() + stored_counts_.size() + merge_counts_.size() +
@@ -129,6 +154,7 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
 
 void VertexConnectionMerging::write_vcm_params(uint32_t mis, float r, uint32_t paths) {
   dev::VcmParams v = pass_params(config_, mis, r, paths, mask_);
+  v.pixel_radius = pixel_radius_ ? 1u : 0u;
   v.light_vertex_capacity = capacity_;
   v.lvc = subpaths_.lvc;
   vcm_params_.write(&v, sizeof(v));
@@ -138,16 +164,18 @@ void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& fil
   prepare(params, film);
   write_vcm_params(params.mis, config_.radius, 1);
   const uint32_t none = 0;
-  light_kernel_.args(light_arg_, params_, vcm_params_, none, none, none, vertices_, vertex_counts_,
-                     film.splat(), film.ray_counts(), connection_counts_, stored_counts_);
+  light_kernel_.args(light_arg_, params_, vcm_params_, none, none, none, vertices_, slopes_,
+                     vertex_counts_, radii_, film.splat(), film.ray_counts(), connection_counts_,
+                     stored_counts_);
   light_kernel_.launch(ctx_, 1);
   count_kernel_.args(0, vcm_params_, none, vertices_, vertex_counts_, starts_, cache_, cache_count_);
   count_kernel_.launch(ctx_, 1);
   fill_kernel_.args(0, vcm_params_, none, vertices_, vertex_counts_, cursor_, points_);
   fill_kernel_.launch(ctx_, 1);
-  camera_kernel_.args(camera_arg_, params_, vcm_params_, none, none, none, vertices_,
-                      vertex_counts_, cache_, cache_count_, starts_, points_, film.sum(), film.sum_sq(), film.splat(), merge_sum_,
-                      film.ray_counts(), connection_counts_, merge_counts_);
+  camera_kernel_.args(camera_arg_, params_, vcm_params_, none, none, none, vertices_, slopes_,
+                      vertex_counts_, cache_, cache_count_, starts_, points_, radii_, next_radii_,
+                      film.sum(), film.sum_sq(), film.splat(), merge_sum_, film.ray_counts(),
+                      connection_counts_, merge_counts_);
   camera_kernel_.launch(ctx_, 1);
 }
 
@@ -156,8 +184,8 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
   const uint32_t mode = config_.mode;
   write_vcm_params(p.mis, r, count);
   if (mode != dev::VCM_MODE_PT) {
-    light_kernel_.args(light_arg_, params_, vcm_params_, sample, first, count, vertices_,
-                       vertex_counts_, film.splat(), film.ray_counts(), connection_counts_,
+    light_kernel_.args(light_arg_, params_, vcm_params_, sample, first, count, vertices_, slopes_,
+                       vertex_counts_, radii_, film.splat(), film.ray_counts(), connection_counts_,
                        stored_counts_);
     light_kernel_.launch(ctx_, count);
   }
@@ -189,9 +217,10 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
     stats_.grid_seconds += seconds_since(t0);
     if (merging) ++stats_.grids;
   }
-  camera_kernel_.args(camera_arg_, params_, vcm_params_, sample, first, count, vertices_,
-                      vertex_counts_, cache_, cache_count_, starts_, points_, film.sum(), film.sum_sq(), film.splat(), merge_sum_,
-                      film.ray_counts(), connection_counts_, merge_counts_);
+  camera_kernel_.args(camera_arg_, params_, vcm_params_, sample, first, count, vertices_, slopes_,
+                      vertex_counts_, cache_, cache_count_, starts_, points_, radii_, next_radii_,
+                      film.sum(), film.sum_sq(), film.splat(), merge_sum_, film.ray_counts(),
+                      connection_counts_, merge_counts_);
   camera_kernel_.launch(ctx_, count);
 }
 
@@ -208,6 +237,7 @@ void VertexConnectionMerging::render_pass(const dev::RenderParams& params, Film&
       const auto count = static_cast<uint32_t>(std::min(tile_, pixels - offset));
       launch_tile(params, sample, static_cast<uint32_t>(offset), count, r, film);
     }
+    if (pixel_radius_) std::swap(radii_, next_radii_);
   }
   stats_.tiles = static_cast<uint32_t>((pixels + tile_ - 1) / tile_);
 }
@@ -221,9 +251,21 @@ uint64_t VertexConnectionMerging::connections() const {
 
 VcmStats VertexConnectionMerging::vcm_stats() const {
   VcmStats s = stats_;
+  s.alpha = config_.alpha;
+  s.pixel_radii = pixel_radius_ ? 1u : 0u;
   if (!pixels_) return s;
   for (uint32_t c : stored_counts_.read_vector<uint32_t>(pixels_)) s.light_vertices += c;
   for (uint32_t c : merge_counts_.read_vector<uint32_t>(pixels_)) s.merges += c;
+  if (pixel_radius_ && s.passes) {
+    const std::vector<float> rn = radii_.read_vector<float>(2 * pixels_);
+    s.pixel_radius_min = s.pixel_radius_max = rn[0];
+    for (size_t i = 0; i < pixels_; ++i) {
+      s.pixel_radius_min = std::min(s.pixel_radius_min, rn[2 * i]);
+      s.pixel_radius_max = std::max(s.pixel_radius_max, rn[2 * i]);
+      s.pixel_radius_sum += rn[2 * i];
+    }
+    s.pixel_radius_count = pixels_;
+  }
   s.connections = connections();
   return s;
 }

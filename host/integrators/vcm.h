@@ -8,6 +8,10 @@
 // to its own light subpath and merges with the whole tile's. Tiles are as large as the
 // memory budget allows (vertices, grid points and buckets); eta = pi r^2 (paths of the tile)
 // so a merge's normalisation and its MIS weights are right for any tile size.
+// With --vcm-shrink pixel each pixel keeps its own (r, N), shrunk after each pass as sppm's
+// by the merges its first merging vertex found, in two buffers that swap after the pass; the
+// light subpaths are traced with the pass's radius and their vertices carry EtaSlopes
+// (kernels/integrators/stages/vertex_mis.cl) for the pixels' own.
 // Like bdpt, its film has splats: no per-pixel variance, sums not bit-reproducible.
 #pragma once
 
@@ -36,12 +40,13 @@ class VertexConnectionMerging final : public Integrator {
 
   // Light vertices stored per light path: one per bounce (at least 1).
   static uint32_t vertex_capacity(uint32_t max_depth) { return max_depth > 1 ? max_depth : 1; }
-  // Paths per tile within a budget: each path's vertices, their grid links and the grid's
-  // buckets (at most two per slot), and its vertex count.
+  // Paths per tile within a budget: each path's vertices with their slopes, their grid points
+  // and the grid's buckets (at most two per slot), and its vertex count.
   static size_t tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels);
-  // The first pass's merge radius: `given`, or half default_merge_radius held within the
-  // bounds; a given radius outside [1e-6, 0.1] times the scene's diagonal is a usage error.
-  static float first_radius(float given, const SceneScale& scale);
+  // The first pass's merge radius: `given`, or default_merge_radius times 0.75 with per-pixel
+  // radii (`pixel`) and 0.5 without, held within the bounds; a given radius outside [1e-6,
+  // 0.1] times the scene's diagonal is a usage error.
+  static float first_radius(float given, const SceneScale& scale, bool pixel);
   // Pass i's merge radius.
   static float radius(float r0, float alpha, uint32_t pass);
   // The pass's VcmParams for a tile of `paths` light paths.
@@ -64,6 +69,7 @@ class VertexConnectionMerging final : public Integrator {
   cl::Kernel light_kernel_, count_kernel_, fill_kernel_, camera_kernel_;
   cl::Buffer params_, vcm_params_;
   cl::Buffer vertices_, vertex_counts_;
+  cl::Buffer slopes_;  // per slot: its vertex's EtaSlopes (written with per-pixel radii)
   // The merge grid, cell-sorted (spatial/hash_grid.cl): per bucket its count and then its
   // first point (buckets + 1 entries), the fill's cursors, the points in bucket order.
   cl::Buffer starts_, cursor_, points_;
@@ -71,11 +77,14 @@ class VertexConnectionMerging final : public Integrator {
   cl::Buffer cache_, cache_count_;  // light vertex caching: the tile's stored vertices' slots
   // Per pixel index, allocated with the first pass.
   cl::Buffer connection_counts_, stored_counts_, merge_counts_, merge_sum_;
+  // Per pixel (r, N) with --vcm-shrink pixel: this pass's and the next's (swapped after a pass).
+  cl::Buffer radii_, next_radii_;
   size_t pixels_ = 0;
   uint32_t width_ = 0;
   uint32_t capacity_ = 0;
   size_t tile_ = 0;
   uint32_t mask_ = 0;
+  bool pixel_radius_ = false;  // per-pixel radii in use (config_'s, with the box filter)
   cl_uint light_arg_ = 0, camera_arg_ = 0;
   VcmStats stats_;
 };

@@ -22,7 +22,10 @@ namespace clpt {
 // How a rank sends its devices' shares and vcm figures to rank 0 (gather_device_stats).
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DeviceShare, name, label, samples, passes, busy_seconds)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(VcmStats, light_vertices, connections, merges, passes, tiles,
-                                   grids, grid_seconds, first_radius, last_radius, device_bytes)
+                                   grids, grid_seconds, first_radius, last_radius, alpha, pixel_radii,
+                                   pixel_radius_min,
+                                   pixel_radius_max, pixel_radius_sum, pixel_radius_count,
+                                   device_bytes)
 // ... and what adds up of mlt's chains and ic's lookups (MetropolisStats::add_chains,
 // IcStats::add_lookups).
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MetropolisStats, chains, large_proposed, large_accepted,
@@ -99,6 +102,17 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
                 "--integrator " + settings_.integrator + " renders on one device: its passes "
                 "depend on the passes before them, so they cannot be split into sample ranges; "
                 "name one --device (and run one process)");
+  // vcm's per-pixel radii shrink with all the passes before, as sppm's: split over devices or
+  // ranks it takes the pass rule, whose passes are independent (docs/scaling.md).
+  if (split && settings_.integrator == "vcm" && settings_.vcm.pixel_radius) {
+    if (settings_.vcm.shrink_given)
+      throw Error(ExitCode::Usage,
+                  "--vcm-shrink pixel renders on one device: each pixel's radius follows from the "
+                  "passes before, so they cannot be split into sample ranges; name one --device "
+                  "(and run one process), or take --vcm-shrink pass");
+    settings_.vcm.pixel_radius = false;
+    if (!settings_.vcm.alpha_given) settings_.vcm.alpha = 0.75f;
+  }
   if (flat.lights.empty() && row.needs_lights)
     log::warn("the scene has no lights (emissive surfaces, punctual lights or environment): "
               "the image will be black");

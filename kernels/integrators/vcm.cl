@@ -12,6 +12,11 @@
  *   vcm_camera       one camera subpath per pixel: connections to its own light subpath,
  *                    merges with the whole tile's, added to the film (and the merged part to
  *                    merge_sum, for the picture of what merging contributes).
+ * With per-pixel radii (VcmParams.pixel_radius) pixel_radii holds each pixel's (r, N) for the
+ * pass: vcm_light weights its camera connections with the eta of the pixel each lands in and
+ * stores each vertex's EtaSlopes in `slopes`; vcm_camera merges with its pixel's radius,
+ * weights with its eta and writes the pixel's (r, N) for the next pass to next_pixel_radii
+ * (the host swaps the two after the pass, so every tile of a pass reads the same radii).
  * Ray counts, strategy shadow rays (connection_counts), stored light vertices and merges are
  * counted per pixel index for --stats. */
 #include "film/film.cl"
@@ -20,7 +25,8 @@
 
 __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __constant const VcmParams* vcm, u32 sample_index, u32 path_offset,
-                        u32 path_count, __global PathVertex* vertices, __global u32* vertex_counts,
+                        u32 path_count, __global PathVertex* vertices, __global float2* slopes,
+                        __global u32* vertex_counts, __global const float2* pixel_radii,
                         __global float4* splat, __global u32* ray_counts,
                         __global u32* connection_counts, __global u32* stored_counts) {
   const u32 i = get_global_id(0);
@@ -29,9 +35,9 @@ __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   const SceneView scene = SCENE_VIEW();
   const Sampler sampler = sampler_init(params, path, sample_index);
   u32 rays = 0, connections = 0;
-  const u32 stored = vcm_light_path(params, vcm, &scene, &sampler,
-                                    vertices + (size_t)i * vcm->light_vertex_capacity, splat,
-                                    &rays, &connections);
+  const size_t first = (size_t)i * vcm->light_vertex_capacity;
+  const u32 stored = vcm_light_path(params, vcm, &scene, &sampler, vertices + first, slopes + first,
+                                    pixel_radii, splat, &rays, &connections);
   vertex_counts[i] = stored;
   ray_counts[path] += rays;
   connection_counts[path] += connections;
@@ -70,9 +76,11 @@ __kernel void vcm_grid_fill(__constant const VcmParams* vcm, u32 path_count,
 __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                          __constant const VcmParams* vcm, u32 sample_index, u32 path_offset,
                          u32 path_count, __global const PathVertex* vertices,
+                         __global const float2* slopes,
                          __global const u32* vertex_counts, __global const u32* cache,
                          __global const u32* cache_count, __global const u32* starts,
-                         __global const GridPoint* points, __global float4* film_sum,
+                         __global const GridPoint* points, __global const float2* pixel_radii,
+                         __global float2* next_pixel_radii, __global float4* film_sum,
                          __global float4* film_sum_sq, __global float4* splat, __global float4* merge_sum,
                          __global u32* ray_counts, __global u32* connection_counts,
                          __global u32* merge_counts) {
@@ -81,15 +89,19 @@ __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params
   const u32 pixel = path_offset + i;
   const SceneView scene = SCENE_VIEW();
   const Sampler sampler = sampler_init(params, pixel, sample_index);
-  u32 rays = 0, connections = 0, merges = 0;
+  u32 rays = 0, connections = 0, merges = 0, found = 0;
   FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
+  const float2 rn = vcm->pixel_radius ? pixel_radii[pixel] : (float2)(vcm->radius, 0.0f);
+  const MergeSetting g = vcm_merge_setting(params, vcm, rn.x);
   float3 merged;
   const float3 L = vcm_camera_path(
-      params, vcm, &scene, &sampler, pixel % params->width, pixel / params->width,
+      params, vcm, &g, &scene, &sampler, pixel % params->width, pixel / params->width,
       vertices + (size_t)i * vcm->light_vertex_capacity,
-      vcm_mode_connects(vcm->mode) ? vertex_counts[i] : 0u, vertices,
-      cache, vcm->lvc ? cache_count[0] : 0u, starts, points, &merged, &rays, &connections,
+      slopes + (size_t)i * vcm->light_vertex_capacity,
+      vcm_mode_connects(vcm->mode) ? vertex_counts[i] : 0u, vertices, slopes,
+      cache, vcm->lvc ? cache_count[0] : 0u, starts, points, &merged, &found, &rays, &connections,
       &merges);
+  if (vcm->pixel_radius) next_pixel_radii[pixel] = vcm_radius_update(vcm, rn, found);
   if (!film_camera_splat(params, splat, &sampler, pixel, L)) film_add(&film, L);
   film_store(film_sum, film_sum_sq, pixel, &film);
   if (is_finite3(merged)) merge_sum[pixel].xyz += merged;

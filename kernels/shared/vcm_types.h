@@ -33,6 +33,12 @@ typedef struct VcmParams {
   u32 light_vertex_capacity; /* light vertices stored per light subpath */
   u32 lvc;                /* --bdpt-lvc: connections per camera vertex to random cached light
                            * vertices (light vertex caching, as bdpt's); 0: to its own subpath's */
+  u32 pixel_radius;       /* 1: each pixel merges with its own radius (--vcm-shrink pixel), kept
+                           * per pixel as (r, N) and shrunk as sppm's by the merges its first
+                           * merging vertex finds; radius, mis_vm and mis_vc are then only the
+                           * light subpaths' reference and the grid's cell size */
+  float alpha;            /* --vcm-alpha, the per-pixel shrink's fraction of merges kept */
+  float eta_per_r2;       /* pi light_paths: a pixel's eta is this times its r^2 */
 } VcmParams;
 
 CLPT_END_SHARED

@@ -21,7 +21,9 @@
  *   - with merging (eta > 0: vcm's weights, eta = pi r^2 N_merge), rec_vm[k], k = 1 .. m - 1:
  *     the recursive weight of merging the light subpath's vertex x_k at the camera
  *     subpath's x_k, as kernels/integrators/vcm/vcm_path.cl computes it; every strategy's
- *     weight (rec) then carries the merging terms too.
+ *     weight (rec) then carries the merging terms too. With eta_traced > 0 the light subpath
+ *     is traced with the factors of eta_traced instead and moved to eta's along its
+ *     EtaSlopes (eta_rebase) wherever it is weighted, as vcm's per-pixel radii do.
  * The host forms the explicit weights from pcam and plight in double precision.
  *
  * Slot layout: MIS_TEST_SLOTS floats per work-item for each of rec, rec_raw, pcam, plight;
@@ -117,7 +119,8 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
 }
 
 __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 n,
-                             float eta, __global float* rec_out, __global float* rec_raw_out,
+                             float eta, float eta_traced, __global float* rec_out,
+                             __global float* rec_raw_out,
                              __global float* rec_vm_out, __global float* pcam_out,
                              __global float* plight_out, __global int* meta) {
   const u32 gid = get_global_id(0);
@@ -127,6 +130,11 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
   if (eta > 0.0f) {
     mm.vm = bdpt_mis(params, eta);
     mm.vc = bdpt_mis(params, 1.0f / eta);
+  }
+  StrategyMis mt = mm; /* the light subpath's factors as traced */
+  if (eta_traced > 0.0f) {
+    mt.vm = bdpt_mis(params, eta_traced);
+    mt.vc = bdpt_mis(params, 1.0f / eta_traced);
   }
   for (int i = 0; i < MIS_TEST_SLOTS; ++i) {
     rec_out[gid * MIS_TEST_SLOTS + i] = 0.0f;
@@ -242,13 +250,15 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
     st.beta = (float3)(1.0f);
     st.dvcm = bdpt_mis(params, q.direct / q.emit_w);
     st.dvc = (e.is_delta_pos || e.is_delta_dir) ? 0.0f : bdpt_mis(params, q.cos_light / q.emit_w);
-    st.dvm = st.dvc * mm.vc;
+    st.dvm = st.dvc * mt.vc;
+    EtaSlopes es = eta_slopes_start(&st);
     for (int depth = 1; depth <= m - 1; ++depth) {
       const int j = m - depth;
       const float3 wo = mis_test_dir(x[j], x[j + 1]);
       bdpt_mis_arrive(params, &st, sqrt(mis_test_dist2(x[j], x[j + 1])), fabs(dot(vl[j].ng, wo)),
                       depth > 1 || q.finite);
-      lstate[j] = st;
+      eta_slopes_arrive(params, &es, fabs(dot(vl[j].ng, wo)));
+      lstate[j] = eta_rebase(st, es, &mt, &mm);
       if (j == 1) {
         /* t = 1: bdpt_connect_camera at x1 (strategy s = m). */
         const CameraConnection c =
@@ -259,11 +269,12 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
         }
         const float camera_pdf_a = c.pdf_w * fabs(dot(vl[1].ng, c.wi)) / (c.dist * c.dist);
         const float rev = bsdf_pdf_w(&vl[1], c.wi, wo);
-        rec[m] = bdpt_weight_camera(params, &mm, &st, camera_pdf_a, rev);
+        rec[m] = bdpt_weight_camera(params, &mm, &lstate[j], camera_pdf_a, rev);
       } else {
         const float3 wi = mis_test_dir(x[j], x[j - 1]);
-        bdpt_mis_scatter(params, &mm, &st, bsdf_pdf_w(&vl[j], wo, wi), bsdf_pdf_w(&vl[j], wi, wo),
-                         fabs(dot(vl[j].ng, wi)), 0);
+        const float fwd = bsdf_pdf_w(&vl[j], wo, wi), rev = bsdf_pdf_w(&vl[j], wi, wo);
+        eta_slopes_scatter(params, &es, st.dvcm, fwd, rev, fabs(dot(vl[j].ng, wi)), 0);
+        bdpt_mis_scatter(params, &mt, &st, fwd, rev, fabs(dot(vl[j].ng, wi)), 0);
       }
     }
   }

@@ -109,6 +109,53 @@ static inline void bdpt_mis_scatter_sample(__constant const RenderParams* p, con
                    fabs(dot(sh->ng, bs->wi)), bs->is_delta);
 }
 
+/* A light subpath's dVC and dVM are affine in vm and vc: the updates above add vm to dVC and
+ * dVCM vc to dVM, and dVCM depends on neither. EtaSlopes carries d dVC / d vm and d dVM / d vc
+ * beside the state, so that a subpath traced with one eta can be weighted for a camera path
+ * whose pixel merges with another (vcm's per-pixel radius, kernels/integrators/vcm/vcm_path.cl):
+ * eta_rebase moves the state by (vm' - vm) and (vc' - vc) along them. */
+typedef struct EtaSlopes {
+  float dvc_vm;
+  float dvm_vc;
+} EtaSlopes;
+
+/* At the light: dVM = dVC vc, dVC holds no vm. */
+static inline EtaSlopes eta_slopes_start(const SubpathState* st) {
+  EtaSlopes e;
+  e.dvc_vm = 0.0f;
+  e.dvm_vc = st->dvc;
+  return e;
+}
+
+/* bdpt_mis_arrive's division by the cosine at the hit. */
+static inline void eta_slopes_arrive(__constant const RenderParams* p, EtaSlopes* e, float cos_in) {
+  const float c = bdpt_mis(p, cos_in);
+  e->dvc_vm /= c;
+  e->dvm_vc /= c;
+}
+
+/* bdpt_mis_scatter's update, with the state's dVCM before it (dvcm). */
+static inline void eta_slopes_scatter(__constant const RenderParams* p, EtaSlopes* e, float dvcm,
+                                      float fwd, float rev, float cos_out, int delta) {
+  if (delta) {
+    e->dvc_vm *= bdpt_mis(p, cos_out);
+    e->dvm_vc *= bdpt_mis(p, cos_out);
+    return;
+  }
+  const float g = bdpt_mis(p, cos_out / fwd), r = bdpt_mis(p, rev);
+  e->dvc_vm = g * (e->dvc_vm * r + 1.0f);
+  e->dvm_vc = g * (e->dvm_vc * r + dvcm);
+}
+
+/* The state a light subpath traced with the factors of `from` would have had with those of
+ * `to`. */
+static inline SubpathState eta_rebase(SubpathState st, EtaSlopes e, const StrategyMis* from,
+                                      const StrategyMis* to) {
+  st.dvc += (to->vm - from->vm) * e.dvc_vm;
+  st.dvm += (to->vc - from->vc) * e.dvm_vc;
+  return st;
+}
+
 /* s = 0: the camera subpath (state cam, after arriving) hit a light. q: the light's densities
  * for that point (direct per area or, for the environment, per steradian). */
 static inline float bdpt_weight_hit_light(__constant const RenderParams* p, const SubpathState* cam,

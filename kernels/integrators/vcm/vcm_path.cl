@@ -40,57 +40,126 @@ static inline StrategyMis vcm_mis(__constant const VcmParams* v) {
   return m;
 }
 
+/* How a camera path merges: its radius, 1 / eta (a merge's kernel over the light paths) and
+ * the MIS factors of its eta. One for the pass, or with per-pixel radii its pixel's. */
+typedef struct MergeSetting {
+  float radius;
+  float normalization;
+  StrategyMis mis;
+} MergeSetting;
+
+static inline MergeSetting vcm_merge_setting(__constant const RenderParams* p,
+                                             __constant const VcmParams* v, float radius) {
+  MergeSetting g;
+  g.mis = vcm_mis(v);
+  g.radius = v->radius;
+  g.normalization = v->vm_normalization;
+  if (!v->pixel_radius) return g;
+  const float eta = v->eta_per_r2 * radius * radius;
+  g.radius = radius;
+  g.normalization = 1.0f / eta;
+  if (vcm_mode_merges(v->mode)) g.mis.vm = bdpt_mis(p, eta);
+  if (vcm_mode_connects(v->mode)) g.mis.vc = bdpt_mis(p, 1.0f / eta);
+  return g;
+}
+
+/* A stored light vertex's state as a camera path merging with setting g weights it: traced
+ * with the pass's factors, moved to g's along its slopes when the pixels have radii of their
+ * own. */
+static inline SubpathState vcm_light_state(__constant const VcmParams* v, const MergeSetting* g,
+                                           __global const PathVertex* y,
+                                           __global const float2* slopes) {
+  const SubpathState st = path_vertex_state(y);
+  if (!v->pixel_radius) return st;
+  const StrategyMis traced = vcm_mis(v);
+  const float2 e = *slopes;
+  EtaSlopes es;
+  es.dvc_vm = e.x;
+  es.dvm_vc = e.y;
+  return eta_rebase(st, es, &traced, &g->mis);
+}
+
+/* A pixel's (r, N) after a pass whose first merging vertex found m light vertices: sppm's
+ * shrink (N' = N + alpha m, r'^2 = r^2 N' / (N + m)), which leaves a pixel that finds
+ * nothing at its radius. */
+static inline float2 vcm_radius_update(__constant const VcmParams* v, float2 rn, u32 m) {
+  if (m == 0u) return rn;
+  const float n = rn.y + v->alpha * (float)m;
+  return (float2)(rn.x * sqrt(n / (rn.y + (float)m)), n);
+}
+
 /* Traces the light subpath of one pixel index, stores its vertices in out (at most
  * v->light_vertex_capacity) and splats its camera connections. Returns how many it stored. */
 static inline u32 vcm_light_path(__constant const RenderParams* p, __constant const VcmParams* v,
                                  const SceneView* s, const Sampler* sampler,
-                                 __global PathVertex* out,
+                                 __global PathVertex* out, __global float2* out_slopes,
+                                 __global const float2* pixel_radii,
                                  __global float4* splat, u32* rays, u32* connections) {
   const StrategyMis m = vcm_mis(v);
   SubpathState st;
   LightPdfs q;
   PathWalk w;
   if (!bdpt_light_start(p, &m, s, sampler, &st, &q, &w)) return 0u;
+  EtaSlopes e = eta_slopes_start(&st);
   const bool store = vcm_mode_merges(v->mode) || vcm_mode_connects(v->mode);
   const bool connect = v->mode != VCM_MODE_PPM;
   u32 stored = 0u;
   while (w.depth <= p->max_depth && walk_next(s, sampler, &w, rays)) {
     const u32 depth = w.depth;
     bdpt_light_arrive(p, &st, &w, q.finite);
+    if (v->pixel_radius) eta_slopes_arrive(p, &e, fabs(dot(w.sh.ng, w.wo)));
     if (v->mode == VCM_MODE_LT) st.dvcm = st.dvc = 0.0f; /* no strategy but t = 1: weight 1 */
     if (bsdf_has_smooth_lobe(&w.sh)) {
-      if (store && stored < v->light_vertex_capacity)
+      if (store && stored < v->light_vertex_capacity) {
+        if (v->pixel_radius) out_slopes[stored] = (float2)(e.dvc_vm, e.dvm_vc);
         path_vertex_store(out + stored++, &w.sh, w.wo, &st, depth);
+      }
       if (connect) {
         float2 raster = (float2)(0.0f);
-        const float3 L = bdpt_camera_connection(p, &m, s, &w.sh, w.wo, &st, depth,
-                                                sample_2d(sampler, walk_dim(&w, DIM_LT_LENS)),
-                                                &raster, rays, connections);
+        const float2 u_lens = sample_2d(sampler, walk_dim(&w, DIM_LT_LENS));
+        float3 L = (float3)(0.0f);
+        CameraLink l;
+        if (!v->pixel_radius) {
+          L = bdpt_camera_connection(p, &m, s, &w.sh, w.wo, &st, depth, u_lens, &raster, rays,
+                                     connections);
+        } else if (bdpt_camera_link(p, &w.sh, w.wo, u_lens, &l)) {
+          /* Weighted against the techniques of the pixel it lands in, with that pixel's eta
+           * (a box filter: the film position's pixel is the one that receives it). */
+          const MergeSetting g =
+              vcm_merge_setting(p, v, pixel_radii[film_pixel_of(p, l.c.raster)].x);
+          const SubpathState at = eta_rebase(st, e, &m, &g.mis);
+          const float wt = bdpt_weight_camera(p, &g.mis, &at, l.camera_pdf_a, l.rev);
+          L = bdpt_camera_link_trace(s, &w.sh, &l, st.beta, wt, &raster, rays, connections);
+        }
         if (!is_black(L)) film_splat_at(p, splat, raster, L);
       }
     }
     if (depth >= p->max_depth) break;
     const BsdfSample bs = walk_sample_bsdf(sampler, &w);
     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
+    if (v->pixel_radius)
+      eta_slopes_scatter(p, &e, st.dvcm, bs.pdf_w,
+                         bs.is_delta ? bs.pdf_w : bsdf_pdf_w(&w.sh, bs.wi, w.wo),
+                         fabs(dot(w.sh.ng, bs.wi)), bs.is_delta);
     bdpt_mis_scatter_sample(p, &m, &st, &w.sh, w.wo, &bs);
   }
   return stored;
 }
 
-/* Merging at camera vertex sh (oriented to wo, index k, state st): the sum over the tile's
- * light vertices within r of f(wo, y's direction) y.beta, each times its weight (1 in ppm
- * mode), before the camera's throughput and 1 / eta. */
+/* Merging at camera vertex sh (oriented to wo, index k, state st) with setting g: the sum
+ * over the tile's light vertices within g's radius of f(wo, y's direction) y.beta, each times
+ * its weight (1 in ppm mode), before the camera's throughput and 1 / eta. *merges counts them. */
 static inline float3 vcm_merge(__constant const RenderParams* p, __constant const VcmParams* v,
-                               const StrategyMis* m, const SurfaceHit* sh, float3 wo,
+                               const MergeSetting* g, const SurfaceHit* sh, float3 wo,
                                const SubpathState* st,
                                u32 k, __global const PathVertex* vertices,
-                               __global const u32* starts,
+                               __global const float2* slopes, __global const u32* starts,
                                __global const GridPoint* points, u32* merges) {
   float3 sum = (float3)(0.0f);
-  const float r2 = v->radius * v->radius;
+  const float r2 = g->radius * g->radius;
   const float3 x = sh->p;
-  const int3 lo = grid_cell(x - (float3)(v->radius), v->inv_cell);
-  const int3 hi = grid_cell(x + (float3)(v->radius), v->inv_cell);
+  const int3 lo = grid_cell(x - (float3)(g->radius), v->inv_cell);
+  const int3 hi = grid_cell(x + (float3)(g->radius), v->inv_cell);
   const PhotonShading shading = photon_shading(sh, wo);
   for (int cz = lo.z; cz <= hi.z; ++cz)
     for (int cy = lo.y; cy <= hi.y; ++cy)
@@ -98,17 +167,17 @@ static inline float3 vcm_merge(__constant const RenderParams* p, __constant cons
         const int3 c = (int3)(cx, cy, cz);
         const u32 b = grid_bucket(c, v->mask);
         for (u32 j = starts[b], end = starts[b + 1u]; j < end; ++j) {
-          __global const GridPoint* g = points + j;
-          const float3 yp = vload3(0, g->p);
+          __global const GridPoint* gp = points + j;
+          const float3 yp = vload3(0, gp->p);
           const float3 d = yp - x;
           if (dot(d, d) > r2) continue;
           const int3 yc = grid_cell(yp, v->inv_cell);
           if (yc.x != cx || yc.y != cy || yc.z != cz) continue; /* another cell's vertex */
-          if (g->key + k - 1u > p->max_depth) continue; /* the vertex's depth */
-          const float3 n_y = vload3(0, g->n);
+          if (gp->key + k - 1u > p->max_depth) continue; /* the vertex's depth */
+          const float3 n_y = vload3(0, gp->n);
           const float c_n = dot(n_y, sh->ng);
           if (fabs(c_n) < PHOTON_NORMAL_COS) continue;
-          __global const PathVertex* y = vertices + g->index;
+          __global const PathVertex* y = vertices + gp->index;
           const float3 wi = rotate_between(n_y, c_n >= 0.0f ? sh->ng : -sh->ng, vload3(0, y->wo));
           const float3 f = bsdf_eval_in_frame(sh, &shading.frame, shading.wo_local, wi,
                                               TRANSPORT_RADIANCE);
@@ -116,8 +185,9 @@ static inline float3 vcm_merge(__constant const RenderParams* p, __constant cons
           ++*merges;
           float weight = 1.0f;
           if (v->mode == VCM_MODE_VCM) {
-            const SubpathState ls = path_vertex_state(y);
-            weight = vcm_weight_merge(p, m, st, &ls, bsdf_pdf_w(sh, wo, wi), bsdf_pdf_w(sh, wi, wo));
+            const SubpathState ls = vcm_light_state(v, g, y, slopes + gp->index);
+            weight = vcm_weight_merge(p, &g->mis, st, &ls, bsdf_pdf_w(sh, wo, wi),
+                                      bsdf_pdf_w(sh, wi, wo));
           }
           sum += f * vload3(0, y->beta) * weight;
         }
@@ -125,20 +195,40 @@ static inline float3 vcm_merge(__constant const RenderParams* p, __constant cons
   return sum;
 }
 
+/* s >= 2 with stored light vertex y (its slopes beside it), weighted with setting g. */
+static inline float3 vcm_connect(__constant const RenderParams* p, __constant const VcmParams* v,
+                                 const MergeSetting* g, const SceneView* s, const SurfaceHit* sh,
+                                 float3 wo, const SubpathState* st, u32 k,
+                                 __global const PathVertex* y, __global const float2* slopes,
+                                 u32* rays, u32* connections) {
+  if (!v->pixel_radius) return bdpt_connect(p, &g->mis, s, sh, wo, st, k, y, rays, connections);
+  const u32 s_count = y->depth + 1u;
+  if (s_count + k - 1u > p->max_depth) return (float3)(0.0f);
+  const SurfaceHit ys = path_vertex_surface(y);
+  const SubpathState ls = vcm_light_state(v, g, y, slopes);
+  return bdpt_connect_vertex(p, &g->mis, s, sh, wo, st, k, &ys, vload3(0, y->wo), &ls, s_count,
+                             rays, connections);
+}
+
 /* The camera subpath of pixel (x, y) with its light subpath lv (count vertices) and the
- * tile's merge grid. With light vertex caching (v->lvc = M > 0, as bdpt's) each camera
- * vertex connects instead to M vertices drawn from the tile's `cached` stored vertices (their
- * slots in `cache`), scaled by cached / (M light_paths). Returns the pixel's estimate;
- * *merged is the part merging added. */
+ * tile's merge grid, merging with setting g. With light vertex caching (v->lvc = M > 0, as
+ * bdpt's) each camera vertex connects instead to M vertices drawn from the tile's `cached`
+ * stored vertices (their slots in `cache`), scaled by cached / (M light_paths). Returns the
+ * pixel's estimate; *merged is the part merging added, *found the merges of its first merging
+ * vertex. slopes, lv_slopes: the EtaSlopes of vertices and lv, slot for slot (read with
+ * per-pixel radii). */
 static inline float3 vcm_camera_path(__constant const RenderParams* p,
-                                     __constant const VcmParams* v,
+                                     __constant const VcmParams* v, const MergeSetting* g,
                                      const SceneView* s, const Sampler* sampler, u32 x, u32 y,
-                                     __global const PathVertex* lv, u32 count,
-                                     __global const PathVertex* vertices, __global const u32* cache,
+                                     __global const PathVertex* lv,
+                                     __global const float2* lv_slopes, u32 count,
+                                     __global const PathVertex* vertices,
+                                     __global const float2* slopes, __global const u32* cache,
                                      u32 cached, __global const u32* starts,
                                      __global const GridPoint* points,
-                                     float3* merged, u32* rays, u32* connections, u32* merges) {
-  const StrategyMis m = vcm_mis(v);
+                                     float3* merged, u32* found, u32* rays, u32* connections,
+                                     u32* merges) {
+  const StrategyMis m = g->mis;
   const bool connect = vcm_mode_connects(v->mode);
   const bool vc = connect || v->mode == VCM_MODE_PT; /* next-event estimation */
   const bool merge = vcm_mode_merges(v->mode);
@@ -147,6 +237,8 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
   SubpathState st = bdpt_camera_start(p, dir);
   float3 L = (float3)(0.0f);
   *merged = (float3)(0.0f);
+  *found = 0u;
+  bool first_merge = true;
   /* ppm sees emitters only through delta vertices (else merging found that light); on such
    * a path dVCM and dVC are 0, so bdpt's emitter weights are 1 there. */
   bool specular = true;
@@ -173,19 +265,24 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
       }
       if (connect && v->lvc == 0u) {
         for (u32 i = 0u; i < count; ++i)
-          L += st.beta * bdpt_connect(p, &m, s, sh, wo, &st, k, lv + i, rays, connections);
+          L += st.beta * vcm_connect(p, v, g, s, sh, wo, &st, k, lv + i, lv_slopes + i,
+                                     rays, connections);
       } else if (connect && cached > 0u) {
         float3 sum = (float3)(0.0f);
         for (u32 j = 0u; j < v->lvc; ++j) {
           const float u = sample_1d(sampler, stream_dim(bounce_dim(k - 1u, DIM_LVC_PICK), j));
           const u32 i = min((u32)(u * (float)cached), cached - 1u);
-          sum += bdpt_connect(p, &m, s, sh, wo, &st, k, vertices + cache[i], rays, connections);
+          sum += vcm_connect(p, v, g, s, sh, wo, &st, k, vertices + cache[i], slopes + cache[i],
+                             rays, connections);
         }
         L += st.beta * sum * ((float)cached / ((float)v->lvc * (float)v->light_paths));
       }
       if (merge) {
-        const float3 M = st.beta * vcm_merge(p, v, &m, sh, wo, &st, k, vertices, starts, points,
-                                             merges) * v->vm_normalization;
+        const u32 before = *merges;
+        const float3 M = st.beta * vcm_merge(p, v, g, sh, wo, &st, k, vertices, slopes, starts,
+                                             points, merges) * g->normalization;
+        if (first_merge) *found = *merges - before;
+        first_merge = false;
         L += M;
         *merged += M;
         if (v->mode == VCM_MODE_PPM) break;

@@ -29,6 +29,43 @@ static inline float2 bdpt_light_sample_2d(const Sampler* sampler, u32 dim) {
   return sample_2d(sampler, stream_dim(dim, DIM_BDPT_LIGHT_STREAM));
 }
 
+/* t = 1, light vertex sh (oriented to wo, towards the light) seen through lens point u_lens:
+ * the camera's side of the connection, its f |cos| (with the shading correction) and the two
+ * densities its MIS weight needs: camera_pdf_a, with which a camera ray would find the vertex
+ * (per unit area and per light path: pdf_camera_film cos / d^2), and rev, the vertex's density
+ * of scattering back along the light subpath given the camera side. */
+typedef struct CameraLink {
+  CameraConnection c;
+  float3 f;
+  float camera_pdf_a;
+  float rev;
+} CameraLink;
+
+/* Fills *l; 0 when the camera cannot see the vertex or its BSDF sends nothing there. */
+static inline int bdpt_camera_link(__constant const RenderParams* p, const SurfaceHit* sh, float3 wo,
+                                   float2 u_lens, CameraLink* l) {
+  l->c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
+  if (!l->c.valid) return 0;
+  l->f = bsdf_eval_cos(sh, wo, l->c.wi, TRANSPORT_IMPORTANCE) * shading_correction(sh, wo, l->c.wi);
+  if (is_black(l->f)) return 0;
+  l->camera_pdf_a = l->c.pdf_w * fabs(dot(sh->ng, l->c.wi)) / (l->c.dist * l->c.dist);
+  l->rev = bsdf_pdf_w(sh, l->c.wi, wo);
+  return 1;
+}
+
+/* The link's shadow ray and, unoccluded, its contribution to the film with MIS weight w (the
+ * subpath's throughput beta) and its film position in *raster. */
+static inline float3 bdpt_camera_link_trace(const SceneView* s, const SurfaceHit* sh,
+                                            const CameraLink* l, float3 beta, float w,
+                                            float2* raster, u32* rays, u32* connections) {
+  ++*rays;
+  ++*connections;
+  const float3 org = offset_ray_origin_towards(sh->p, sh->ng, l->c.wi);
+  if (intersect_any(s, org, l->c.wi, l->c.dist * (1.0f - 1e-4f))) return (float3)(0.0f);
+  *raster = l->c.raster;
+  return beta * l->f * (l->c.weight * w);
+}
+
 /* t = 1: light vertex sh (oriented to wo, towards the light, at bounce `depth`) connected
  * to the camera through lens point u_lens. Returns its weighted contribution to the film and
  * sets *raster to its film position; 0 when the strategy is off, the camera cannot see the vertex
@@ -40,19 +77,11 @@ static inline float3 bdpt_camera_connection(__constant const RenderParams* p, co
                                             u32* rays, u32* connections) {
   const float strategy = bdpt_strategy_weight(m, depth + 1u, 1u, 1.0f);
   if (strategy == 0.0f) return (float3)(0.0f);
-  const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
-  if (!c.valid) return (float3)(0.0f);
-  const float3 f = bsdf_eval_cos(sh, wo, c.wi, TRANSPORT_IMPORTANCE) * shading_correction(sh, wo, c.wi);
-  if (is_black(f)) return (float3)(0.0f);
-  const float camera_pdf_a = c.pdf_w * fabs(dot(sh->ng, c.wi)) / (c.dist * c.dist);
-  const float rev = bsdf_pdf_w(sh, c.wi, wo);
-  const float w = bdpt_strategy_weight(m, depth + 1u, 1u, bdpt_weight_camera(p, m, st, camera_pdf_a, rev));
-  ++*rays;
-  ++*connections;
-  const float3 org = offset_ray_origin_towards(sh->p, sh->ng, c.wi);
-  if (intersect_any(s, org, c.wi, c.dist * (1.0f - 1e-4f))) return (float3)(0.0f);
-  *raster = c.raster;
-  return st->beta * f * (c.weight * w);
+  CameraLink l;
+  if (!bdpt_camera_link(p, sh, wo, u_lens, &l)) return (float3)(0.0f);
+  const float w =
+      bdpt_strategy_weight(m, depth + 1u, 1u, bdpt_weight_camera(p, m, st, l.camera_pdf_a, l.rev));
+  return bdpt_camera_link_trace(s, sh, &l, st->beta, w, raster, rays, connections);
 }
 
 /* bdpt's t = 1 strategy: the connection above, splatted. */
