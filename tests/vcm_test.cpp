@@ -201,6 +201,13 @@ TEST(CrossIntegrator, VcmMatchesPtWithGlossyAndGlass) {
   test::expect_matches_reference(
       test::render_batches(scene, vcm_settings(dev::VCM_MODE_VCM, 32), 16, 800), ref,
       "vcm glossy glass");
+  // Per-pixel radii that part from the pass's (alpha 0.51): the caustic under the glass is
+  // light tracing's and merging's, so their weights must take the same (the pixel's) eta.
+  RenderSettings s = vcm_settings(dev::VCM_MODE_VCM, 32);
+  s.vcm.pixel_radius = true;
+  s.vcm.alpha = 0.51f;
+  test::expect_matches_reference(test::render_batches(scene, s, 16, 1800), ref,
+                                 "vcm glossy glass, pixel radii");
 }
 
 TEST(VcmUnits, RadiusAndEta) {
