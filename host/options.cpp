@@ -610,7 +610,7 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
     if (o.vcm_shrink == "pixel" && !pixel_box)
       throw Error(ExitCode::Usage, "--vcm-shrink pixel needs the box filter of radius 0.5");
     // The equal-time sweeps of docs/BENCHMARKS.md (session 32) chose both defaults.
-    if (o.vcm_alpha == 0.0f) o.vcm_alpha = o.vcm_shrink == "pixel" ? 0.6f : 0.75f;
+    if (o.vcm_alpha == 0.0f) o.vcm_alpha = o.vcm_shrink == "pixel" ? kVcmPixelAlpha : kVcmPassAlpha;
   }
   if (o.pm_filter != "cone" && o.pm_filter != "epanechnikov" && o.pm_filter != "box")
     throw Error(ExitCode::Usage, "--pm-filter " + o.pm_filter + ": expected cone, epanechnikov "

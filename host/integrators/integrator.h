@@ -196,12 +196,15 @@ struct IcConfig {
 // The share of --time the irradiance cache spends refining its records.
 constexpr double kIcRefineShare = 0.25;
 
+// vcm's --vcm-alpha defaults for its two shrink rules (the sweeps of docs/BENCHMARKS.md).
+constexpr float kVcmPixelAlpha = 0.6f, kVcmPassAlpha = 0.75f;
+
 // vcm's settings (--vcm-*).
 struct VcmConfig {
   uint32_t mode = 0;        // dev::VcmMode (--vcm-mode)
   float radius = 0.0f;      // the first pass's merge radius; 0: half default_merge_radius
   // The defaults are the command line's with the box filter (parse_options resolves them).
-  float alpha = 0.6f;       // per pixel sppm's shrink; per pass radius_i = radius (i + 1)^((alpha - 1) / 2)
+  float alpha = kVcmPixelAlpha;  // per pixel sppm's shrink; per pass radius_i = radius (i + 1)^((alpha - 1) / 2)
   bool pixel_radius = true;  // --vcm-shrink pixel: each pixel's radius, shrunk by its merges
   // Whether the command line named the rule and alpha (else the renderer may choose: the pass
   // rule with its own alpha when the passes are split over devices or ranks).

@@ -78,7 +78,6 @@ dev::VcmParams VertexConnectionMerging::pass_params(const VcmConfig& c, uint32_t
   v.inv_cell = 1.0f / (2.0f * r);
   v.mask = mask;
   v.light_paths = paths;
-  v.pixel_radius = c.pixel_radius && dev::vcm_mode_merges(c.mode) ? 1u : 0u;
   v.alpha = c.alpha;
   v.eta_per_r2 = float(3.14159265358979323846 * double(std::max(paths, 1u)));
   return v;
@@ -154,7 +153,7 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
 
 void VertexConnectionMerging::write_vcm_params(uint32_t mis, float r, uint32_t paths) {
   dev::VcmParams v = pass_params(config_, mis, r, paths, mask_);
-  v.pixel_radius = pixel_radius_ ? 1u : 0u;
+  v.pixel_radius = pixel_radius_ ? 1u : 0u;  // pass_params leaves it 0: prepare() decides
   v.light_vertex_capacity = capacity_;
   v.lvc = subpaths_.lvc;
   vcm_params_.write(&v, sizeof(v));

@@ -111,7 +111,7 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
                   "passes before, so they cannot be split into sample ranges; name one --device "
                   "(and run one process), or take --vcm-shrink pass");
     settings_.vcm.pixel_radius = false;
-    if (!settings_.vcm.alpha_given) settings_.vcm.alpha = 0.75f;
+    if (!settings_.vcm.alpha_given) settings_.vcm.alpha = kVcmPassAlpha;
   }
   if (flat.lights.empty() && row.needs_lights)
     log::warn("the scene has no lights (emissive surfaces, punctual lights or environment): "

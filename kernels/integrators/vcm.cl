@@ -91,14 +91,13 @@ __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params
   const Sampler sampler = sampler_init(params, pixel, sample_index);
   u32 rays = 0, connections = 0, merges = 0, found = 0;
   FilmPixel film = film_load(film_sum, film_sum_sq, pixel);
+  const size_t first = (size_t)i * vcm->light_vertex_capacity;
   const float2 rn = vcm->pixel_radius ? pixel_radii[pixel] : (float2)(vcm->radius, 0.0f);
   const MergeSetting g = vcm_merge_setting(params, vcm, rn.x);
   float3 merged;
   const float3 L = vcm_camera_path(
       params, vcm, &g, &scene, &sampler, pixel % params->width, pixel / params->width,
-      vertices + (size_t)i * vcm->light_vertex_capacity,
-      slopes + (size_t)i * vcm->light_vertex_capacity,
-      vcm_mode_connects(vcm->mode) ? vertex_counts[i] : 0u, vertices, slopes,
+      vertices + first, slopes + first, vcm_mode_connects(vcm->mode) ? vertex_counts[i] : 0u, vertices, slopes,
       cache, vcm->lvc ? cache_count[0] : 0u, starts, points, &merged, &found, &rays, &connections,
       &merges);
   if (vcm->pixel_radius) next_pixel_radii[pixel] = vcm_radius_update(vcm, rn, found);

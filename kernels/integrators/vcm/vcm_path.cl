@@ -63,20 +63,27 @@ static inline MergeSetting vcm_merge_setting(__constant const RenderParams* p,
   return g;
 }
 
-/* A stored light vertex's state as a camera path merging with setting g weights it: traced
- * with the pass's factors, moved to g's along its slopes when the pixels have radii of their
- * own. */
+/* A light subpath's state st (slopes e) as a camera path merging with setting g weights it:
+ * traced with the pass's factors, moved to g's when the pixels have radii of their own. */
+static inline SubpathState vcm_rebase(__constant const VcmParams* v, const MergeSetting* g,
+                                      SubpathState st, EtaSlopes e) {
+  if (!v->pixel_radius) return st;
+  const StrategyMis traced = vcm_mis(v);
+  return eta_rebase(st, e, &traced, &g->mis);
+}
+
+/* The same for stored light vertex y, its slopes beside it (written with per-pixel radii only,
+ * so read only then). */
 static inline SubpathState vcm_light_state(__constant const VcmParams* v, const MergeSetting* g,
                                            __global const PathVertex* y,
                                            __global const float2* slopes) {
-  const SubpathState st = path_vertex_state(y);
-  if (!v->pixel_radius) return st;
-  const StrategyMis traced = vcm_mis(v);
-  const float2 e = *slopes;
-  EtaSlopes es;
-  es.dvc_vm = e.x;
-  es.dvm_vc = e.y;
-  return eta_rebase(st, es, &traced, &g->mis);
+  EtaSlopes e;
+  e.dvc_vm = e.dvm_vc = 0.0f;
+  if (v->pixel_radius) {
+    e.dvc_vm = slopes->x;
+    e.dvm_vc = slopes->y;
+  }
+  return vcm_rebase(v, g, path_vertex_state(y), e);
 }
 
 /* A pixel's (r, N) after a pass whose first merging vertex found m light vertices: sppm's
@@ -114,34 +121,29 @@ static inline u32 vcm_light_path(__constant const RenderParams* p, __constant co
         if (v->pixel_radius) out_slopes[stored] = (float2)(e.dvc_vm, e.dvm_vc);
         path_vertex_store(out + stored++, &w.sh, w.wo, &st, depth);
       }
-      if (connect) {
+      CameraLink l;
+      if (connect && bdpt_camera_link(p, &w.sh, w.wo, sample_2d(sampler, walk_dim(&w, DIM_LT_LENS)),
+                                      &l)) {
+        /* t = 1, weighted against the techniques of the pixel it lands in: with per-pixel
+         * radii that pixel's eta (a box filter: the film position's pixel receives it). */
+        const MergeSetting g = vcm_merge_setting(
+            p, v, v->pixel_radius ? pixel_radii[film_pixel_of(p, l.c.raster)].x : v->radius);
+        const SubpathState at = vcm_rebase(v, &g, st, e);
         float2 raster = (float2)(0.0f);
-        const float2 u_lens = sample_2d(sampler, walk_dim(&w, DIM_LT_LENS));
-        float3 L = (float3)(0.0f);
-        CameraLink l;
-        if (!v->pixel_radius) {
-          L = bdpt_camera_connection(p, &m, s, &w.sh, w.wo, &st, depth, u_lens, &raster, rays,
-                                     connections);
-        } else if (bdpt_camera_link(p, &w.sh, w.wo, u_lens, &l)) {
-          /* Weighted against the techniques of the pixel it lands in, with that pixel's eta
-           * (a box filter: the film position's pixel is the one that receives it). */
-          const MergeSetting g =
-              vcm_merge_setting(p, v, pixel_radii[film_pixel_of(p, l.c.raster)].x);
-          const SubpathState at = eta_rebase(st, e, &m, &g.mis);
-          const float wt = bdpt_weight_camera(p, &g.mis, &at, l.camera_pdf_a, l.rev);
-          L = bdpt_camera_link_trace(s, &w.sh, &l, st.beta, wt, &raster, rays, connections);
-        }
+        const float3 L = bdpt_camera_link_trace(
+            s, &w.sh, &l, st.beta, bdpt_weight_camera(p, &g.mis, &at, l.camera_pdf_a, l.rev),
+            &raster, rays, connections);
         if (!is_black(L)) film_splat_at(p, splat, raster, L);
       }
     }
     if (depth >= p->max_depth) break;
     const BsdfSample bs = walk_sample_bsdf(sampler, &w);
     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
-    if (v->pixel_radius)
-      eta_slopes_scatter(p, &e, st.dvcm, bs.pdf_w,
-                         bs.is_delta ? bs.pdf_w : bsdf_pdf_w(&w.sh, bs.wi, w.wo),
-                         fabs(dot(w.sh.ng, bs.wi)), bs.is_delta);
-    bdpt_mis_scatter_sample(p, &m, &st, &w.sh, w.wo, &bs);
+    /* bdpt_mis_scatter_sample's update, its reverse density shared with the slopes'. */
+    const float rev = bs.is_delta ? bs.pdf_w : bsdf_pdf_w(&w.sh, bs.wi, w.wo);
+    const float cos_out = fabs(dot(w.sh.ng, bs.wi));
+    if (v->pixel_radius) eta_slopes_scatter(p, &e, st.dvcm, bs.pdf_w, rev, cos_out, bs.is_delta);
+    bdpt_mis_scatter(p, &m, &st, bs.pdf_w, rev, cos_out, bs.is_delta);
   }
   return stored;
 }
@@ -195,7 +197,10 @@ static inline float3 vcm_merge(__constant const RenderParams* p, __constant cons
   return sum;
 }
 
-/* s >= 2 with stored light vertex y (its slopes beside it), weighted with setting g. */
+/* s >= 2 with stored light vertex y (its slopes beside it), weighted with setting g: bdpt_connect
+ * with the light vertex's state moved to g's factors. The pass rule calls bdpt_connect itself:
+ * one path through bdpt_connect_vertex for both grew vcm_camera's NVIDIA stack from 400 to 720
+ * bytes (scripts/kernel_compile_check.py --targets nvptx --programs vcm). */
 static inline float3 vcm_connect(__constant const RenderParams* p, __constant const VcmParams* v,
                                  const MergeSetting* g, const SceneView* s, const SurfaceHit* sh,
                                  float3 wo, const SubpathState* st, u32 k,
