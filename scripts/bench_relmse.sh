@@ -17,7 +17,10 @@
 # 2. Each INTEGRATOR renders for SECONDS (clpt --time: render time only, not the scene load or
 #    the kernel build) at the same resolution and depth, with seed SEED, and writes --stats;
 #    RUNS > 1 repeats that with seeds SEED, SEED+1, ... and averages (relMSE is heavy-tailed
-#    where an estimator makes fireflies, so one run can be far from the mean). Names are
+#    where an estimator makes fireflies, so one run can be far from the mean; a second table
+#    then gives each integrator's mean relMSE, its standard error, the median and every
+#    run's figure, since a firefly shared by all integrators at one seed can carry the means of
+#    a few runs). Names are
 #    passed through to clpt --integrator unchecked; a render that fails is reported in the
 #    table and the script goes on with the next one (exit status 1 at the end). A name may
 #    carry that integrator's own options after commas: `indirect1,--indirect=source` renders
@@ -211,6 +214,7 @@ def mean(xs):
     return sum(xs) / len(xs)
 
 rows = []
+spread = {}  # each integrator's relMSE per run
 for r in sys.argv[11:]:
     integ, spp, secs, rel = r.split("|")
     if not secs:  # failed: spp holds the message
@@ -219,6 +223,7 @@ for r in sys.argv[11:]:
     rel_v = [float(x) if x else math.nan for x in rel.split()]
     rows.append((integ, f"{mean([int(x) for x in spp.split()]):.0f}", mean([float(x) for x in secs.split()]),
                  mean(rel_v)))
+    spread[integ] = rel_v
 
 def g(x, spec=".4g"):
     return "-" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, spec)
@@ -248,6 +253,18 @@ for integ, spp, secs, rel in rows:
     print(f"{integ:<12} {spp:>8} {secs:>8.2f} {g(rel):>11} {g(net):>11} {g(ratio, '.3g'):>8} {g(net_ratio, '.3g'):>11}")
 if pt is None:
     print("(no pt row: the ratio columns need pt among the integrators)")
+if runs > 1:
+    # relMSE is heavy-tailed: one run's firefly can carry the mean of a few, so the mean's
+    # standard error and the median go beside it.
+    print(f"{'integrator':<12} {'relMSE mean':>11} {'std. error':>11} {'median':>11}   per run")
+    for integ, v in spread.items():
+        ok = [x for x in v if not math.isnan(x)]
+        if not ok:
+            continue
+        m = mean(ok)
+        se = math.sqrt(sum((x - m) ** 2 for x in ok) / (len(ok) - 1) / len(ok)) if len(ok) > 1 else math.nan
+        med = sorted(ok)[len(ok) // 2] if len(ok) % 2 else 0.5 * sum(sorted(ok)[len(ok) // 2 - 1:len(ok) // 2 + 1])
+        print(f"{integ:<12} {g(m):>11} {g(se):>11} {g(med):>11}   " + " ".join(g(x, '.3g') for x in v))
 if worst is not None and worst > 0.1:
     print(f"WARNING: the reference's own relMSE is {100 * worst:.0f} % of the smallest relMSE measured; "
           "the figures and ratios are dominated by it: raise REF_SPP")

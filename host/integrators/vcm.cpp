@@ -192,14 +192,13 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
   const bool caching = subpaths_.lvc && dev::vcm_mode_connects(mode);
   if (merging || caching) {
     // The light kernel first, so that grid_seconds times the grid alone (the queue is in
-    // order: the insert waits for it anyway).
+    // order: the count waits for it anyway).
     ctx_.finish();
     const auto t0 = Clock::now();
     if (merging) starts_.fill_zero();
     if (caching) cache_count_.fill_zero();
-    const size_t slots = size_t(count) * capacity_;
     count_kernel_.args(0, vcm_params_, count, vertices_, vertex_counts_, starts_, cache_, cache_count_);
-    count_kernel_.launch(ctx_, slots);
+    count_kernel_.launch(ctx_, count);
     if (merging) {
       // The counts become each bucket's first point (an exclusive sum; the total last), and
       // the fill's cursors start there: read one place on, start 0, running sums.
@@ -210,7 +209,7 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
       starts_.write(bucket_starts_.data(), (buckets + 1) * sizeof(uint32_t));
       cursor_.write(bucket_starts_.data(), buckets * sizeof(uint32_t));
       fill_kernel_.args(0, vcm_params_, count, vertices_, vertex_counts_, cursor_, points_);
-      fill_kernel_.launch(ctx_, slots);
+      fill_kernel_.launch(ctx_, count);
     }
     ctx_.finish();
     stats_.grid_seconds += seconds_since(t0);

@@ -3,12 +3,14 @@
  * a tile of pixel indices [path_offset, path_offset + path_count):
  *   vcm_light        one light subpath per pixel index: camera connections splatted, its
  *                    vertices stored in its own light_vertex_capacity slots;
- *   vcm_grid_count   every stored vertex of the tile counted into its grid bucket (one
- *                    work-item per slot; empty slots skipped) when merging, and with light
- *                    vertex caching (--bdpt-lvc) its slot onto the tile's list of stored
- *                    vertices; the host then sums the counts into bucket starts;
- *   vcm_grid_fill    every stored vertex placed in its bucket's run of the cell-sorted grid
- *                    (spatial/hash_grid.cl) when merging;
+ *   vcm_grid_count   one work-item per light path: its stored vertices counted into their
+ *                    grid buckets when merging, and with light vertex caching (--bdpt-lvc)
+ *                    their slots put on the tile's list of stored vertices; the host then
+ *                    sums the counts into bucket starts;
+ *   vcm_grid_fill    one work-item per light path: its stored vertices placed in their
+ *                    buckets' runs of the cell-sorted grid (spatial/hash_grid.cl) when merging.
+ *                    (A work-item per slot, most of them empty and each found by a division,
+ *                    cost more than the counting and placing themselves.)
  *   vcm_camera       one camera subpath per pixel: connections to its own light subpath,
  *                    merges with the whole tile's, added to the film (and the merged part to
  *                    merge_sum, for the picture of what merging contributes).
@@ -44,33 +46,31 @@ __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   stored_counts[path] += stored;
 }
 
-/* Whether slot `slot` of the tile's path_count light paths holds a stored vertex (one
- * work-item per slot in the grid kernels; a path fills its first vertex_counts slots). */
-static inline bool vcm_slot_stored(__constant const VcmParams* vcm, u32 path_count,
-                                   __global const u32* vertex_counts, u32 slot) {
-  const u32 capacity = vcm->light_vertex_capacity;
-  return slot < path_count * capacity && slot % capacity < vertex_counts[slot / capacity];
-}
-
 __kernel void vcm_grid_count(__constant const VcmParams* vcm, u32 path_count,
                              __global const PathVertex* vertices, __global const u32* vertex_counts,
                              volatile __global u32* counts, __global u32* cache,
                              volatile __global u32* cache_count) {
-  const u32 slot = get_global_id(0);
-  if (!vcm_slot_stored(vcm, path_count, vertex_counts, slot)) return;
-  if (vcm_mode_merges(vcm->mode))
-    grid_count_point(vload3(0, vertices[slot].p), vcm->inv_cell, vcm->mask, counts);
-  if (vcm->lvc) cache[atomic_inc(cache_count)] = slot;
+  const u32 i = get_global_id(0);
+  if (i >= path_count) return;
+  const bool merges = vcm_mode_merges(vcm->mode);
+  const u32 first = i * vcm->light_vertex_capacity;
+  for (u32 slot = first, end = first + vertex_counts[i]; slot < end; ++slot) {
+    if (merges) grid_count_point(vload3(0, vertices[slot].p), vcm->inv_cell, vcm->mask, counts);
+    if (vcm->lvc) cache[atomic_inc(cache_count)] = slot;
+  }
 }
 
 __kernel void vcm_grid_fill(__constant const VcmParams* vcm, u32 path_count,
                             __global const PathVertex* vertices, __global const u32* vertex_counts,
                             volatile __global u32* cursor, __global GridPoint* points) {
-  const u32 slot = get_global_id(0);
-  if (!vcm_slot_stored(vcm, path_count, vertex_counts, slot)) return;
-  __global const PathVertex* y = vertices + slot;
-  grid_fill_point(vload3(0, y->p), vload3(0, y->ng), y->depth, slot, vcm->inv_cell, vcm->mask,
-                  cursor, points);
+  const u32 i = get_global_id(0);
+  if (i >= path_count) return;
+  const u32 first = i * vcm->light_vertex_capacity;
+  for (u32 slot = first, end = first + vertex_counts[i]; slot < end; ++slot) {
+    __global const PathVertex* y = vertices + slot;
+    grid_fill_point(vload3(0, y->p), vload3(0, y->ng), y->depth, slot, vcm->inv_cell, vcm->mask,
+                    cursor, points);
+  }
 }
 
 __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params,
