@@ -283,8 +283,8 @@ struct Parser {
                    "bpt (connections: bdpt), ppm (merging: photon mapping), lt or pt [vcm]")
         ->type_name("MODE");
     app.add_option("--vcm-radius", o.vcm_radius,
-                   "vcm: the first pass's merge radius [pixel footprints at the scene's centre: 1.5 "
-                   "with --vcm-shrink pixel, 1 with pass]")
+                   "vcm: the first pass's merge radius [pixel footprints at the scene's centre: 2 "
+                   "with --vcm-shrink pixel, as sppm's, 1 with pass]")
         ->type_name("DIST")
         ->check(CLI::PositiveNumber.description(""))
         ->check(kFinite);
@@ -294,13 +294,18 @@ struct Parser {
                    "radius; needs the box filter) or pass (one radius for every pixel, by "
                    "--vcm-alpha's rate) [pixel; pass with another filter]")
         ->type_name("RULE");
+    app.add_option("--vcm-merge", o.vcm_merge,
+                   "vcm: where a camera path merges: first (at its first vertex with a non-delta "
+                   "lobe, where photon mapping gathers; the MIS weights count that merge alone) or "
+                   "all (at every such vertex, as Georgiev et al. 2012) [first]")
+        ->type_name("WHERE");
     app.add_flag("--vcm-merged", o.vcm_merged,
                  "vcm: add a 'merged' layer to the EXR: the part of each pixel that merging "
                  "contributed");
     app.add_option("--vcm-alpha", o.vcm_alpha,
                    "vcm: with --vcm-shrink pixel the fraction of a pixel's merges kept as its radius "
                    "shrinks, as sppm's; with pass, radius of pass i is r (i + 1)^((alpha - 1) / 2) "
-                   "[0.6 with pixel, 0.75 with pass]")
+                   "[0.667 with pixel, as sppm's, 0.75 with pass]")
         ->type_name("A")
         ->check(CLI::Range(0.01f, 1.0f).description(""))
         ->check(kFinite);
@@ -460,7 +465,8 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
   o.indirect_set = p.app.count("--indirect") > 0;
   o.vcm_shrink_set = p.app.count("--vcm-shrink") > 0;
   o.vcm_alpha_set = p.app.count("--vcm-alpha") > 0;
-  for (const char* name : {"--vcm-mode", "--vcm-radius", "--vcm-alpha", "--vcm-shrink", "--vcm-merged"})
+  for (const char* name :
+       {"--vcm-mode", "--vcm-radius", "--vcm-alpha", "--vcm-shrink", "--vcm-merge", "--vcm-merged"})
     o.vcm_set = o.vcm_set || p.app.count(name) > 0;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
   auto one_of = [](const char* option, const std::string& value,
@@ -598,8 +604,8 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
     throw Error(ExitCode::Usage, "--indirect needs --integrator indirect1");
   if (reads(OPTIONS_INDIRECT)) one_of("--indirect", o.indirect, {"receiver", "source", "surface"});
   if (!reads(OPTIONS_VCM) && o.vcm_set)
-    throw Error(ExitCode::Usage, "--vcm-mode, --vcm-radius, --vcm-alpha, --vcm-shrink and --vcm-merged "
-                                 "need --integrator vcm");
+    throw Error(ExitCode::Usage, "--vcm-mode, --vcm-radius, --vcm-alpha, --vcm-shrink, --vcm-merge and "
+                                 "--vcm-merged need --integrator vcm");
   if (reads(OPTIONS_VCM)) {
     one_of("--vcm-mode", o.vcm_mode, {"vcm", "bpt", "ppm", "lt", "pt"});
     // A light vertex connected to the camera is weighted with the eta of the one pixel its
@@ -607,6 +613,7 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
     const bool pixel_box = o.filter == "box" && o.filter_radius == 0.5f;
     if (o.vcm_shrink.empty()) o.vcm_shrink = pixel_box ? "pixel" : "pass";
     one_of("--vcm-shrink", o.vcm_shrink, {"pass", "pixel"});
+    one_of("--vcm-merge", o.vcm_merge, {"all", "first"});
     if (o.vcm_shrink == "pixel" && !pixel_box)
       throw Error(ExitCode::Usage, "--vcm-shrink pixel needs the box filter of radius 0.5");
     // The equal-time sweeps of docs/BENCHMARKS.md (session 32) chose both defaults.

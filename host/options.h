@@ -85,12 +85,14 @@ struct Options {
   // Vertex connection and merging (vcm). vcm_set: one of the --vcm-* options was given.
   std::string vcm_mode = "vcm";
   float vcm_radius = 0.0f;         // 0: one pixel footprint at the scene's centre
-  float vcm_alpha = 0.0f;          // 0: the shrink rule's (0.6 per pixel, 0.75 per pass)
+  float vcm_alpha = 0.0f;          // 0: the shrink rule's (2/3 per pixel, 0.75 per pass)
   // pass: one radius per pass; pixel: a radius per pixel; empty: pixel with the box filter of
   // radius 0.5, else pass.
   std::string vcm_shrink;
   bool vcm_shrink_set = false, vcm_alpha_set = false;
   bool vcm_merged = false;         // EXR layer "merged": what merging contributed
+  std::string vcm_merge = "first"; // where merges are made: first (the first non-delta camera
+                                   // vertex), all (every one)
   bool vcm_set = false;
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR

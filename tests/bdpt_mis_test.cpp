@@ -11,7 +11,8 @@
 //       pi r^2 N_light of about 0.4, where merges and connections both take a share) every
 //       connection strategy's and every merge's (at x_1 .. x_(m-1)) recursive weight equals
 //       the explicit one, and all of them together sum to 1: MIS's partition of unity over
-//       both techniques.
+//       both techniques. The *_vcm_first cases (--vcm-merge first) merge at x_1 alone: the
+//       explicit weights count that merge only, and the recursive ones must agree.
 //
 // Conventions (pbrt's; mis.cl's header): x0 the pinhole, xm on the light; strategy (s, t)
 // takes s vertices from the light end and t from the camera end, s + t = m + 1. For m >= 2
@@ -137,6 +138,8 @@ struct MisCase {
   // > 0: the light subpaths are traced with this eta and moved to eta's by their EtaSlopes
   // (vcm's --vcm-shrink pixel); 0: traced with eta.
   float eta_traced = 0.0f;
+  bool merge_first = false;  // vcm's --vcm-merge first: merging at x_1 alone (every vertex here
+                             // has a non-delta lobe)
 };
 void PrintTo(const MisCase& c, std::ostream* os) { *os << c.name; }
 
@@ -145,7 +148,8 @@ struct PathRecords {
   std::vector<int> meta;
 };
 
-PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta, float eta_traced) {
+PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta, float eta_traced,
+                      bool merge_first) {
   cl::Context& ctx = test::device_context();
   const Bvh bvh = build_bvh(scene.positions, scene.triangles);
   const FlatScene flat = flatten_scene(scene, bvh);
@@ -172,7 +176,8 @@ PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta, float e
   cl::Buffer meta(ctx, size_t(kPaths) * 4 * sizeof(int), CL_MEM_WRITE_ONLY, nullptr, "meta");
   cl::Kernel k(mis_program(), "bdpt_mis_paths");
   const cl_uint a = buffers.bind(k, 0);
-  k.args(a, params, kPaths, eta, eta_traced, rec, rec_raw, rec_vm, pcam, plight, meta);
+  k.args(a, params, kPaths, eta, eta_traced, cl_int(merge_first ? 1 : 0), rec, rec_raw, rec_vm, pcam,
+         plight, meta);
   k.launch(ctx, kPaths);
   return {rec.read_vector<float>(floats), rec_raw.read_vector<float>(floats),
           rec_vm.read_vector<float>(floats), pcam.read_vector<float>(floats),
@@ -182,12 +187,13 @@ PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta, float e
 // The explicit weights of path (m, pcam, plight): strategy s has density
 //   prod_{i=1}^{t-1} pcam_i (pcam_1 per pixel) * prod_{j=m-s+1}^{m} plight_j,  t = m + 1 - s,
 // with n = N_light samples for t = 1 and 1 otherwise; with eta > 0 also merging at x_k,
-// k = 1 .. m - 1 (in vm[k]), n p = eta prod_{i=1}^{k} pcam_i prod_{j=k}^{m} plight_j.
+// k = 1 .. m - 1 (in vm[k]; k = 1 alone with merge_first), n p = eta prod_{i=1}^{k} pcam_i
+// prod_{j=k}^{m} plight_j.
 struct ExplicitWeights {
   std::array<double, kSlots> vc{}, vm{};
 };
 ExplicitWeights explicit_weights(int m, const float* pcam, const float* plight, double n_light,
-                                 double exponent, double eta) {
+                                 double exponent, double eta, bool merge_first) {
   ExplicitWeights w;
   double sum = 0.0;
   const auto camera_prefix = [&](int last) {
@@ -207,7 +213,7 @@ ExplicitWeights explicit_weights(int m, const float* pcam, const float* plight, 
     sum += w.vc[s];
   }
   if (eta > 0.0)
-    for (int k = 1; k <= m - 1; ++k) {
+    for (int k = 1; k <= (merge_first ? 1 : m - 1); ++k) {
       w.vm[k] = std::pow(eta * camera_prefix(k) * light_suffix(k), exponent);
       sum += w.vm[k];
     }
@@ -220,7 +226,7 @@ class BdptMis : public ::testing::TestWithParam<MisCase> {};
 
 TEST_P(BdptMis, RecursiveEqualsExplicit) {
   const MisCase& c = GetParam();
-  const PathRecords r = run_paths(c.scene(), c.heuristic, c.eta, c.eta_traced);
+  const PathRecords r = run_paths(c.scene(), c.heuristic, c.eta, c.eta_traced, c.merge_first);
   const double n_light = double(kWidth) * kHeight;
   const double exponent = c.heuristic == dev::MIS_BALANCE ? 1.0 : 2.0;
 
@@ -248,7 +254,7 @@ TEST_P(BdptMis, RecursiveEqualsExplicit) {
     max_dt = std::max(max_dt, double(pc[0]));
     max_dpdf = std::max(max_dpdf, double(pl[0]));
     const float* vm = &r.rec_vm[size_t(i) * kSlots];
-    const ExplicitWeights w = explicit_weights(m, pc, pl, n_light, exponent, c.eta);
+    const ExplicitWeights w = explicit_weights(m, pc, pl, n_light, exponent, c.eta, c.merge_first);
     double sum = 0.0, raw_sum = 0.0;
     // One weight against its explicit value; `what` names the technique for the report.
     const auto check = [&](float recursive, double expected, const std::string& what) {
@@ -334,7 +340,15 @@ INSTANTIATE_TEST_SUITE_P(
                       MisCase{"cornell_power_vcm_rebased", test::cornell_box, dev::MIS_POWER, 0, kEta,
                               9.0f * kEta},
                       MisCase{"glossy_balance_vcm_rebased", glossy_box, dev::MIS_BALANCE, 0, kEta,
-                              0.2f * kEta}),
+                              0.2f * kEta},
+                      // Merging at the first camera vertex alone (--vcm-merge first), also
+                      // rebased and through the glass.
+                      MisCase{"cornell_power_vcm_first", test::cornell_box, dev::MIS_POWER, 0, kEta,
+                              0.0f, true},
+                      MisCase{"glossy_balance_vcm_first_rebased", glossy_box, dev::MIS_BALANCE, 0,
+                              kEta, 9.0f * kEta, true},
+                      MisCase{"glass_sphere_power_vcm_first", glass_sphere_box, dev::MIS_POWER, 100,
+                              kEta, 0.0f, true}),
     [](const ::testing::TestParamInfo<MisCase>& info) { return std::string(info.param.name); });
 
 }  // namespace

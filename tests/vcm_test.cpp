@@ -2,15 +2,18 @@
 // device:
 //   SphereFurnaceVcm     the furnace's closed form, z-test over independent batches (inside a
 //                        sphere a merge's disc of radius r has exactly the area of the cap
-//                        it gathers from, pi r^2: no merging bias to allow for);
+//                        it gathers from, pi r^2: no merging bias to allow for), also with
+//                        per-pixel radii and with merging at every vertex (--vcm-merge all;
+//                        the others merge at the first, the default);
 //   VcmModes             --vcm-mode bpt renders bdpt's image (the same strategies and
 //                        weights: equal to float rounding in the splats' order); ppm and pt
 //                        modes agree with pt's reference mean;
 //   CrossIntegrator      vcm against the 8 192-spp pt reference of the Cornell box (block
 //                        means, per-pixel z, image mean), also in tiles of ~100 light paths
 //                        (eta = pi r^2 paths of the tile), with light vertex caching; with a
-//                        background, directional, point and spot lights; and on the
-//                        glossy-and-glass box;
+//                        background, directional, point and spot lights; on the
+//                        glossy-and-glass box; and merging at every non-delta camera vertex
+//                        (--vcm-merge all) on both boxes;
 //   VcmOptions, VcmCli   usage errors; --stats figures (merges, light vertices, the radius
 //                        shrinking pass by pass); the --vcm-merged layer.
 // The MIS weights of both techniques are checked path by path against explicit whole-path
@@ -70,11 +73,19 @@ TEST_P(SphereFurnaceVcm, MatchesClosedForm) {
   const FurnaceCase c = GetParam();
   const Scene scene = test::furnace_scene(c.rho, 1.0f);
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
-  for (const int variant : {0, 1, 2}) {
+  for (const int variant : {0, 1, 2, 3}) {
     const uint32_t mode = variant == 1 ? dev::VCM_MODE_PPM : dev::VCM_MODE_VCM;
-    const char* name = variant == 0 ? "vcm" : variant == 1 ? "ppm" : "vcm, per-pixel radii";
+    const char* name = variant == 0   ? "vcm"
+                       : variant == 1 ? "ppm"
+                       : variant == 2 ? "vcm, per-pixel radii"
+                                      : "vcm, merging at every vertex";
     RenderSettings s = vcm_settings(mode, 32, 16);
     s.vcm.pixel_radius = variant == 2;
+    // The default merges at the first camera vertex alone, its weights counting that merge
+    // only; merges take about half the weight here (eta times the light vertices' density,
+    // 1 / 327 m^2, is about 0.6), so weights that counted merges the estimator does not make
+    // (or missed ones it makes) would show. --vcm-merge all: at every vertex (Georgiev 2012).
+    s.vcm.merge_first = variant != 3;
     // Per pixel, radii far from the pass's (r^2 falls as i^-0.96 where vertices arrive, the
     // pass's as i^-0.49), so that every weight must take the pixel's eta, light tracing's too.
     if (variant == 2) s.vcm.alpha = 0.51f;
@@ -210,6 +221,25 @@ TEST(CrossIntegrator, VcmMatchesPtWithGlossyAndGlass) {
                                  "vcm glossy glass, pixel radii");
 }
 
+// --vcm-merge all: merging at every non-delta camera vertex (Georgiev 2012) where the other
+// tests take the default, the first alone (stages/vertex_mis.cl; tests/bdpt_mis_test.cpp checks
+// both path by path). The glossy-and-glass box adds camera paths through the smooth glass, with
+// per-pixel radii.
+TEST(CrossIntegrator, VcmMergingAtEveryVertexMatchesPt) {
+  RenderSettings s = vcm_settings(dev::VCM_MODE_VCM, 32);
+  s.vcm.merge_first = false;
+  const FilmResult cornell =
+      test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  test::expect_matches_reference(test::render_batches(test::cornell_box(), s, 16, 5700), cornell,
+                                 "vcm merge all");
+  const FilmResult glass =
+      test::pt_reference(test::ReferenceScene::CornellBoxGlossyGlass, kSize, 16384, 4343);
+  s.vcm.pixel_radius = true;
+  s.vcm.alpha = 0.51f;
+  test::expect_matches_reference(test::render_batches(test::cornell_box_glossy_glass(), s, 16, 5800),
+                                 glass, "vcm glossy glass, merge all, pixel radii");
+}
+
 TEST(VcmUnits, RadiusAndEta) {
   EXPECT_FLOAT_EQ(VertexConnectionMerging::radius(0.1f, 0.75f, 0), 0.1f);
   EXPECT_NEAR(VertexConnectionMerging::radius(0.1f, 0.75f, 15), 0.1 * std::pow(16.0, -0.125), 1e-7);
@@ -243,6 +273,10 @@ TEST(VcmOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-shrink", "pass"}), ExitCode::Ok);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-shrink", "pixel"}), ExitCode::Ok);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-shrink", "ray"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-merge", "first"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-merge", "all"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-merge", "last"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "bdpt", "--vcm-merge", "all"}), ExitCode::Usage);
   // Per-pixel radii need every splat in one pixel: another filter takes the pass rule, and
   // asking for both is an error.
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--filter", "tent"}), ExitCode::Ok);
@@ -288,6 +322,7 @@ TEST(VcmCli, StatsFigures) {
   // The default rule with the box filter: per-pixel radii, which only shrink, and some do
   // (the lit pixels find light vertices within 0.05 in 4 passes).
   EXPECT_EQ(v["shrink"].get<std::string>(), "pixel");
+  EXPECT_EQ(v["merge"].get<std::string>(), "first");  // the default
   const nlohmann::json& pr = v["pixel_radius"];
   EXPECT_LE(pr["min"].get<float>(), pr["mean"].get<float>());
   EXPECT_LE(pr["mean"].get<float>(), pr["max"].get<float>());
@@ -296,6 +331,11 @@ TEST(VcmCli, StatsFigures) {
   const nlohmann::json p = run("p", {"--vcm-radius", "0.05", "--vcm-shrink", "pass"});
   ASSERT_FALSE(p.is_null());
   EXPECT_EQ(p["vcm"]["shrink"].get<std::string>(), "pass");
+  const nlohmann::json e = run("e", {"--vcm-merge", "all"});
+  ASSERT_FALSE(e.is_null());
+  EXPECT_EQ(e["vcm"]["merge"].get<std::string>(), "all");
+  // Merging at every vertex makes more merges than at the first alone (same paths).
+  EXPECT_GT(e["vcm"]["merges"].get<uint64_t>(), run("f", {})["vcm"]["merges"].get<uint64_t>());
   EXPECT_FLOAT_EQ(p["vcm"]["alpha"].get<float>(), 0.75f);
   EXPECT_FALSE(p["vcm"].contains("pixel_radius"));
   // --vcm-merged: an EXR layer with the part of each pixel that merging gave, a share of the

@@ -80,6 +80,7 @@ struct VcmStats {
   float first_radius = 0.0f, last_radius = 0.0f;
   float alpha = 0.0f;             // the shrink's (as the renderer resolved it)
   uint32_t pixel_radii = 0;       // 1: per-pixel radii (--vcm-shrink pixel), 0: the pass rule
+  uint32_t merge_first = 0;       // 1: merges at the first non-delta camera vertex only
   // --vcm-shrink pixel: the pixels' radii after the last pass (count 0: not kept per pixel).
   float pixel_radius_min = 0.0f, pixel_radius_max = 0.0f;
   double pixel_radius_sum = 0.0;
@@ -196,8 +197,9 @@ struct IcConfig {
 // The share of --time the irradiance cache spends refining its records.
 constexpr double kIcRefineShare = 0.25;
 
-// vcm's --vcm-alpha defaults for its two shrink rules (the sweeps of docs/BENCHMARKS.md).
-constexpr float kVcmPixelAlpha = 0.6f, kVcmPassAlpha = 0.75f;
+// vcm's --vcm-alpha defaults for its two shrink rules (the sweeps of docs/BENCHMARKS.md; per
+// pixel sppm's 2/3 since vcm merges at the first vertex alone, session 33).
+constexpr float kVcmPixelAlpha = 2.0f / 3.0f, kVcmPassAlpha = 0.75f;
 
 // vcm's settings (--vcm-*).
 struct VcmConfig {
@@ -206,6 +208,7 @@ struct VcmConfig {
   // The defaults are the command line's with the box filter (parse_options resolves them).
   float alpha = kVcmPixelAlpha;  // per pixel sppm's shrink; per pass radius_i = radius (i + 1)^((alpha - 1) / 2)
   bool pixel_radius = true;  // --vcm-shrink pixel: each pixel's radius, shrunk by its merges
+  bool merge_first = true;  // --vcm-merge first: merging at the first non-delta camera vertex only
   // Whether the command line named the rule and alpha (else the renderer may choose: the pass
   // rule with its own alpha when the passes are split over devices or ranks).
   bool shrink_given = false, alpha_given = false;

@@ -45,15 +45,16 @@ size_t VertexConnectionMerging::tile_paths(size_t budget_bytes, uint32_t capacit
 
 float VertexConnectionMerging::first_radius(float given, const SceneScale& scale, bool pixel) {
   // One pixel footprint at the scene's centre, half sppm's default radius, when the radius
-  // shrinks per pass (the --vcm-radius sweep in docs/BENCHMARKS.md, session 11); 1.5 when each
-  // pixel's shrinks by its own merges (session 32's sweep). A radius near the scene's size merges every
+  // shrinks per pass (the --vcm-radius sweep in docs/BENCHMARKS.md, session 11); sppm's two
+  // when each pixel's shrinks by its own merges (session 33's sweep, merging at the first
+  // vertex alone; 1.5 had been best merging at every vertex). A radius near the scene's size merges every
   // light vertex at every camera vertex, and one below float resolution at the scene's scale
   // puts them all in one saturated grid cell: either is a render that does not end. 10 % and
   // 1e-6 of the diagonal bound it. The default is held inside the bounds: at a tiny
   // resolution (8x8) a footprint is above 10 %, and a radius nobody asked for is no usage error.
   const float lo = 1e-6f * scale.diagonal, hi = 0.1f * scale.diagonal;
   if (!(given > 0.0f))
-    return std::clamp((pixel ? 0.75f : 0.5f) * default_merge_radius(scale), lo, hi);
+    return std::clamp((pixel ? 1.0f : 0.5f) * default_merge_radius(scale), lo, hi);
   if (!(given <= hi && given >= lo))
     throw Error(ExitCode::Usage, "--vcm-radius " + std::to_string(given) +
                                      " is outside [1e-6, 0.1] times the scene's diagonal (" +
@@ -79,6 +80,7 @@ dev::VcmParams VertexConnectionMerging::pass_params(const VcmConfig& c, uint32_t
   v.mask = mask;
   v.light_paths = paths;
   v.alpha = c.alpha;
+  v.merge_first = c.merge_first ? 1u : 0u;
   v.eta_per_r2 = float(3.14159265358979323846 * double(std::max(paths, 1u)));
   return v;
 }
@@ -251,6 +253,7 @@ VcmStats VertexConnectionMerging::vcm_stats() const {
   VcmStats s = stats_;
   s.alpha = config_.alpha;
   s.pixel_radii = pixel_radius_ ? 1u : 0u;
+  s.merge_first = config_.merge_first ? 1u : 0u;
   if (!pixels_) return s;
   for (uint32_t c : stored_counts_.read_vector<uint32_t>(pixels_)) s.light_vertices += c;
   for (uint32_t c : merge_counts_.read_vector<uint32_t>(pixels_)) s.merges += c;

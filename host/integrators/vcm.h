@@ -5,7 +5,8 @@
 // (camera connections splatted, vertices stored), vcm_grid_count and vcm_grid_fill sort the
 // tile's vertices by the bucket of their cell (cells 2r wide; the host sums the counts into
 // bucket starts between them), vcm_camera traces one camera subpath per pixel that connects
-// to its own light subpath and merges with the whole tile's. Tiles are as large as the
+// to its own light subpath and merges with the whole tile's (at its first non-delta vertex,
+// or with --vcm-merge all at every one: VcmConfig::merge_first). Tiles are as large as the
 // memory budget allows (vertices, grid points and buckets); eta = pi r^2 (paths of the tile)
 // so a merge's normalisation and its MIS weights are right for any tile size.
 // With --vcm-shrink pixel each pixel keeps its own (r, N), shrunk after each pass as sppm's

@@ -39,6 +39,8 @@ typedef struct VcmParams {
                            * light subpaths' reference and the grid's cell size */
   float alpha;            /* --vcm-alpha, the per-pixel shrink's fraction of merges kept */
   float eta_per_r2;       /* pi light_paths: a pixel's eta is this times its r^2 */
+  u32 merge_first;        /* 1: merging at the first non-delta camera vertex only (--vcm-merge
+                           * first), 0: at every one (Georgiev 2012) */
 } VcmParams;
 
 CLPT_END_SHARED

@@ -23,7 +23,9 @@
  *     subpath's x_k, as kernels/integrators/vcm/vcm_path.cl computes it; every strategy's
  *     weight (rec) then carries the merging terms too. With eta_traced > 0 the light subpath
  *     is traced with the factors of eta_traced instead and moved to eta's along its
- *     EtaSlopes (eta_rebase) wherever it is weighted, as vcm's per-pixel radii do.
+ *     EtaSlopes (eta_rebase) wherever it is weighted, as vcm's per-pixel radii do. With
+ *     merge_first (--vcm-merge first) merging is made at the first non-delta camera vertex
+ *     alone (rec_vm[1] here) and the factors are those of stages/vertex_mis.cl for it.
  * The host forms the explicit weights from pcam and plight in double precision.
  *
  * Slot layout: MIS_TEST_SLOTS floats per work-item for each of rec, rec_raw, pcam, plight;
@@ -66,6 +68,7 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
                                    const float* hit_t, const float3* wo_cam, const float* fwd_cam,
                                    const float3* wi_cam, int raw, const StrategyMis* mm, float* rec,
                                    float* rec_vm) {
+  int specular = 1; /* no non-delta camera vertex yet (merge_first merges at the first) */
   SubpathState st;
   st.beta = (float3)(1.0f);
   st.dvcm = bdpt_mis(params, 1.0f / camera_ray_pdf_w(&params->camera, raw ? dir0 : mis_test_dir(x[0], x[1])));
@@ -82,10 +85,14 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
       break;
     }
     const SurfaceHit* sh = &vc[k];
-    {
+    const int first = specular && bsdf_has_smooth_lobe(sh);
+    if (bsdf_has_smooth_lobe(sh)) specular = 0;
+    /* The factors at x_k, as vcm_camera_path takes them. */
+    const StrategyMis mk = mis_at_camera_vertex(mm, first);
+    if (first || !mm->merge_first) {
       /* Merging light vertex x_k (state lstate[k], arrived from x(k+1)) at camera vertex x_k. */
       const float3 y_wo = mis_test_dir(x[k], x[k + 1]);
-      rec_vm[k] = vcm_weight_merge(params, mm, &st, &lstate[k], bsdf_pdf_w(sh, wo, y_wo),
+      rec_vm[k] = vcm_weight_merge(params, &mk, &st, &lstate[k], bsdf_pdf_w(sh, wo, y_wo),
                                    bsdf_pdf_w(sh, y_wo, wo));
     }
     if (k == m - 1) {
@@ -97,7 +104,7 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
       /* light_illuminate's pdf_w for that point: pdf_select dist^2 / (area cos_light). */
       const float pdf_w = q.direct * dist * dist / q.cos_light;
       const float direct_w = q.finite ? q.direct * dist * dist / q.cos_light : q.direct;
-      rec[1] = bdpt_weight_nee(params, mm, &st, pdf_w, 0, direct_w, q.emit_w, q.cos_light,
+      rec[1] = bdpt_weight_nee(params, &mk, &st, pdf_w, 0, direct_w, q.emit_w, q.cos_light,
                                bsdf_pdf_w(sh, wo, wi), bsdf_pdf_w(sh, wi, wo), fabs(dot(sh->ng, wi)));
     } else {
       /* s = m - k >= 2: a connection to light vertex x(k+1), as bdpt_connect makes it. */
@@ -107,19 +114,19 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
       const float dist2 = dot(d, d);
       const float3 dc = d / sqrt(dist2);
       const float cos_cam = fabs(dot(sh->ng, dc)), cos_l = fabs(dot(y->ng, dc));
-      rec[m - k] = bdpt_weight_connect(params, mm, &st, &lstate[k + 1],
+      rec[m - k] = bdpt_weight_connect(params, &mk, &st, &lstate[k + 1],
                                        bsdf_pdf_w(sh, wo, dc) * cos_l / dist2, bsdf_pdf_w(sh, dc, wo),
                                        bsdf_pdf_w(y, y_wo, -dc) * cos_cam / dist2,
                                        bsdf_pdf_w(y, -dc, y_wo));
     }
     const float3 wi = raw ? wi_cam[k] : mis_test_dir(x[k], x[k + 1]);
     const float fwd = raw ? fwd_cam[k] : bsdf_pdf_w(sh, wo, wi);
-    bdpt_mis_scatter(params, mm, &st, fwd, bsdf_pdf_w(sh, wi, wo), fabs(dot(sh->ng, wi)), 0);
+    bdpt_mis_scatter(params, &mk, &st, fwd, bsdf_pdf_w(sh, wi, wo), fabs(dot(sh->ng, wi)), 0);
   }
 }
 
 __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 n,
-                             float eta, float eta_traced, __global float* rec_out,
+                             float eta, float eta_traced, int merge_first, __global float* rec_out,
                              __global float* rec_raw_out,
                              __global float* rec_vm_out, __global float* pcam_out,
                              __global float* plight_out, __global int* meta) {
@@ -127,15 +134,11 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
   if (gid >= n) return;
   const SceneView s = SCENE_VIEW();
   StrategyMis mm = mis_all_strategies();
-  if (eta > 0.0f) {
-    mm.vm = bdpt_mis(params, eta);
-    mm.vc = bdpt_mis(params, 1.0f / eta);
-  }
+  if (eta > 0.0f) mm = mis_merging(bdpt_mis(params, eta), bdpt_mis(params, 1.0f / eta), merge_first);
   StrategyMis mt = mm; /* the light subpath's factors as traced */
-  if (eta_traced > 0.0f) {
-    mt.vm = bdpt_mis(params, eta_traced);
-    mt.vc = bdpt_mis(params, 1.0f / eta_traced);
-  }
+  if (eta_traced > 0.0f)
+    mt = mis_merging(bdpt_mis(params, eta_traced), bdpt_mis(params, 1.0f / eta_traced), merge_first);
+  mt = mis_light_side(&mt);
   for (int i = 0; i < MIS_TEST_SLOTS; ++i) {
     rec_out[gid * MIS_TEST_SLOTS + i] = 0.0f;
     rec_vm_out[gid * MIS_TEST_SLOTS + i] = 0.0f;
@@ -273,7 +276,7 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
       } else {
         const float3 wi = mis_test_dir(x[j], x[j - 1]);
         const float fwd = bsdf_pdf_w(&vl[j], wo, wi), rev = bsdf_pdf_w(&vl[j], wi, wo);
-        eta_slopes_scatter(params, &es, st.dvcm, fwd, rev, fabs(dot(vl[j].ng, wi)), 0);
+        eta_slopes_scatter(params, &mt, &es, st.dvcm, fwd, rev, fabs(dot(vl[j].ng, wi)), 0);
         bdpt_mis_scatter(params, &mt, &st, fwd, rev, fabs(dot(vl[j].ng, wi)), 0);
       }
     }

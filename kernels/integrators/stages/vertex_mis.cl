@@ -17,6 +17,8 @@
  *                    cos_out at the vertex:
  *                    dVC = cos_out / fwd * (dVC * rev + dVCM + vm),
  *                    dVM = cos_out / fwd * (dVM * rev + dVCM * vc + 1), dVCM = 1 / fwd
+ *                    (vm and the 1: merging at the vertex left; 0 where no merge is made
+ *                    there, below)
  *   each delta scattering: dVCM = 0, dVC *= cos_out, dVM *= cos_out
  * all raised to the heuristic's power. vm = eta and vc = 1 / eta (raised likewise) are
  * StrategyMis' factors, eta = pi r^2 N_merge the ratio of a merge's density to a connection's
@@ -24,6 +26,17 @@
  * without merging, vc 0 without connections. Densities convert between solid angle and area with
  * geometric-normal cosines; Russian roulette stays out of the weights (a partition of unity
  * over strategies is all the estimator needs, as in pbrt-v3's BDPT).
+ *
+ * Where merges are made. Georgiev's VCM merges at every non-delta vertex of the camera subpath.
+ * With merge_first (vcm's --vcm-merge first) a path has one merging technique at most: at its
+ * first vertex from the camera with a non-delta lobe, where photon mapping gathers. A
+ * connection's or merge's camera vertex is non-delta, so that vertex lies on the camera
+ * subpath for every strategy but light tracing (t = 1), where it is the light vertex seen by
+ * the camera. The weights then keep the merge terms of that vertex alone: a light subpath is
+ * traced with no merge term at all (vm = 0 and dVM's 1 left out), light tracing's weight
+ * keeps vm (the merge at the vertex it connects), a connection's weight drops vm on its light
+ * side (vm_light), and on the camera subpath vm and the 1 are kept at the first non-delta
+ * vertex only (mis_at_camera_vertex).
  *
  * N_light, the light paths per camera path, is width * height: each sample index traces one
  * light path per pixel, so the light tracing strategy (t = 1) takes that many samples per
@@ -45,22 +58,54 @@ static inline float bdpt_mis(__constant const RenderParams* p, float x) {
  * (bdpt's --bdpt-strategy: only (only_s, only_t), with or without its weight; every strategy
  * when only_s is BDPT_ALL_STRATEGIES). */
 typedef struct StrategyMis {
-  float vm;
+  float vm;       /* merging at this vertex (the camera vertex; for t = 1 the light vertex) */
+  float vm_light; /* merging at a connection's light vertex (vm, or 0 with merge_first) */
+  float vm_one;   /* dVM's 1 in the scattering update: 1 where merging is made at the vertex */
   float vc;
   u32 only_s;
   u32 only_t;
   int unweighted;
+  int merge_first; /* merging at the first non-delta camera vertex only */
 } StrategyMis;
 
 /* Every strategy, MIS-weighted, no merging (mmlt; bdpt without --bdpt-strategy). */
 static inline StrategyMis mis_all_strategies(void) {
   StrategyMis m;
   m.vm = 0.0f;
+  m.vm_light = 0.0f;
+  m.vm_one = 1.0f;
   m.vc = 0.0f;
   m.only_s = BDPT_ALL_STRATEGIES;
   m.only_t = 0u;
   m.unweighted = 0;
+  m.merge_first = 0;
   return m;
+}
+
+/* Merging at every non-delta vertex (Georgiev 2012) with factors vm and vc, or with
+ * merge_first at the first non-delta camera vertex only. */
+static inline StrategyMis mis_merging(float vm, float vc, int merge_first) {
+  StrategyMis m = mis_all_strategies();
+  m.vm = vm;
+  m.vm_light = merge_first ? 0.0f : vm;
+  m.vc = vc;
+  m.merge_first = merge_first;
+  return m;
+}
+
+/* The factors a light subpath is traced with: m's, but with merge_first no merging term. */
+static inline StrategyMis mis_light_side(const StrategyMis* m) {
+  StrategyMis l = *m;
+  if (m->merge_first) l.vm = l.vm_one = 0.0f;
+  return l;
+}
+
+/* The factors at a camera vertex (its scattering, next-event estimation, connections): m's,
+ * but with merge_first merging terms only at the first non-delta vertex (`first`). */
+static inline StrategyMis mis_at_camera_vertex(const StrategyMis* m, int first) {
+  StrategyMis c = *m;
+  if (m->merge_first && !first) c.vm = c.vm_one = 0.0f;
+  return c;
 }
 
 /* bdpt's: no merging, the strategies --bdpt-strategy selects. */
@@ -96,7 +141,7 @@ static inline void bdpt_mis_scatter(__constant const RenderParams* p, const Stra
   }
   const float g = bdpt_mis(p, cos_out / fwd), r = bdpt_mis(p, rev);
   st->dvc = g * (st->dvc * r + st->dvcm + m->vm);
-  st->dvm = g * (st->dvm * r + st->dvcm * m->vc + 1.0f);
+  st->dvm = g * (st->dvm * r + st->dvcm * m->vc + m->vm_one);
   st->dvcm = bdpt_mis(p, 1.0f / fwd);
 }
 
@@ -110,7 +155,8 @@ static inline void bdpt_mis_scatter_sample(__constant const RenderParams* p, con
 }
 
 /* A light subpath's dVC and dVM are affine in vm and vc: the updates above add vm to dVC and
- * dVCM vc to dVM, and dVCM depends on neither. EtaSlopes carries d dVC / d vm and d dVM / d vc
+ * dVCM vc to dVM, and dVCM depends on neither (with merge_first no vm at all: its slope stays
+ * 0, and the rebase moves dVM alone). EtaSlopes carries d dVC / d vm and d dVM / d vc
  * beside the state, so that a subpath traced with one eta can be weighted for a camera path
  * whose pixel merges with another (vcm's per-pixel radius, kernels/integrators/vcm/vcm_path.cl):
  * eta_rebase moves the state by (vm' - vm) and (vc' - vc) along them. */
@@ -134,16 +180,18 @@ static inline void eta_slopes_arrive(__constant const RenderParams* p, EtaSlopes
   e->dvm_vc /= c;
 }
 
-/* bdpt_mis_scatter's update, with the state's dVCM before it (dvcm). */
-static inline void eta_slopes_scatter(__constant const RenderParams* p, EtaSlopes* e, float dvcm,
-                                      float fwd, float rev, float cos_out, int delta) {
+/* bdpt_mis_scatter's update with factors m (vm's term there when m's vm_one is 1), with the
+ * state's dVCM before it (dvcm). */
+static inline void eta_slopes_scatter(__constant const RenderParams* p, const StrategyMis* m,
+                                      EtaSlopes* e, float dvcm, float fwd, float rev,
+                                      float cos_out, int delta) {
   if (delta) {
     e->dvc_vm *= bdpt_mis(p, cos_out);
     e->dvm_vc *= bdpt_mis(p, cos_out);
     return;
   }
   const float g = bdpt_mis(p, cos_out / fwd), r = bdpt_mis(p, rev);
-  e->dvc_vm = g * (e->dvc_vm * r + 1.0f);
+  e->dvc_vm = g * (e->dvc_vm * r + m->vm_one);
   e->dvm_vc = g * (e->dvm_vc * r + dvcm);
 }
 
@@ -197,7 +245,7 @@ static inline float bdpt_weight_connect(__constant const RenderParams* p, const 
                                         float cam_fwd_a, float cam_rev, float light_fwd_a,
                                         float light_rev) {
   const float w_light =
-      bdpt_mis(p, cam_fwd_a) * (light->dvcm + light->dvc * bdpt_mis(p, light_rev) + m->vm);
+      bdpt_mis(p, cam_fwd_a) * (light->dvcm + light->dvc * bdpt_mis(p, light_rev) + m->vm_light);
   const float w_camera =
       bdpt_mis(p, light_fwd_a) * (cam->dvcm + cam->dvc * bdpt_mis(p, cam_rev) + m->vm);
   return 1.0f / (w_light + 1.0f + w_camera);

@@ -8,8 +8,9 @@
  *                  (merging needs y_max_depth: merged at a camera vertex z_1 it closes a
  *                  path of max_depth bounces) and connects to the camera (t = 1);
  *   camera subpath as bdpt's (emitter hits, next-event estimation, connections to its own
- *                  light subpath), and at each non-delta vertex z_k it merges every stored
- *                  light vertex of the tile within radius r (a hashed grid of cells 2r wide,
+ *                  light subpath), and at each non-delta vertex z_k (with merge_first, --vcm-merge
+ *                  first, at the first only) it merges every stored light vertex of the
+ *                  tile within radius r (a hashed grid of cells 2r wide,
  *                  kernels/spatial/hash_grid.cl): y's throughput times z's BSDF for y's
  *                  incoming direction, over eta = pi r^2 light_paths, MIS-weighted by
  *                  vcm_weight_merge. A merge of y_j at z_k is a path of j + k - 1 bounces.
@@ -34,10 +35,7 @@
 #include "spatial/hash_grid.cl"
 
 static inline StrategyMis vcm_mis(__constant const VcmParams* v) {
-  StrategyMis m = mis_all_strategies();
-  m.vm = v->mis_vm;
-  m.vc = v->mis_vc;
-  return m;
+  return mis_merging(v->mis_vm, v->mis_vc, (int)v->merge_first);
 }
 
 /* How a camera path merges: its radius, 1 / eta (a merge's kernel over the light paths) and
@@ -58,8 +56,9 @@ static inline MergeSetting vcm_merge_setting(__constant const RenderParams* p,
   const float eta = v->eta_per_r2 * radius * radius;
   g.radius = radius;
   g.normalization = 1.0f / eta;
-  if (vcm_mode_merges(v->mode)) g.mis.vm = bdpt_mis(p, eta);
-  if (vcm_mode_connects(v->mode)) g.mis.vc = bdpt_mis(p, 1.0f / eta);
+  g.mis = mis_merging(vcm_mode_merges(v->mode) ? bdpt_mis(p, eta) : 0.0f,
+                      vcm_mode_connects(v->mode) ? bdpt_mis(p, 1.0f / eta) : 0.0f,
+                      (int)v->merge_first);
   return g;
 }
 
@@ -68,7 +67,8 @@ static inline MergeSetting vcm_merge_setting(__constant const RenderParams* p,
 static inline SubpathState vcm_rebase(__constant const VcmParams* v, const MergeSetting* g,
                                       SubpathState st, EtaSlopes e) {
   if (!v->pixel_radius) return st;
-  const StrategyMis traced = vcm_mis(v);
+  const StrategyMis pass = vcm_mis(v);
+  const StrategyMis traced = mis_light_side(&pass);
   return eta_rebase(st, e, &traced, &g->mis);
 }
 
@@ -102,7 +102,8 @@ static inline u32 vcm_light_path(__constant const RenderParams* p, __constant co
                                  __global PathVertex* out, __global float2* out_slopes,
                                  __global const float2* pixel_radii,
                                  __global float4* splat, u32* rays, u32* connections) {
-  const StrategyMis m = vcm_mis(v);
+  const StrategyMis pass = vcm_mis(v);
+  const StrategyMis m = mis_light_side(&pass); /* with merge_first no merging term */
   SubpathState st;
   LightPdfs q;
   PathWalk w;
@@ -142,7 +143,7 @@ static inline u32 vcm_light_path(__constant const RenderParams* p, __constant co
     /* bdpt_mis_scatter_sample's update, its reverse density shared with the slopes'. */
     const float rev = bs.is_delta ? bs.pdf_w : bsdf_pdf_w(&w.sh, bs.wi, w.wo);
     const float cos_out = fabs(dot(w.sh.ng, bs.wi));
-    if (v->pixel_radius) eta_slopes_scatter(p, &e, st.dvcm, bs.pdf_w, rev, cos_out, bs.is_delta);
+    if (v->pixel_radius) eta_slopes_scatter(p, &m, &e, st.dvcm, bs.pdf_w, rev, cos_out, bs.is_delta);
     bdpt_mis_scatter(p, &m, &st, bs.pdf_w, rev, cos_out, bs.is_delta);
   }
   return stored;
@@ -197,21 +198,22 @@ static inline float3 vcm_merge(__constant const RenderParams* p, __constant cons
   return sum;
 }
 
-/* s >= 2 with stored light vertex y (its slopes beside it), weighted with setting g: bdpt_connect
- * with the light vertex's state moved to g's factors. The pass rule calls bdpt_connect itself:
+/* s >= 2 with stored light vertex y (its slopes beside it), weighted with factors mk (g's at
+ * this camera vertex): bdpt_connect with the light vertex's state moved to g's factors. The pass rule calls bdpt_connect itself:
  * one path through bdpt_connect_vertex for both grew vcm_camera's NVIDIA stack from 400 to 720
  * bytes (scripts/kernel_compile_check.py --targets nvptx --programs vcm). */
 static inline float3 vcm_connect(__constant const RenderParams* p, __constant const VcmParams* v,
-                                 const MergeSetting* g, const SceneView* s, const SurfaceHit* sh,
+                                 const MergeSetting* g, const StrategyMis* mk,
+                                 const SceneView* s, const SurfaceHit* sh,
                                  float3 wo, const SubpathState* st, u32 k,
                                  __global const PathVertex* y, __global const float2* slopes,
                                  u32* rays, u32* connections) {
-  if (!v->pixel_radius) return bdpt_connect(p, &g->mis, s, sh, wo, st, k, y, rays, connections);
+  if (!v->pixel_radius) return bdpt_connect(p, mk, s, sh, wo, st, k, y, rays, connections);
   const u32 s_count = y->depth + 1u;
   if (s_count + k - 1u > p->max_depth) return (float3)(0.0f);
   const SurfaceHit ys = path_vertex_surface(y);
   const SubpathState ls = vcm_light_state(v, g, y, slopes);
-  return bdpt_connect_vertex(p, &g->mis, s, sh, wo, st, k, &ys, vload3(0, y->wo), &ls, s_count,
+  return bdpt_connect_vertex(p, mk, s, sh, wo, st, k, &ys, vload3(0, y->wo), &ls, s_count,
                              rays, connections);
 }
 
@@ -260,29 +262,34 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
     bdpt_mis_arrive(p, &st, distance(sh->p, w.from), fabs(dot(sh->ng, wo)), 1);
     if (v->mode != VCM_MODE_PPM || specular) bdpt_gather_emitter(p, &m, s, &st, sh, wo, k, &L);
     if (v->mode == VCM_MODE_LT || k > p->max_depth) break;
-    if (bsdf_has_smooth_lobe(sh)) {
+    /* The factors at this vertex: with merge_first merging terms at the first non-delta one
+     * alone (stages/vertex_mis.cl). */
+    const bool smooth = bsdf_has_smooth_lobe(sh);
+    const bool first = smooth && specular;
+    const StrategyMis mk = mis_at_camera_vertex(&m, first);
+    if (smooth) {
       specular = false;
       if (vc) {
         /* pt: NEE's weight against the emitter hit alone (no longer light subpaths). */
         SubpathState nee = st;
         if (v->mode == VCM_MODE_PT) nee.dvcm = nee.dvc = 0.0f;
-        L += st.beta * bdpt_nee(p, &m, s, sampler, sh, wo, &nee, k, rays, connections);
+        L += st.beta * bdpt_nee(p, &mk, s, sampler, sh, wo, &nee, k, rays, connections);
       }
       if (connect && v->lvc == 0u) {
         for (u32 i = 0u; i < count; ++i)
-          L += st.beta * vcm_connect(p, v, g, s, sh, wo, &st, k, lv + i, lv_slopes + i,
+          L += st.beta * vcm_connect(p, v, g, &mk, s, sh, wo, &st, k, lv + i, lv_slopes + i,
                                      rays, connections);
       } else if (connect && cached > 0u) {
         float3 sum = (float3)(0.0f);
         for (u32 j = 0u; j < v->lvc; ++j) {
           const float u = sample_1d(sampler, stream_dim(bounce_dim(k - 1u, DIM_LVC_PICK), j));
           const u32 i = min((u32)(u * (float)cached), cached - 1u);
-          sum += vcm_connect(p, v, g, s, sh, wo, &st, k, vertices + cache[i], slopes + cache[i],
-                             rays, connections);
+          sum += vcm_connect(p, v, g, &mk, s, sh, wo, &st, k, vertices + cache[i],
+                             slopes + cache[i], rays, connections);
         }
         L += st.beta * sum * ((float)cached / ((float)v->lvc * (float)v->light_paths));
       }
-      if (merge) {
+      if (merge && (first || !v->merge_first)) {
         const u32 before = *merges;
         const float3 M = st.beta * vcm_merge(p, v, g, sh, wo, &st, k, vertices, slopes, starts,
                                              points, merges) * g->normalization;
@@ -295,7 +302,7 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
     }
     const BsdfSample bs = walk_sample_bsdf(sampler, &w);
     if (!walk_scatter(p, s, sampler, &w, &bs)) break;
-    bdpt_mis_scatter_sample(p, &m, &st, &w.sh, w.wo, &bs);
+    bdpt_mis_scatter_sample(p, &mk, &st, &w.sh, w.wo, &bs);
     if (v->mode == VCM_MODE_PT) st.dvc = 0.0f; /* no strategy with light vertices beyond NEE */
   }
   return L;
