@@ -8,10 +8,10 @@
  *                  (merging needs y_max_depth: merged at a camera vertex z_1 it closes a
  *                  path of max_depth bounces) and connects to the camera (t = 1);
  *   camera subpath as bdpt's (emitter hits, next-event estimation, connections to its own
- *                  light subpath), and at each non-delta vertex z_k (with merge_first, --vcm-merge
- *                  first, at the first only) it merges every stored light vertex of the
- *                  tile within radius r (a hashed grid of cells 2r wide,
- *                  kernels/spatial/hash_grid.cl): y's throughput times z's BSDF for y's
+ *                  light subpath), and at its first non-delta vertex z_k (merge_first,
+ *                  --vcm-merge first; at every one with --vcm-merge all) it merges every
+ *                  stored light vertex of the tile within radius r (a hashed grid of cells
+ *                  2r wide, kernels/spatial/hash_grid.cl): y's throughput times z's BSDF for y's
  *                  incoming direction, over eta = pi r^2 light_paths, MIS-weighted by
  *                  vcm_weight_merge. A merge of y_j at z_k is a path of j + k - 1 bounces.
  * As with photons (kernels/integrators/estimators/photon/density.cl) a light vertex merges only where
@@ -199,9 +199,10 @@ static inline float3 vcm_merge(__constant const RenderParams* p, __constant cons
 }
 
 /* s >= 2 with stored light vertex y (its slopes beside it), weighted with factors mk (g's at
- * this camera vertex): bdpt_connect with the light vertex's state moved to g's factors. The pass rule calls bdpt_connect itself:
- * one path through bdpt_connect_vertex for both grew vcm_camera's NVIDIA stack from 400 to 720
- * bytes (scripts/kernel_compile_check.py --targets nvptx --programs vcm). */
+ * this camera vertex): bdpt_connect with the light vertex's state moved to g's factors. The
+ * pass rule calls bdpt_connect itself: one path through bdpt_connect_vertex for both grew
+ * vcm_camera's NVIDIA stack from 400 to 720 bytes (scripts/kernel_compile_check.py --targets
+ * nvptx --programs vcm). */
 static inline float3 vcm_connect(__constant const RenderParams* p, __constant const VcmParams* v,
                                  const MergeSetting* g, const StrategyMis* mk,
                                  const SceneView* s, const SurfaceHit* sh,
