@@ -97,9 +97,9 @@ __kernel void vcm_camera(SCENE_KERNEL_ARGS __constant const RenderParams* params
   float3 merged;
   const float3 L = vcm_camera_path(
       params, vcm, &g, &scene, &sampler, pixel % params->width, pixel / params->width,
-      vertices + first, slopes + first, vcm_mode_connects(vcm->mode) ? vertex_counts[i] : 0u, vertices, slopes,
-      cache, vcm->lvc ? cache_count[0] : 0u, starts, points, &merged, &found, &rays, &connections,
-      &merges);
+      vertices + first, slopes + first, vcm_mode_connects(vcm->mode) ? vertex_counts[i] : 0u,
+      vertices, slopes, cache, vcm->lvc ? cache_count[0] : 0u, starts, points, &merged, &found,
+      &rays, &connections, &merges);
   if (vcm->pixel_radius) next_pixel_radii[pixel] = vcm_radius_update(vcm, rn, found);
   if (!film_camera_splat(params, splat, &sampler, pixel, L)) film_add(&film, L);
   film_store(film_sum, film_sum_sq, pixel, &film);

@@ -35,7 +35,7 @@
  * the camera. The weights then keep the merge terms of that vertex alone: a light subpath is
  * traced with no merge term at all (vm = 0 and dVM's 1 left out), light tracing's weight
  * keeps vm (the merge at the vertex it connects), a connection's weight drops vm on its light
- * side (vm_light), and on the camera subpath vm and the 1 are kept at the first non-delta
+ * side, and on the camera subpath vm and the 1 are kept at the first non-delta
  * vertex only (mis_at_camera_vertex).
  *
  * N_light, the light paths per camera path, is width * height: each sample index traces one
@@ -59,7 +59,6 @@ static inline float bdpt_mis(__constant const RenderParams* p, float x) {
  * when only_s is BDPT_ALL_STRATEGIES). */
 typedef struct StrategyMis {
   float vm;       /* merging at this vertex (the camera vertex; for t = 1 the light vertex) */
-  float vm_light; /* merging at a connection's light vertex (vm, or 0 with merge_first) */
   float vm_one;   /* dVM's 1 in the scattering update: 1 where merging is made at the vertex */
   float vc;
   u32 only_s;
@@ -72,7 +71,6 @@ typedef struct StrategyMis {
 static inline StrategyMis mis_all_strategies(void) {
   StrategyMis m;
   m.vm = 0.0f;
-  m.vm_light = 0.0f;
   m.vm_one = 1.0f;
   m.vc = 0.0f;
   m.only_s = BDPT_ALL_STRATEGIES;
@@ -87,7 +85,6 @@ static inline StrategyMis mis_all_strategies(void) {
 static inline StrategyMis mis_merging(float vm, float vc, int merge_first) {
   StrategyMis m = mis_all_strategies();
   m.vm = vm;
-  m.vm_light = merge_first ? 0.0f : vm;
   m.vc = vc;
   m.merge_first = merge_first;
   return m;
@@ -244,8 +241,10 @@ static inline float bdpt_weight_connect(__constant const RenderParams* p, const 
                                         const SubpathState* cam, const SubpathState* light,
                                         float cam_fwd_a, float cam_rev, float light_fwd_a,
                                         float light_rev) {
+  /* Merging at the light vertex: none with merge_first (the camera vertex comes first). */
+  const float vm_light = m->merge_first ? 0.0f : m->vm;
   const float w_light =
-      bdpt_mis(p, cam_fwd_a) * (light->dvcm + light->dvc * bdpt_mis(p, light_rev) + m->vm_light);
+      bdpt_mis(p, cam_fwd_a) * (light->dvcm + light->dvc * bdpt_mis(p, light_rev) + vm_light);
   const float w_camera =
       bdpt_mis(p, light_fwd_a) * (cam->dvcm + cam->dvc * bdpt_mis(p, cam_rev) + m->vm);
   return 1.0f / (w_light + 1.0f + w_camera);

@@ -38,6 +38,12 @@ static inline StrategyMis vcm_mis(__constant const VcmParams* v) {
   return mis_merging(v->mis_vm, v->mis_vc, (int)v->merge_first);
 }
 
+/* The pass's factors the light subpaths are traced with (with merge_first no merging term). */
+static inline StrategyMis vcm_light_mis(__constant const VcmParams* v) {
+  const StrategyMis pass = vcm_mis(v);
+  return mis_light_side(&pass);
+}
+
 /* How a camera path merges: its radius, 1 / eta (a merge's kernel over the light paths) and
  * the MIS factors of its eta. One for the pass, or with per-pixel radii its pixel's. */
 typedef struct MergeSetting {
@@ -67,8 +73,7 @@ static inline MergeSetting vcm_merge_setting(__constant const RenderParams* p,
 static inline SubpathState vcm_rebase(__constant const VcmParams* v, const MergeSetting* g,
                                       SubpathState st, EtaSlopes e) {
   if (!v->pixel_radius) return st;
-  const StrategyMis pass = vcm_mis(v);
-  const StrategyMis traced = mis_light_side(&pass);
+  const StrategyMis traced = vcm_light_mis(v);
   return eta_rebase(st, e, &traced, &g->mis);
 }
 
@@ -102,8 +107,7 @@ static inline u32 vcm_light_path(__constant const RenderParams* p, __constant co
                                  __global PathVertex* out, __global float2* out_slopes,
                                  __global const float2* pixel_radii,
                                  __global float4* splat, u32* rays, u32* connections) {
-  const StrategyMis pass = vcm_mis(v);
-  const StrategyMis m = mis_light_side(&pass); /* with merge_first no merging term */
+  const StrategyMis m = vcm_light_mis(v);
   SubpathState st;
   LightPdfs q;
   PathWalk w;
