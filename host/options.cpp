@@ -299,6 +299,14 @@ struct Parser {
                    "lobe, where photon mapping gathers; the MIS weights count that merge alone) or "
                    "all (at every such vertex, as Georgiev et al. 2012) [first]")
         ->type_name("WHERE");
+    app.add_option("--vcm-light-paths", o.vcm_light_paths,
+                   "vcm: light subpaths per pixel and pass: a camera path connects to one and merges "
+                   "with all, so more of them make merging denser for their cost (caustics seen "
+                   "through glass), and light tracing takes them all [as many as --bdpt-memory "
+                   "holds for the whole image at once, at most 4, in the modes that merge; 1 when "
+                   "it tiles]")
+        ->type_name("K")
+        ->check(CLI::Range(1u, 64u).description(""));
     app.add_flag("--vcm-merged", o.vcm_merged,
                  "vcm: add a 'merged' layer to the EXR: the part of each pixel that merging "
                  "contributed");
@@ -466,7 +474,8 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
   o.vcm_shrink_set = p.app.count("--vcm-shrink") > 0;
   o.vcm_alpha_set = p.app.count("--vcm-alpha") > 0;
   for (const char* name :
-       {"--vcm-mode", "--vcm-radius", "--vcm-alpha", "--vcm-shrink", "--vcm-merge", "--vcm-merged"})
+       {"--vcm-mode", "--vcm-radius", "--vcm-alpha", "--vcm-shrink", "--vcm-merge", "--vcm-light-paths",
+        "--vcm-merged"})
     o.vcm_set = o.vcm_set || p.app.count(name) > 0;
   if (o.quiet && o.verbose) throw Error(ExitCode::Usage, "--quiet and --verbose exclude each other");
   auto one_of = [](const char* option, const std::string& value,
@@ -604,8 +613,8 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
     throw Error(ExitCode::Usage, "--indirect needs --integrator indirect1");
   if (reads(OPTIONS_INDIRECT)) one_of("--indirect", o.indirect, {"receiver", "source", "surface"});
   if (!reads(OPTIONS_VCM) && o.vcm_set)
-    throw Error(ExitCode::Usage, "--vcm-mode, --vcm-radius, --vcm-alpha, --vcm-shrink, --vcm-merge and "
-                                 "--vcm-merged need --integrator vcm");
+    throw Error(ExitCode::Usage, "--vcm-mode, --vcm-radius, --vcm-alpha, --vcm-shrink, --vcm-merge, "
+                                 "--vcm-light-paths and --vcm-merged need --integrator vcm");
   if (reads(OPTIONS_VCM)) {
     one_of("--vcm-mode", o.vcm_mode, {"vcm", "bpt", "ppm", "lt", "pt"});
     // A light vertex connected to the camera is weighted with the eta of the one pixel its

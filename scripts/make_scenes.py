@@ -4,7 +4,8 @@
     python3 scripts/make_scenes.py            # writes scenes/cornell_box.gltf,
                                               # scenes/cornell_ceiling.gltf, scenes/furnace.gltf,
                                               # scenes/caustic.gltf, scenes/indirect.gltf,
-                                              # scenes/door_ajar.gltf, scenes/glass_room.gltf
+                                              # scenes/door_ajar.gltf, scenes/glass_room.gltf,
+                                              # scenes/glass_table.gltf
     python3 scripts/make_scenes.py --out DIR  # writes them into DIR instead
 
 Python 3.11 standard library only. Each scene is a single .gltf file whose one buffer is
@@ -964,6 +965,70 @@ def make_glass_room(out_dir):
 
 
 # ---------------------------------------------------------------------------------------------
+# Glass-table benchmark (vcm, issue 18): the indirect room's walls with a glass-topped table
+# under a small lamp. The floor under the table is lit through the glass and seen through it
+# from above (E S S D S S L: merging's alone, a large share of the image), the rest of the
+# room by the lamp and by inter-reflection (connections' strength)
+
+GLASS_TABLE_TOP_LO, GLASS_TABLE_TOP_HI = (-0.7, 0.72, -1.5), (0.7, 0.76, -0.5)  # a 4 cm glass slab
+GLASS_TABLE_LEG = 0.05                         # square legs of the wall's material, inset by a leg
+GLASS_TABLE_LIGHT_CENTRE = (0.0, 2.55, -1.0)   # 5 cm under the ceiling, over the table
+GLASS_TABLE_LIGHT_SIZE = 0.1                   # square, facing down
+GLASS_TABLE_LIGHT_RADIANCE = 1000.0
+GLASS_TABLE_CAMERA = (0.4, 2.0, 0.0)
+GLASS_TABLE_TARGET = (0.0, 0.2, -1.0)
+GLASS_TABLE_YFOV_DEG = 50.0
+
+
+def make_glass_table(out_dir):
+    doc = Document("clpt scripts/make_scenes.py (glass table benchmark)")
+    a = ROOM_ALBEDO
+    doc.add_material("wall", (a, a, a))
+    doc.add_glass_material("glass", CAUSTIC_GLASS_IOR)
+    doc.add_material("light", (0.78, 0.78, 0.78), (GLASS_TABLE_LIGHT_RADIANCE,) * 3, double_sided=False)
+
+    room = Mesh("room", "wall")
+    add_box(room, ROOM_LO, ROOM_HI, outward=False)
+    doc.add_mesh(room)
+    top = Mesh("table_top", "glass")
+    add_box(top, GLASS_TABLE_TOP_LO, GLASS_TABLE_TOP_HI, outward=True)
+    doc.add_mesh(top)
+    legs = Mesh("table_legs", "wall")
+    (x0, y0, z0), (x1, _, z1) = GLASS_TABLE_TOP_LO, GLASS_TABLE_TOP_HI
+    w = GLASS_TABLE_LEG
+    for lx in (x0 + w, x1 - 2.0 * w):
+        for lz in (z0 + w, z1 - 2.0 * w):
+            add_box(legs, (lx, 0.0, lz), (lx + w, y0, lz + w), outward=True, skip=("-y", "+y"))
+    doc.add_mesh(legs)
+    light = Mesh("light", "light")
+    cx, cy, cz = GLASS_TABLE_LIGHT_CENTRE
+    s = 0.5 * GLASS_TABLE_LIGHT_SIZE
+    add_quad(light, [(cx - s, cy, cz - s), (cx + s, cy, cz - s), (cx + s, cy, cz + s), (cx - s, cy, cz + s)],
+             (0.0, -1.0, 0.0))  # emits downward only
+    doc.add_mesh(light)
+
+    doc.add_perspective_camera("glass_table_camera", list(GLASS_TABLE_CAMERA),
+                               math.radians(GLASS_TABLE_YFOV_DEG), 1.0, 0.01,
+                               rotation=look_at_rotation(GLASS_TABLE_CAMERA, GLASS_TABLE_TARGET))
+    path = os.path.join(out_dir, "glass_table.gltf")
+    write_gltf(doc.finish(), path)
+    res = validate(path)
+    area, radiance, power, normal = emitter_summary(res, "light")
+    assert abs(area - GLASS_TABLE_LIGHT_SIZE ** 2) < 1e-7 and normal == (0.0, -1.0, 0.0)
+    # the lamp is over the table top, so that its direct light onto the floor under the table
+    # passes through the glass; light, table and camera inside the room
+    assert x0 < cx < x1 and z0 < cz < z1 and cy > GLASS_TABLE_TOP_HI[1]
+    for p in (GLASS_TABLE_TOP_LO, GLASS_TABLE_TOP_HI, GLASS_TABLE_LIGHT_CENTRE, GLASS_TABLE_CAMERA):
+        assert all(ROOM_LO[k] < p[k] < ROOM_HI[k] for k in range(3))
+    print(f"{path}: {res['triangles']} triangles (room {len(room.triangles)}, table_top {len(top.triangles)}, "
+          f"table_legs {len(legs.triangles)}, light {len(light.triangles)})")
+    print(f"  light {GLASS_TABLE_LIGHT_SIZE} m square at {GLASS_TABLE_LIGHT_CENTRE} facing down, radiance "
+          f"{radiance[0]:g} W/m^2/sr, power {power[0]:.2f} W; glass top {GLASS_TABLE_TOP_LO} to "
+          f"{GLASS_TABLE_TOP_HI}")
+    return res
+
+
+# ---------------------------------------------------------------------------------------------
 # Door-ajar benchmark: two rooms, the lamp in one, the camera in the other, light through a
 # door left slightly open (Veach 1997's hard case for path tracing, built anew here)
 
@@ -1063,6 +1128,7 @@ def main(argv=None):
     make_indirect(out_dir)
     make_door(out_dir)
     make_glass_room(out_dir)
+    make_glass_table(out_dir)
     return 0
 
 

@@ -18,8 +18,9 @@
 // takes s vertices from the light end and t from the camera end, s + t = m + 1. For m >= 2
 // the strategies are s = 0 .. m (t = 1: light tracing); s = m + 1 (t = 0) cannot hit a
 // pinhole. Camera strategies take one sample per pixel, with x1's density per pixel
-// (width * height times the whole film's); light tracing takes N_light = width * height
-// light paths per pixel sample. The strategy (1, 1), left out by the integrator, exists only
+// (width * height times the whole film's); light tracing takes N_light = K width * height
+// light paths per pixel sample (K = 1 but for the *_light_paths cases: vcm's --vcm-light-paths K).
+// The strategy (1, 1), left out by the integrator, exists only
 // for m = 1, which has the single strategy (0, 2) and is not sampled here. Merging at x_k
 // takes the camera subpath's x_1 .. x_k and the light subpath's x_m .. x_k; its density is a
 // connection's times pi r^2 N_merge times the light subpath's density of x_k (eta times the
@@ -140,6 +141,7 @@ struct MisCase {
   float eta_traced = 0.0f;
   bool merge_first = false;  // vcm's --vcm-merge first: merging at x_1 alone (every vertex here
                              // has a non-delta lobe)
+  uint32_t light_per_pixel = 1;  // vcm's --vcm-light-paths: N_light = this times width * height
 };
 void PrintTo(const MisCase& c, std::ostream* os) { *os << c.name; }
 
@@ -149,7 +151,7 @@ struct PathRecords {
 };
 
 PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta, float eta_traced,
-                      bool merge_first) {
+                      bool merge_first, uint32_t light_per_pixel) {
   cl::Context& ctx = test::device_context();
   const Bvh bvh = build_bvh(scene.positions, scene.triangles);
   const FlatScene flat = flatten_scene(scene, bvh);
@@ -176,7 +178,8 @@ PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta, float e
   cl::Buffer meta(ctx, size_t(kPaths) * 4 * sizeof(int), CL_MEM_WRITE_ONLY, nullptr, "meta");
   cl::Kernel k(mis_program(), "bdpt_mis_paths");
   const cl_uint a = buffers.bind(k, 0);
-  k.args(a, params, kPaths, eta, eta_traced, cl_int(merge_first ? 1 : 0), rec, rec_raw, rec_vm, pcam,
+  k.args(a, params, kPaths, eta, eta_traced, cl_int(merge_first ? 1 : 0), float(light_per_pixel), rec,
+         rec_raw, rec_vm, pcam,
          plight, meta);
   k.launch(ctx, kPaths);
   return {rec.read_vector<float>(floats), rec_raw.read_vector<float>(floats),
@@ -185,20 +188,21 @@ PathRecords run_paths(const Scene& scene, uint32_t heuristic, float eta, float e
 }
 
 // The explicit weights of path (m, pcam, plight): strategy s has density
-//   prod_{i=1}^{t-1} pcam_i (pcam_1 per pixel) * prod_{j=m-s+1}^{m} plight_j,  t = m + 1 - s,
+//   prod_{i=1}^{t-1} pcam_i (pcam_1 per pixel: `pixels` times the film's) *
+//   prod_{j=m-s+1}^{m} plight_j,  t = m + 1 - s,
 // with n = N_light samples for t = 1 and 1 otherwise; with eta > 0 also merging at x_k,
 // k = 1 .. m - 1 (in vm[k]; k = 1 alone with merge_first), n p = eta prod_{i=1}^{k} pcam_i
 // prod_{j=k}^{m} plight_j.
 struct ExplicitWeights {
   std::array<double, kSlots> vc{}, vm{};
 };
-ExplicitWeights explicit_weights(int m, const float* pcam, const float* plight, double n_light,
-                                 double exponent, double eta, bool merge_first) {
+ExplicitWeights explicit_weights(int m, const float* pcam, const float* plight, double pixels,
+                                 double n_light, double exponent, double eta, bool merge_first) {
   ExplicitWeights w;
   double sum = 0.0;
   const auto camera_prefix = [&](int last) {
     double p = 1.0;
-    for (int i = 1; i <= last; ++i) p *= i == 1 ? n_light * double(pcam[1]) : double(pcam[i]);
+    for (int i = 1; i <= last; ++i) p *= i == 1 ? pixels * double(pcam[1]) : double(pcam[i]);
     return p;
   };
   const auto light_suffix = [&](int first) {
@@ -226,8 +230,9 @@ class BdptMis : public ::testing::TestWithParam<MisCase> {};
 
 TEST_P(BdptMis, RecursiveEqualsExplicit) {
   const MisCase& c = GetParam();
-  const PathRecords r = run_paths(c.scene(), c.heuristic, c.eta, c.eta_traced, c.merge_first);
-  const double n_light = double(kWidth) * kHeight;
+  const PathRecords r =
+      run_paths(c.scene(), c.heuristic, c.eta, c.eta_traced, c.merge_first, c.light_per_pixel);
+  const double pixels = double(kWidth) * kHeight, n_light = pixels * c.light_per_pixel;
   const double exponent = c.heuristic == dev::MIS_BALANCE ? 1.0 : 2.0;
 
   std::array<size_t, kMaxEdges + 1> per_length{};
@@ -254,7 +259,8 @@ TEST_P(BdptMis, RecursiveEqualsExplicit) {
     max_dt = std::max(max_dt, double(pc[0]));
     max_dpdf = std::max(max_dpdf, double(pl[0]));
     const float* vm = &r.rec_vm[size_t(i) * kSlots];
-    const ExplicitWeights w = explicit_weights(m, pc, pl, n_light, exponent, c.eta, c.merge_first);
+    const ExplicitWeights w =
+        explicit_weights(m, pc, pl, pixels, n_light, exponent, c.eta, c.merge_first);
     double sum = 0.0, raw_sum = 0.0;
     // One weight against its explicit value; `what` names the technique for the report.
     const auto check = [&](float recursive, double expected, const std::string& what) {
@@ -348,7 +354,13 @@ INSTANTIATE_TEST_SUITE_P(
                       MisCase{"glossy_balance_vcm_first_rebased", glossy_box, dev::MIS_BALANCE, 0,
                               kEta, 9.0f * kEta, true},
                       MisCase{"glass_sphere_power_vcm_first", glass_sphere_box, dev::MIS_POWER, 100,
-                              kEta, 0.0f, true}),
+                              kEta, 0.0f, true},
+                      // Three light subpaths per pixel (--vcm-light-paths 3): light tracing's
+                      // N_light and eta three times as large, rebased as with per-pixel radii.
+                      MisCase{"glossy_power_vcm_first_3_light_paths", glossy_box, dev::MIS_POWER, 0,
+                              3.0f * kEta, 2.0f * kEta, true, 3},
+                      MisCase{"glass_sphere_balance_vcm_3_light_paths", glass_sphere_box,
+                              dev::MIS_BALANCE, 100, 3.0f * kEta, 0.0f, false, 3}),
     [](const ::testing::TestParamInfo<MisCase>& info) { return std::string(info.param.name); });
 
 }  // namespace

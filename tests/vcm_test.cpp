@@ -3,8 +3,9 @@
 //   SphereFurnaceVcm     the furnace's closed form, z-test over independent batches (inside a
 //                        sphere a merge's disc of radius r has exactly the area of the cap
 //                        it gathers from, pi r^2: no merging bias to allow for), also with
-//                        per-pixel radii and with merging at every vertex (--vcm-merge all;
-//                        the others merge at the first, the default);
+//                        per-pixel radii, with merging at every vertex (--vcm-merge all;
+//                        the others merge at the first, the default) and with three light
+//                        subpaths per pixel (--vcm-light-paths 3);
 //   VcmModes             --vcm-mode bpt renders bdpt's image (the same strategies and
 //                        weights: equal to float rounding in the splats' order); ppm and pt
 //                        modes agree with pt's reference mean;
@@ -12,8 +13,9 @@
 //                        means, per-pixel z, image mean), also in tiles of ~100 light paths
 //                        (eta = pi r^2 paths of the tile), with light vertex caching; with a
 //                        background, directional, point and spot lights; on the
-//                        glossy-and-glass box; and merging at every non-delta camera vertex
-//                        (--vcm-merge all) on both boxes;
+//                        glossy-and-glass box; merging at every non-delta camera vertex
+//                        (--vcm-merge all) on both boxes; several light subpaths per pixel
+//                        (--vcm-light-paths), in tiles, with per-pixel radii and with caching;
 //   VcmOptions, VcmCli   usage errors; --stats figures (merges, light vertices, the radius
 //                        shrinking pass by pass); the --vcm-merged layer.
 // The MIS weights of both techniques are checked path by path against explicit whole-path
@@ -62,6 +64,9 @@ RenderSettings vcm_settings(uint32_t mode, uint64_t spp, uint32_t size = kSize) 
   s.vcm.radius = kRadius;
   s.vcm.pixel_radius = false;
   s.vcm.alpha = 0.75f;
+  // One light subpath per pixel (the default's rule would take 4 at this size):
+  // VcmWithSeveralLightPathsPerPixelMatchesPt tests more.
+  s.vcm.light_per_pixel = 1;
   return s;
 }
 
@@ -73,12 +78,13 @@ TEST_P(SphereFurnaceVcm, MatchesClosedForm) {
   const FurnaceCase c = GetParam();
   const Scene scene = test::furnace_scene(c.rho, 1.0f);
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
-  for (const int variant : {0, 1, 2, 3}) {
+  for (const int variant : {0, 1, 2, 3, 4}) {
     const uint32_t mode = variant == 1 ? dev::VCM_MODE_PPM : dev::VCM_MODE_VCM;
     const char* name = variant == 0   ? "vcm"
                        : variant == 1 ? "ppm"
                        : variant == 2 ? "vcm, per-pixel radii"
-                                      : "vcm, merging at every vertex";
+                       : variant == 3 ? "vcm, merging at every vertex"
+                                      : "vcm, 3 light paths per pixel";
     RenderSettings s = vcm_settings(mode, 32, 16);
     s.vcm.pixel_radius = variant == 2;
     // The default merges at the first camera vertex alone, its weights counting that merge
@@ -89,6 +95,9 @@ TEST_P(SphereFurnaceVcm, MatchesClosedForm) {
     // Per pixel, radii far from the pass's (r^2 falls as i^-0.96 where vertices arrive, the
     // pass's as i^-0.49), so that every weight must take the pixel's eta, light tracing's too.
     if (variant == 2) s.vcm.alpha = 0.51f;
+    // Three light subpaths per pixel: merges over three times the light vertices (eta three
+    // times as large) and light tracing's splats a third each.
+    if (variant == 4) s.vcm.light_per_pixel = 3;
     s.max_depth = c.max_depth;
     s.vcm.radius = 0.5f;  // the inner sphere's radius is 1, the outer one's 5
     const BatchMean bm = batch_mean(test::render_batches(scene, s, 30, 5000));
@@ -240,6 +249,37 @@ TEST(CrossIntegrator, VcmMergingAtEveryVertexMatchesPt) {
                                  glass, "vcm glossy glass, merge all, pixel radii");
 }
 
+// --vcm-light-paths K: K light subpaths per pixel and pass; each camera path connects to the
+// first of its pixel's and merges with all (eta = pi r^2 K pixels), light tracing splats all
+// K, a K-th each, and weights them as K samples per pixel (stages/vertex_mis.cl). In tiles the
+// budget divides among the K; with light vertex caching the cache holds all K's vertices.
+TEST(CrossIntegrator, VcmWithSeveralLightPathsPerPixelMatchesPt) {
+  const FilmResult cornell =
+      test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  RenderSettings s = vcm_settings(dev::VCM_MODE_VCM, 32);
+  s.vcm.light_per_pixel = 3;
+  test::expect_matches_reference(test::render_batches(test::cornell_box(), s, 16, 6700), cornell,
+                                 "vcm 3 light paths");
+  RenderSettings t = s;
+  t.bdpt.memory_bytes = 3 * 8 * (sizeof(dev::PathVertex) + sizeof(dev::GridPoint) + 32) * 100;
+  test::expect_matches_reference(test::render_batches(test::cornell_box(), t, 16, 6800), cornell,
+                                 "vcm 3 light paths, tiles");
+  RenderSettings c = s;
+  c.bdpt.lvc = 2;
+  test::expect_matches_reference(test::render_batches(test::cornell_box(), c, 16, 6900), cornell,
+                                 "vcm 3 light paths, lvc 2");
+  // Per-pixel radii (as VcmWithPixelRadiiMatchesPt's). Not on the glossy-and-glass box: its
+  // pt reference's caustic pixels are heavy-tailed (fireflies it has not yet seen), so vcm sits
+  // above it there, |z| > 4 in 1 to 4 pixel-channels at K = 1 and 5 to 10 at K = 2 (three
+  // seeds each, all positive, in the same pixels), while the image means agree (z 0.2).
+  s.vcm.light_per_pixel = 2;
+  s.vcm.pixel_radius = true;
+  s.vcm.alpha = 0.6f;
+  s.vcm.radius = 2.0f * kRadius;
+  test::expect_matches_reference(test::render_batches(test::cornell_box(), s, 16, 7000), cornell,
+                                 "vcm 2 light paths, pixel radii");
+}
+
 TEST(VcmUnits, RadiusAndEta) {
   EXPECT_FLOAT_EQ(VertexConnectionMerging::radius(0.1f, 0.75f, 0), 0.1f);
   EXPECT_NEAR(VertexConnectionMerging::radius(0.1f, 0.75f, 15), 0.1 * std::pow(16.0, -0.125), 1e-7);
@@ -256,6 +296,26 @@ TEST(VcmUnits, RadiusAndEta) {
   EXPECT_EQ(VertexConnectionMerging::pass_params(c, dev::MIS_POWER, 0.1f, 1000, 1023).mis_vm, 0.0f);
   c.mode = dev::VCM_MODE_PPM;
   EXPECT_EQ(VertexConnectionMerging::pass_params(c, dev::MIS_POWER, 0.1f, 1000, 1023).mis_vc, 0.0f);
+}
+
+// Light subpaths per pixel: as given, else as many as the budget holds for the whole image
+// (no tiles), from 1 to 4, and 1 in the modes that do not merge.
+TEST(VcmUnits, LightPathsPerPixel) {
+  using V = VertexConnectionMerging;
+  const uint32_t cap = V::vertex_capacity(8);
+  const size_t budget = size_t(256) << 20;
+  // The light paths the budget holds, and pixels for which that is 2.5 per pixel.
+  const size_t paths = V::tile_paths(budget, cap, size_t(1) << 40);
+  const size_t pixels = paths * 2 / 5;
+  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_VCM, budget, cap, pixels), 2u);
+  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_PPM, budget, cap, pixels), 2u);
+  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_BPT, budget, cap, pixels), 1u);
+  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_VCM, budget, cap, paths + 1), 1u);  // tiles
+  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_VCM, budget, cap, 128 * 128), 4u);
+  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_VCM, budget, cap, 1920 * 1080), 1u);
+  EXPECT_EQ(V::light_paths_per_pixel(3, dev::VCM_MODE_VCM, budget, cap, 1920 * 1080), 3u);
+  EXPECT_EQ(V::light_paths_per_pixel(3, dev::VCM_MODE_BPT, budget, cap, 64), 3u);
+  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_VCM, 1, cap, 64), 1u);
 }
 
 TEST(VcmOptions, BadValuesAreUsageErrors) {
@@ -277,6 +337,11 @@ TEST(VcmOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-merge", "all"}), ExitCode::Ok);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-merge", "last"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "bdpt", "--vcm-merge", "all"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-light-paths", "4"}), ExitCode::Ok);
+  for (const char* k : {"0", "-1", "65", "1.5", "two"})
+    EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-light-paths", k}), ExitCode::Usage)
+        << k;
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "bdpt", "--vcm-light-paths", "2"}), ExitCode::Usage);
   // Per-pixel radii need every splat in one pixel: another filter takes the pass rule, and
   // asking for both is an error.
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--filter", "tent"}), ExitCode::Ok);
@@ -336,6 +401,17 @@ TEST(VcmCli, StatsFigures) {
   EXPECT_EQ(e["vcm"]["merge"].get<std::string>(), "all");
   // Merging at every vertex makes more merges than at the first alone (same paths).
   EXPECT_GT(e["vcm"]["merges"].get<uint64_t>(), run("f", {})["vcm"]["merges"].get<uint64_t>());
+  // Three light subpaths per pixel store about three times the light vertices (same seed).
+  const nlohmann::json k = run("k", {"--vcm-light-paths", "3"});
+  ASSERT_FALSE(k.is_null());
+  EXPECT_EQ(k["vcm"]["light_paths_per_pixel"].get<uint32_t>(), 3u);
+  EXPECT_EQ(e["vcm"]["light_paths_per_pixel"].get<uint32_t>(), 4u);  // the default's rule here
+  const nlohmann::json one = run("one", {"--vcm-light-paths", "1"});
+  ASSERT_FALSE(one.is_null());
+  const double stored_ratio = double(k["vcm"]["light_vertices"].get<uint64_t>()) /
+                              double(one["vcm"]["light_vertices"].get<uint64_t>());
+  EXPECT_GT(stored_ratio, 2.7);
+  EXPECT_LT(stored_ratio, 3.3);
   EXPECT_FLOAT_EQ(p["vcm"]["alpha"].get<float>(), 0.75f);
   EXPECT_FALSE(p["vcm"].contains("pixel_radius"));
   // --vcm-merged: an EXR layer with the part of each pixel that merging gave, a share of the

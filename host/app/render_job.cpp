@@ -142,6 +142,7 @@ RenderSettings render_settings(const Options& opt) {
   settings.vcm.pixel_radius = opt.vcm_shrink == "pixel";  // resolved by parse_options
   settings.vcm.shrink_given = opt.vcm_shrink_set;
   settings.vcm.merge_first = opt.vcm_merge == "first";
+  settings.vcm.light_per_pixel = opt.vcm_light_paths;
   settings.vcm.alpha_given = opt.vcm_alpha_set;
   return settings;
 }

@@ -1,13 +1,14 @@
 // Vertex connection and merging (--integrator vcm, kernels/integrators/vcm.cl; Georgiev et
 // al. 2012, docs/concepts/vcm.md). Per sample index one pass with its own merge radius
 // r_i = r_0 (i + 1)^((alpha - 1) / 2) (Knaus and Zwicker 2011's rate, as SmallVCM), and per
-// tile of pixel indices three kernels: vcm_light traces one light subpath per pixel index
-// (camera connections splatted, vertices stored), vcm_grid_count and vcm_grid_fill sort the
+// tile of pixel indices three kernels: vcm_light traces VcmConfig::light_per_pixel light
+// subpaths per pixel index (--vcm-light-paths, 1 by default; camera connections splatted,
+// vertices stored), vcm_grid_count and vcm_grid_fill sort the
 // tile's vertices by the bucket of their cell (cells 2r wide; the host sums the counts into
 // bucket starts between them), vcm_camera traces one camera subpath per pixel that connects
-// to its own light subpath and merges with the whole tile's (at its first non-delta vertex,
+// to its own (first) light subpath and merges with the whole tile's (at its first non-delta vertex,
 // or with --vcm-merge all at every one: VcmConfig::merge_first). Tiles are as large as the
-// memory budget allows (vertices, grid points and buckets); eta = pi r^2 (paths of the tile)
+// memory budget allows (vertices, grid points and buckets); eta = pi r^2 (light paths of the tile)
 // so a merge's normalisation and its MIS weights are right for any tile size.
 // With --vcm-shrink pixel each pixel keeps its own (r, N), shrunk after each pass as sppm's
 // by the merges its first merging vertex found, in two buffers that swap after the pass; the
@@ -44,6 +45,11 @@ class VertexConnectionMerging final : public Integrator {
   // Paths per tile within a budget: each path's vertices with their slopes, their grid points
   // and the grid's buckets (at most two per slot), and its vertex count.
   static size_t tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels);
+  // Light subpaths per pixel and pass: `given`, or where it is 0 and the mode merges as many
+  // as the budget holds for all `pixels` at once (no tiles), from 1 to kVcmMaxAutoLightPaths
+  // (1 where the mode does not merge: bpt mode stays bdpt's estimator).
+  static uint32_t light_paths_per_pixel(uint32_t given, uint32_t mode, size_t budget_bytes,
+                                        uint32_t capacity, size_t pixels);
   // The first pass's merge radius: `given`, or default_merge_radius times 0.75 with per-pixel
   // radii (`pixel`) and 0.5 without, held within the bounds; a given radius outside [1e-6,
   // 0.1] times the scene's diagonal is a usage error.
@@ -85,6 +91,7 @@ class VertexConnectionMerging final : public Integrator {
   uint32_t capacity_ = 0;
   size_t tile_ = 0;
   uint32_t mask_ = 0;
+  uint32_t light_per_pixel_ = 1;  // config_'s, resolved for the film (light_paths_per_pixel)
   bool pixel_radius_ = false;  // per-pixel radii in use (config_'s, with the box filter)
   cl_uint light_arg_ = 0, camera_arg_ = 0;
   VcmStats stats_;

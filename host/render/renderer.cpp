@@ -23,7 +23,7 @@ namespace clpt {
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DeviceShare, name, label, samples, passes, busy_seconds)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(VcmStats, light_vertices, connections, merges, passes, tiles,
                                    grids, grid_seconds, first_radius, last_radius, alpha, pixel_radii,
-                                   merge_first,
+                                   merge_first, light_per_pixel,
                                    pixel_radius_min,
                                    pixel_radius_max, pixel_radius_sum, pixel_radius_count,
                                    device_bytes)

@@ -1,9 +1,11 @@
 /* Entry points of vertex connection and merging (--integrator vcm,
  * kernels/integrators/vcm/vcm_path.cl). Per sample index (one pass, one merge radius), over
  * a tile of pixel indices [path_offset, path_offset + path_count):
- *   vcm_light        one light subpath per pixel index: camera connections splatted, its
- *                    vertices stored in its own light_vertex_capacity slots;
- *   vcm_grid_count   one work-item per light path: its stored vertices counted into their
+ *   vcm_light        light_per_pixel light subpaths per pixel index: camera connections
+ *                    splatted, the vertices of each stored in its own light_vertex_capacity
+ *                    slots, light path j of pixel index i at path_count j + i (so the first
+ *                    path_count paths are the ones the camera subpaths connect to);
+ *   vcm_grid_count   one work-item per light path (light_paths of them): its stored vertices counted into their
  *                    grid buckets when merging, and with light vertex caching (--bdpt-lvc)
  *                    their slots put on the tile's list of stored vertices; the host then
  *                    sums the counts into bucket starts;
@@ -35,12 +37,19 @@ __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   if (i >= path_count) return;
   const u32 path = path_offset + i;
   const SceneView scene = SCENE_VIEW();
-  const Sampler sampler = sampler_init(params, path, sample_index);
-  u32 rays = 0, connections = 0;
-  const size_t first = (size_t)i * vcm->light_vertex_capacity;
-  const u32 stored = vcm_light_path(params, vcm, &scene, &sampler, vertices + first, slopes + first,
-                                    pixel_radii, splat, &rays, &connections);
-  vertex_counts[i] = stored;
+  u32 rays = 0, connections = 0, stored = 0;
+  /* The pixel's j-th light subpath of the pass draws from sample index
+   * sample_index * light_per_pixel + j: numbers of its own (in the light subpaths' stream of
+   * dimensions, DIM_BDPT_LIGHT_STREAM, apart from the camera subpaths'), and with one
+   * subpath per pixel the pass's own sample index, as before --vcm-light-paths. */
+  for (u32 j = 0u; j < vcm->light_per_pixel; ++j) {
+    const Sampler sampler = sampler_init(params, path, sample_index * vcm->light_per_pixel + j);
+    const u32 l = j * path_count + i;
+    const size_t first = (size_t)l * vcm->light_vertex_capacity;
+    vertex_counts[l] = vcm_light_path(params, vcm, &scene, &sampler, vertices + first,
+                                      slopes + first, pixel_radii, splat, &rays, &connections);
+    stored += vertex_counts[l];
+  }
   ray_counts[path] += rays;
   connection_counts[path] += connections;
   stored_counts[path] += stored;

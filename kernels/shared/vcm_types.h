@@ -29,7 +29,8 @@ typedef struct VcmParams {
   float vm_normalization; /* 1 / eta: a merge's density kernel over the light paths */
   float inv_cell;         /* the light vertex grid's cells are 2r wide */
   u32 mask;               /* its buckets - 1 */
-  u32 light_paths;        /* light subpaths of the tile (N_merge: each camera path merges with all) */
+  u32 light_paths;        /* light subpaths of the tile, light_per_pixel per pixel (N_merge: each
+                           * camera path merges with all) */
   u32 light_vertex_capacity; /* light vertices stored per light subpath */
   u32 lvc;                /* --bdpt-lvc: connections per camera vertex to random cached light
                            * vertices (light vertex caching, as bdpt's); 0: to its own subpath's */
@@ -41,6 +42,9 @@ typedef struct VcmParams {
   float eta_per_r2;       /* pi light_paths: a pixel's eta is this times its r^2 */
   u32 merge_first;        /* 1: merging at the first non-delta camera vertex only (--vcm-merge
                            * first), 0: at every one (Georgiev 2012) */
+  u32 light_per_pixel;    /* --vcm-light-paths: light subpaths per pixel and pass; a camera
+                           * subpath connects to the first, merges with all, and light
+                           * tracing (t = 1) takes them all */
 } VcmParams;
 
 CLPT_END_SHARED

@@ -71,7 +71,8 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
   int specular = 1; /* no non-delta camera vertex yet (merge_first merges at the first) */
   SubpathState st;
   st.beta = (float3)(1.0f);
-  st.dvcm = bdpt_mis(params, 1.0f / camera_ray_pdf_w(&params->camera, raw ? dir0 : mis_test_dir(x[0], x[1])));
+  st.dvcm = bdpt_mis(params, mm->light_per_pixel /
+                                 camera_ray_pdf_w(&params->camera, raw ? dir0 : mis_test_dir(x[0], x[1])));
   st.dvc = 0.0f;
   st.dvm = 0.0f;
   for (int k = 1; k <= m; ++k) {
@@ -126,7 +127,8 @@ inline void mis_test_camera_replay(__constant const RenderParams* params, const 
 }
 
 __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* params, u32 n,
-                             float eta, float eta_traced, int merge_first, __global float* rec_out,
+                             float eta, float eta_traced, int merge_first, float light_per_pixel,
+                             __global float* rec_out,
                              __global float* rec_raw_out,
                              __global float* rec_vm_out, __global float* pcam_out,
                              __global float* plight_out, __global int* meta) {
@@ -135,9 +137,11 @@ __kernel void bdpt_mis_paths(SCENE_KERNEL_ARGS __constant const RenderParams* pa
   const SceneView s = SCENE_VIEW();
   StrategyMis mm = mis_all_strategies();
   if (eta > 0.0f) mm = mis_merging(bdpt_mis(params, eta), bdpt_mis(params, 1.0f / eta), merge_first);
+  mm.light_per_pixel = light_per_pixel; /* vcm's --vcm-light-paths */
   StrategyMis mt = mm; /* the light subpath's factors as traced */
   if (eta_traced > 0.0f)
     mt = mis_merging(bdpt_mis(params, eta_traced), bdpt_mis(params, 1.0f / eta_traced), merge_first);
+  mt.light_per_pixel = light_per_pixel;
   mt = mis_light_side(&mt);
   for (int i = 0; i < MIS_TEST_SLOTS; ++i) {
     rec_out[gid * MIS_TEST_SLOTS + i] = 0.0f;

@@ -75,7 +75,7 @@ static inline float3 mmlt_camera_strategy(__constant const RenderParams* p, cons
   const StrategyMis none = mis_all_strategies();
   float3 org, dir;
   *pixel = film_sample_ray(p, sampler, &org, &dir, raster);
-  SubpathState st = bdpt_camera_start(p, dir);
+  SubpathState st = bdpt_camera_start(p, &none, dir);
   PathWalk w = walk_from_camera(p, org, dir, 0u, 0u);
   w.roulette = WALK_RR_NONE;
   const u32 last = t_count - 1u; /* the index of the camera subpath's last vertex */

@@ -38,9 +38,12 @@
  * side, and on the camera subpath vm and the 1 are kept at the first non-delta
  * vertex only (mis_at_camera_vertex).
  *
- * N_light, the light paths per camera path, is width * height: each sample index traces one
- * light path per pixel, so the light tracing strategy (t = 1) takes that many samples per
- * pixel against one for the camera strategies. The strategy s = 1, t = 1 (a light point seen
+ * N_light, the light paths per sample index, is width * height times StrategyMis'
+ * light_per_pixel (1 but for vcm's --vcm-light-paths): each sample index traces that many
+ * light paths per pixel, so the light tracing strategy (t = 1) takes N_light samples per
+ * pixel against one for the camera strategies; a camera subpath starts with dVCM =
+ * light_per_pixel / pdf_camera_film, and light tracing's camera density per light path is
+ * pdf_camera_film cos / d^2 / light_per_pixel. The strategy s = 1, t = 1 (a light point seen
  * by the camera) is left out, as in SmallVCM: a light seen directly (s = 0, t = 2) has weight 1. */
 #ifndef CLPT_INTEGRATORS_BDPT_MIS_CL
 #define CLPT_INTEGRATORS_BDPT_MIS_CL
@@ -65,6 +68,7 @@ typedef struct StrategyMis {
   u32 only_t;
   int unweighted;
   int merge_first; /* merging at the first non-delta camera vertex only */
+  float light_per_pixel; /* light subpaths per pixel and sample index (N_light / pixels) */
 } StrategyMis;
 
 /* Every strategy, MIS-weighted, no merging (mmlt; bdpt without --bdpt-strategy). */
@@ -77,6 +81,7 @@ static inline StrategyMis mis_all_strategies(void) {
   m.only_t = 0u;
   m.unweighted = 0;
   m.merge_first = 0;
+  m.light_per_pixel = 1.0f;
   return m;
 }
 
@@ -225,12 +230,13 @@ static inline float bdpt_weight_nee(__constant const RenderParams* p, const Stra
 }
 
 /* t = 1: a light vertex connected to the camera. camera_pdf_a: the density with which a camera
- * ray would find the vertex, per unit area and per light path (pdf_camera_film cos / d^2);
+ * ray would find the vertex, per unit area (pdf_camera_film cos / d^2; per light path once
+ * divided by m's light_per_pixel);
  * rev: the vertex's density of scattering back along the light subpath given the camera side. */
 static inline float bdpt_weight_camera(__constant const RenderParams* p, const StrategyMis* m,
                                        const SubpathState* light, float camera_pdf_a, float rev) {
-  const float w_light =
-      bdpt_mis(p, camera_pdf_a) * (light->dvcm + light->dvc * bdpt_mis(p, rev) + m->vm);
+  const float w_light = bdpt_mis(p, camera_pdf_a / m->light_per_pixel) *
+                        (light->dvcm + light->dvc * bdpt_mis(p, rev) + m->vm);
   return 1.0f / (w_light + 1.0f);
 }
 

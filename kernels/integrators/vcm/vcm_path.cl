@@ -3,8 +3,9 @@
  * (kernels/integrators/estimators/bdpt/) with a second technique, merging, weighted against them by
  * the same recursive MIS quantities (kernels/integrators/stages/vertex_mis.cl, StrategyMis).
  *
- * Per pass, over a tile of light_paths pixel indices:
- *   light subpath  as bdpt's, but every non-delta vertex y_k with k <= max_depth is stored
+ * Per pass, over a tile of pixel indices:
+ *   light subpaths light_per_pixel per pixel index (--vcm-light-paths, 1 by default), each
+ *                  as bdpt's, but every non-delta vertex y_k with k <= max_depth is stored
  *                  (merging needs y_max_depth: merged at a camera vertex z_1 it closes a
  *                  path of max_depth bounces) and connects to the camera (t = 1);
  *   camera subpath as bdpt's (emitter hits, next-event estimation, connections to its own
@@ -12,7 +13,8 @@
  *                  --vcm-merge first; at every one with --vcm-merge all) it merges every
  *                  stored light vertex of the tile within radius r (a hashed grid of cells
  *                  2r wide, kernels/spatial/hash_grid.cl): y's throughput times z's BSDF for y's
- *                  incoming direction, over eta = pi r^2 light_paths, MIS-weighted by
+ *                  incoming direction, over eta = pi r^2 light_paths (every light subpath
+ *                  of the tile), MIS-weighted by
  *                  vcm_weight_merge. A merge of y_j at z_k is a path of j + k - 1 bounces.
  * As with photons (kernels/integrators/estimators/photon/density.cl) a light vertex merges only where
  * it lies on z's surface (normals within about 37 degrees) and its direction is carried to
@@ -34,8 +36,15 @@
 #include "shared/vcm_types.h"
 #include "spatial/hash_grid.cl"
 
+/* The strategies' factors with merging factors vm, vc against the pass's light subpaths. */
+static inline StrategyMis vcm_strategies(__constant const VcmParams* v, float vm, float vc) {
+  StrategyMis m = mis_merging(vm, vc, (int)v->merge_first);
+  m.light_per_pixel = (float)v->light_per_pixel;
+  return m;
+}
+
 static inline StrategyMis vcm_mis(__constant const VcmParams* v) {
-  return mis_merging(v->mis_vm, v->mis_vc, (int)v->merge_first);
+  return vcm_strategies(v, v->mis_vm, v->mis_vc);
 }
 
 /* The pass's factors the light subpaths are traced with (with merge_first no merging term). */
@@ -62,9 +71,8 @@ static inline MergeSetting vcm_merge_setting(__constant const RenderParams* p,
   const float eta = v->eta_per_r2 * radius * radius;
   g.radius = radius;
   g.normalization = 1.0f / eta;
-  g.mis = mis_merging(vcm_mode_merges(v->mode) ? bdpt_mis(p, eta) : 0.0f,
-                      vcm_mode_connects(v->mode) ? bdpt_mis(p, 1.0f / eta) : 0.0f,
-                      (int)v->merge_first);
+  g.mis = vcm_strategies(v, vcm_mode_merges(v->mode) ? bdpt_mis(p, eta) : 0.0f,
+                         vcm_mode_connects(v->mode) ? bdpt_mis(p, 1.0f / eta) : 0.0f);
   return g;
 }
 
@@ -100,8 +108,9 @@ static inline float2 vcm_radius_update(__constant const VcmParams* v, float2 rn,
   return (float2)(rn.x * sqrt(n / (rn.y + (float)m)), n);
 }
 
-/* Traces the light subpath of one pixel index, stores its vertices in out (at most
- * v->light_vertex_capacity) and splats its camera connections. Returns how many it stored. */
+/* Traces one light subpath of a pixel index, stores its vertices in out (at most
+ * v->light_vertex_capacity) and splats its camera connections, each one of the pass's
+ * light_per_pixel light subpaths of the pixel. Returns how many it stored. */
 static inline u32 vcm_light_path(__constant const RenderParams* p, __constant const VcmParams* v,
                                  const SceneView* s, const Sampler* sampler,
                                  __global PathVertex* out, __global float2* out_slopes,
@@ -136,7 +145,8 @@ static inline u32 vcm_light_path(__constant const RenderParams* p, __constant co
         const SubpathState at = vcm_rebase(v, &g, st, e);
         float2 raster = (float2)(0.0f);
         const float3 L = bdpt_camera_link_trace(
-            s, &w.sh, &l, st.beta, bdpt_weight_camera(p, &g.mis, &at, l.camera_pdf_a, l.rev),
+            s, &w.sh, &l, st.beta,
+            bdpt_weight_camera(p, &g.mis, &at, l.camera_pdf_a, l.rev) / g.mis.light_per_pixel,
             &raster, rays, connections);
         if (!is_black(L)) film_splat_at(p, splat, raster, L);
       }
@@ -246,7 +256,7 @@ static inline float3 vcm_camera_path(__constant const RenderParams* p,
   const bool merge = vcm_mode_merges(v->mode);
   float3 org, dir;
   pixel_ray(p, sampler, x, y, &org, &dir);
-  SubpathState st = bdpt_camera_start(p, dir);
+  SubpathState st = bdpt_camera_start(p, &m, dir);
   float3 L = (float3)(0.0f);
   *merged = (float3)(0.0f);
   *found = 0u;

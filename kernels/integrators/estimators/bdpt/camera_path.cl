@@ -90,11 +90,13 @@ static inline float3 bdpt_connect(__constant const RenderParams* p, const Strate
                              connections);
 }
 
-/* The camera subpath's state at the camera, for a ray in direction dir. */
-static inline SubpathState bdpt_camera_start(__constant const RenderParams* p, float3 dir) {
+/* The camera subpath's state at the camera, for a ray in direction dir, weighted against m's
+ * light_per_pixel light subpaths per pixel (stages/vertex_mis.cl). */
+static inline SubpathState bdpt_camera_start(__constant const RenderParams* p, const StrategyMis* m,
+                                             float3 dir) {
   SubpathState st;
   st.beta = (float3)(1.0f);
-  st.dvcm = bdpt_mis(p, 1.0f / camera_ray_pdf_w(&p->camera, dir));
+  st.dvcm = bdpt_mis(p, m->light_per_pixel / camera_ray_pdf_w(&p->camera, dir));
   st.dvc = 0.0f;
   st.dvm = 0.0f;
   return st;
@@ -146,8 +148,8 @@ static inline float3 bdpt_camera_path(__constant const RenderParams* p,
                                       u32* connections) {
   float3 org, dir;
   pixel_ray(p, sampler, x, y, &org, &dir);
-  SubpathState st = bdpt_camera_start(p, dir);
   const StrategyMis mis = mis_bdpt(b);
+  SubpathState st = bdpt_camera_start(p, &mis, dir);
   float3 L = (float3)(0.0f);
   PathWalk w = walk_from_camera(p, org, dir, 0u, 0u);
   for (;;) {
