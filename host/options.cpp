@@ -302,9 +302,8 @@ struct Parser {
     app.add_option("--vcm-light-paths", o.vcm_light_paths,
                    "vcm: light subpaths per pixel and pass: a camera path connects to one and merges "
                    "with all, so more of them make merging denser for their cost (caustics seen "
-                   "through glass), and light tracing takes them all [as many as --bdpt-memory "
-                   "holds for the whole image at once, at most 4, in the modes that merge; 1 when "
-                   "it tiles]")
+                   "through glass, at the cost of a light subpath each), and light tracing takes "
+                   "them all [1]")
         ->type_name("K")
         ->check(CLI::Range(1u, 64u).description(""));
     app.add_flag("--vcm-merged", o.vcm_merged,

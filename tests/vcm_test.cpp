@@ -64,9 +64,6 @@ RenderSettings vcm_settings(uint32_t mode, uint64_t spp, uint32_t size = kSize) 
   s.vcm.radius = kRadius;
   s.vcm.pixel_radius = false;
   s.vcm.alpha = 0.75f;
-  // One light subpath per pixel (the default's rule would take 4 at this size):
-  // VcmWithSeveralLightPathsPerPixelMatchesPt tests more.
-  s.vcm.light_per_pixel = 1;
   return s;
 }
 
@@ -298,26 +295,6 @@ TEST(VcmUnits, RadiusAndEta) {
   EXPECT_EQ(VertexConnectionMerging::pass_params(c, dev::MIS_POWER, 0.1f, 1000, 1023).mis_vc, 0.0f);
 }
 
-// Light subpaths per pixel: as given, else as many as the budget holds for the whole image
-// (no tiles), from 1 to 4, and 1 in the modes that do not merge.
-TEST(VcmUnits, LightPathsPerPixel) {
-  using V = VertexConnectionMerging;
-  const uint32_t cap = V::vertex_capacity(8);
-  const size_t budget = size_t(256) << 20;
-  // The light paths the budget holds, and pixels for which that is 2.5 per pixel.
-  const size_t paths = V::tile_paths(budget, cap, size_t(1) << 40);
-  const size_t pixels = paths * 2 / 5;
-  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_VCM, budget, cap, pixels), 2u);
-  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_PPM, budget, cap, pixels), 2u);
-  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_BPT, budget, cap, pixels), 1u);
-  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_VCM, budget, cap, paths + 1), 1u);  // tiles
-  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_VCM, budget, cap, 128 * 128), 4u);
-  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_VCM, budget, cap, 1920 * 1080), 1u);
-  EXPECT_EQ(V::light_paths_per_pixel(3, dev::VCM_MODE_VCM, budget, cap, 1920 * 1080), 3u);
-  EXPECT_EQ(V::light_paths_per_pixel(3, dev::VCM_MODE_BPT, budget, cap, 64), 3u);
-  EXPECT_EQ(V::light_paths_per_pixel(0, dev::VCM_MODE_VCM, 1, cap, 64), 1u);
-}
-
 TEST(VcmOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm"}), ExitCode::Ok);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-mode", "ppm", "--vcm-radius",
@@ -405,11 +382,9 @@ TEST(VcmCli, StatsFigures) {
   const nlohmann::json k = run("k", {"--vcm-light-paths", "3"});
   ASSERT_FALSE(k.is_null());
   EXPECT_EQ(k["vcm"]["light_paths_per_pixel"].get<uint32_t>(), 3u);
-  EXPECT_EQ(e["vcm"]["light_paths_per_pixel"].get<uint32_t>(), 4u);  // the default's rule here
-  const nlohmann::json one = run("one", {"--vcm-light-paths", "1"});
-  ASSERT_FALSE(one.is_null());
+  EXPECT_EQ(e["vcm"]["light_paths_per_pixel"].get<uint32_t>(), 1u);  // the default
   const double stored_ratio = double(k["vcm"]["light_vertices"].get<uint64_t>()) /
-                              double(one["vcm"]["light_vertices"].get<uint64_t>());
+                              double(e["vcm"]["light_vertices"].get<uint64_t>());
   EXPECT_GT(stored_ratio, 2.7);
   EXPECT_LT(stored_ratio, 3.3);
   EXPECT_FLOAT_EQ(p["vcm"]["alpha"].get<float>(), 0.75f);

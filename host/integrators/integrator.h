@@ -201,9 +201,6 @@ constexpr double kIcRefineShare = 0.25;
 // vcm's --vcm-alpha defaults for its two shrink rules (the sweeps of docs/BENCHMARKS.md; per
 // pixel sppm's 2/3 since vcm merges at the first vertex alone, session 33).
 constexpr float kVcmPixelAlpha = 2.0f / 3.0f, kVcmPassAlpha = 0.75f;
-// vcm's light subpaths per pixel and pass where --vcm-light-paths is not given: at most this
-// many (VertexConnectionMerging::light_paths_per_pixel).
-constexpr uint32_t kVcmMaxAutoLightPaths = 4;
 
 // vcm's settings (--vcm-*).
 struct VcmConfig {
@@ -213,10 +210,7 @@ struct VcmConfig {
   float alpha = kVcmPixelAlpha;  // per pixel sppm's shrink; per pass radius_i = radius (i + 1)^((alpha - 1) / 2)
   bool pixel_radius = true;  // --vcm-shrink pixel: each pixel's radius, shrunk by its merges
   bool merge_first = true;  // --vcm-merge first: merging at the first non-delta camera vertex only
-  // --vcm-light-paths: light subpaths per pixel and pass; 0: as many as the light vertex
-  // budget holds for the whole film at once, at most kVcmMaxAutoLightPaths
-  // (VertexConnectionMerging::light_paths_per_pixel).
-  uint32_t light_per_pixel = 0;
+  uint32_t light_per_pixel = 1;  // --vcm-light-paths: light subpaths per pixel and pass
   // Whether the command line named the rule and alpha (else the renderer may choose: the pass
   // rule with its own alpha when the passes are split over devices or ranks).
   bool shrink_given = false, alpha_given = false;

@@ -43,23 +43,6 @@ size_t VertexConnectionMerging::tile_paths(size_t budget_bytes, uint32_t capacit
   return std::clamp<size_t>(budget_bytes / per_path, 1, std::max<size_t>(pixels, 1));
 }
 
-uint32_t VertexConnectionMerging::light_paths_per_pixel(uint32_t given, uint32_t mode,
-                                                       size_t budget_bytes, uint32_t capacity,
-                                                       size_t pixels) {
-  if (given > 0) return given;
-  if (!dev::vcm_mode_merges(mode)) return 1;
-  // More light subpaths per pass make each merge gather more light vertices for the cost of
-  // tracing them (and light tracing takes them all): equal-time sweeps at 128x128 of 1, 2, 4
-  // and 8 per pixel (docs/BENCHMARKS.md, session 34) gained on the glass table (1.6x less
-  // error at 4) and the caustic scene (1.24x off its sphere) and cost the indirect room 6 %.
-  // Where the image tiles, a tile's merges see the tile's light vertices, which the budget
-  // fixes: more per pixel would only shrink the tiles. So the rule: as many as the budget
-  // holds for the whole image at once, at most kVcmMaxAutoLightPaths (8 gained little more).
-  const size_t whole = tile_paths(budget_bytes, capacity, size_t(-1) / 2);
-  const size_t k = whole / std::max<size_t>(pixels, 1);
-  return static_cast<uint32_t>(std::clamp<size_t>(k, 1, kVcmMaxAutoLightPaths));
-}
-
 float VertexConnectionMerging::first_radius(float given, const SceneScale& scale, bool pixel) {
   // One pixel footprint at the scene's centre, half sppm's default radius, when the radius
   // shrinks per pass (the --vcm-radius sweep in docs/BENCHMARKS.md, session 11); sppm's two
@@ -98,7 +81,7 @@ dev::VcmParams VertexConnectionMerging::pass_params(const VcmConfig& c, uint32_t
   v.light_paths = paths;
   v.alpha = c.alpha;
   v.merge_first = c.merge_first ? 1u : 0u;
-  v.light_per_pixel = std::max(c.light_per_pixel, 1u);  // resolved by the caller where 0
+  v.light_per_pixel = std::max(c.light_per_pixel, 1u);
   v.eta_per_r2 = float(3.14159265358979323846 * double(std::max(paths, 1u)));
   return v;
 }
@@ -139,10 +122,7 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
     width_ = film.width();
   }
   // A tile's pixel indices each trace light_per_pixel light paths: the budget divides by them.
-  light_per_pixel_ =
-      light_paths_per_pixel(config_.light_per_pixel, config_.mode, subpaths_.memory_bytes, capacity,
-                            pixels);
-  const size_t k = light_per_pixel_;
+  const size_t k = std::max(config_.light_per_pixel, 1u);
   const size_t tile = tile_paths(subpaths_.memory_bytes / k, capacity, pixels);
   if (capacity != capacity_ || tile != tile_) {
     const size_t slots = tile * k * capacity;
@@ -181,7 +161,6 @@ void VertexConnectionMerging::write_vcm_params(uint32_t mis, float r, uint32_t p
   v.pixel_radius = pixel_radius_ ? 1u : 0u;  // pass_params leaves it 0: prepare() decides
   v.light_vertex_capacity = capacity_;
   v.lvc = subpaths_.lvc;
-  v.light_per_pixel = light_per_pixel_;
   vcm_params_.write(&v, sizeof(v));
 }
 
@@ -209,7 +188,7 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
   const uint32_t mode = config_.mode;
   // The tile's light paths: light_per_pixel per pixel index, the first `count` the camera
   // paths' own (vcm_light's layout).
-  const uint32_t paths = count * light_per_pixel_;
+  const uint32_t paths = count * std::max(config_.light_per_pixel, 1u);
   write_vcm_params(p.mis, r, paths);
   if (mode != dev::VCM_MODE_PT) {
     light_kernel_.args(light_arg_, params_, vcm_params_, sample, first, count, vertices_, slopes_,
@@ -281,7 +260,7 @@ VcmStats VertexConnectionMerging::vcm_stats() const {
   s.alpha = config_.alpha;
   s.pixel_radii = pixel_radius_ ? 1u : 0u;
   s.merge_first = config_.merge_first ? 1u : 0u;
-  s.light_per_pixel = light_per_pixel_;
+  s.light_per_pixel = std::max(config_.light_per_pixel, 1u);
   if (!pixels_) return s;
   for (uint32_t c : stored_counts_.read_vector<uint32_t>(pixels_)) s.light_vertices += c;
   for (uint32_t c : merge_counts_.read_vector<uint32_t>(pixels_)) s.merges += c;

@@ -45,11 +45,6 @@ class VertexConnectionMerging final : public Integrator {
   // Paths per tile within a budget: each path's vertices with their slopes, their grid points
   // and the grid's buckets (at most two per slot), and its vertex count.
   static size_t tile_paths(size_t budget_bytes, uint32_t capacity, size_t pixels);
-  // Light subpaths per pixel and pass: `given`, or where it is 0 and the mode merges as many
-  // as the budget holds for all `pixels` at once (no tiles), from 1 to kVcmMaxAutoLightPaths
-  // (1 where the mode does not merge: bpt mode stays bdpt's estimator).
-  static uint32_t light_paths_per_pixel(uint32_t given, uint32_t mode, size_t budget_bytes,
-                                        uint32_t capacity, size_t pixels);
   // The first pass's merge radius: `given`, or default_merge_radius times 0.75 with per-pixel
   // radii (`pixel`) and 0.5 without, held within the bounds; a given radius outside [1e-6,
   // 0.1] times the scene's diagonal is a usage error.
@@ -91,7 +86,6 @@ class VertexConnectionMerging final : public Integrator {
   uint32_t capacity_ = 0;
   size_t tile_ = 0;
   uint32_t mask_ = 0;
-  uint32_t light_per_pixel_ = 1;  // config_'s, resolved for the film (light_paths_per_pixel)
   bool pixel_radius_ = false;  // per-pixel radii in use (config_'s, with the box filter)
   cl_uint light_arg_ = 0, camera_arg_ = 0;
   VcmStats stats_;
