@@ -691,6 +691,15 @@ def add_quad(mesh, corners, want):
         assert dot(tri_normal(*(mesh.positions[i] for i in t)), want) > 0.0, f"{mesh.name}: wrong way"
 
 
+def add_horizontal_square(mesh, centre, size, facing):
+    """A size x size square in the plane y = centre's y, its front side up (facing +1) or down
+    (facing -1): the scenes' small area lights."""
+    cx, y, cz = centre
+    h = 0.5 * size
+    add_quad(mesh, [(cx - h, y, cz - h), (cx + h, y, cz - h), (cx + h, y, cz + h), (cx - h, y, cz + h)],
+             (0.0, float(facing), 0.0))
+
+
 def add_box(mesh, lo, hi, outward=True, skip=()):
     """Axis-aligned box [lo, hi] as quads facing out (or in); faces named in skip ('+x', '-x',
     '+y', '-y', '+z', '-z') are left open."""
@@ -797,10 +806,7 @@ def make_caustic(out_dir):
     doc.add_mesh(sphere)
 
     light = Mesh("light", "light")
-    cx, cy, cz = CAUSTIC_LIGHT_CENTRE
-    s = 0.5 * CAUSTIC_LIGHT_SIZE
-    add_quad(light, [(cx - s, cy, cz - s), (cx + s, cy, cz - s), (cx + s, cy, cz + s), (cx - s, cy, cz + s)],
-             (0.0, -1.0, 0.0))  # emits downward only
+    add_horizontal_square(light, CAUSTIC_LIGHT_CENTRE, CAUSTIC_LIGHT_SIZE, -1)  # emits downward only
     doc.add_mesh(light)
 
     yfov = math.radians(CAUSTIC_YFOV_DEG)
@@ -873,8 +879,7 @@ def make_indirect(out_dir):
     lamp = Mesh("lamp", "lamp")
     cx, cz = 0.5 * (SHADE_LO[0] + SHADE_HI[0]), 0.5 * (SHADE_LO[2] + SHADE_HI[2])
     s, y = 0.5 * LAMP_SIZE, LAMP_HEIGHT
-    add_quad(lamp, [(cx - s, y, cz - s), (cx + s, y, cz - s), (cx + s, y, cz + s), (cx - s, y, cz + s)],
-             (0.0, 1.0, 0.0))  # emits upward only
+    add_horizontal_square(lamp, (cx, y, cz), LAMP_SIZE, 1)  # emits upward only
     doc.add_mesh(lamp)
 
     yfov = math.radians(ROOM_YFOV_DEG)
@@ -935,10 +940,7 @@ def make_glass_room(out_dir):
               CAUSTIC_SPHERE_SEGMENTS, CAUSTIC_SPHERE_RINGS)
     doc.add_mesh(sphere)
     light = Mesh("light", "light")
-    cx, cy, cz = GLASS_ROOM_LIGHT_CENTRE
-    s = 0.5 * GLASS_ROOM_LIGHT_SIZE
-    add_quad(light, [(cx - s, cy, cz - s), (cx + s, cy, cz - s), (cx + s, cy, cz + s), (cx - s, cy, cz + s)],
-             (0.0, -1.0, 0.0))  # emits downward only
+    add_horizontal_square(light, GLASS_ROOM_LIGHT_CENTRE, GLASS_ROOM_LIGHT_SIZE, -1)  # emits downward only
     doc.add_mesh(light)
 
     doc.add_perspective_camera("glass_room_camera", list(GLASS_ROOM_CAMERA),
@@ -1001,10 +1003,7 @@ def make_glass_table(out_dir):
             add_box(legs, (lx, 0.0, lz), (lx + w, y0, lz + w), outward=True, skip=("-y", "+y"))
     doc.add_mesh(legs)
     light = Mesh("light", "light")
-    cx, cy, cz = GLASS_TABLE_LIGHT_CENTRE
-    s = 0.5 * GLASS_TABLE_LIGHT_SIZE
-    add_quad(light, [(cx - s, cy, cz - s), (cx + s, cy, cz - s), (cx + s, cy, cz + s), (cx - s, cy, cz + s)],
-             (0.0, -1.0, 0.0))  # emits downward only
+    add_horizontal_square(light, GLASS_TABLE_LIGHT_CENTRE, GLASS_TABLE_LIGHT_SIZE, -1)  # emits downward only
     doc.add_mesh(light)
 
     doc.add_perspective_camera("glass_table_camera", list(GLASS_TABLE_CAMERA),
@@ -1017,6 +1016,7 @@ def make_glass_table(out_dir):
     assert abs(area - GLASS_TABLE_LIGHT_SIZE ** 2) < 1e-7 and normal == (0.0, -1.0, 0.0)
     # the lamp is over the table top, so that its direct light onto the floor under the table
     # passes through the glass; light, table and camera inside the room
+    cx, cy, cz = GLASS_TABLE_LIGHT_CENTRE
     assert x0 < cx < x1 and z0 < cz < z1 and cy > GLASS_TABLE_TOP_HI[1]
     for p in (GLASS_TABLE_TOP_LO, GLASS_TABLE_TOP_HI, GLASS_TABLE_LIGHT_CENTRE, GLASS_TABLE_CAMERA):
         assert all(ROOM_LO[k] < p[k] < ROOM_HI[k] for k in range(3))
