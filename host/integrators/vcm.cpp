@@ -27,6 +27,7 @@ VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const S
       vcm_params_(ctx, sizeof(dev::VcmParams), CL_MEM_READ_ONLY, nullptr, "VCM parameters"),
       cache_count_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM light vertex cache count") {
   config_.radius = first_radius(config.radius, scale, config.pixel_radius);
+  config_.light_per_pixel = std::max(config.light_per_pixel, 1u);
   if (!(config_.radius > 0.0f) || !std::isfinite(config_.radius))
     throw Error(ExitCode::Usage, "vcm needs a positive merge radius");
   light_arg_ = scene.bind(light_kernel_, 0);
@@ -122,7 +123,7 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
     width_ = film.width();
   }
   // A tile's pixel indices each trace light_per_pixel light paths: the budget divides by them.
-  const size_t k = std::max(config_.light_per_pixel, 1u);
+  const size_t k = config_.light_per_pixel;
   const size_t tile = tile_paths(subpaths_.memory_bytes / k, capacity, pixels);
   if (capacity != capacity_ || tile != tile_) {
     const size_t slots = tile * k * capacity;
@@ -188,7 +189,7 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
   const uint32_t mode = config_.mode;
   // The tile's light paths: light_per_pixel per pixel index, the first `count` the camera
   // paths' own (vcm_light's layout).
-  const uint32_t paths = count * std::max(config_.light_per_pixel, 1u);
+  const uint32_t paths = count * config_.light_per_pixel;
   write_vcm_params(p.mis, r, paths);
   if (mode != dev::VCM_MODE_PT) {
     light_kernel_.args(light_arg_, params_, vcm_params_, sample, first, count, vertices_, slopes_,
@@ -260,7 +261,7 @@ VcmStats VertexConnectionMerging::vcm_stats() const {
   s.alpha = config_.alpha;
   s.pixel_radii = pixel_radius_ ? 1u : 0u;
   s.merge_first = config_.merge_first ? 1u : 0u;
-  s.light_per_pixel = std::max(config_.light_per_pixel, 1u);
+  s.light_per_pixel = config_.light_per_pixel;
   if (!pixels_) return s;
   for (uint32_t c : stored_counts_.read_vector<uint32_t>(pixels_)) s.light_vertices += c;
   for (uint32_t c : merge_counts_.read_vector<uint32_t>(pixels_)) s.merges += c;

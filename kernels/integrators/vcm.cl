@@ -5,10 +5,10 @@
  *                    splatted, the vertices of each stored in its own light_vertex_capacity
  *                    slots, light path j of pixel index i at path_count j + i (so the first
  *                    path_count paths are the ones the camera subpaths connect to);
- *   vcm_grid_count   one work-item per light path (light_paths of them): its stored vertices counted into their
- *                    grid buckets when merging, and with light vertex caching (--bdpt-lvc)
- *                    their slots put on the tile's list of stored vertices; the host then
- *                    sums the counts into bucket starts;
+ *   vcm_grid_count   one work-item per light path (light_paths of them): its stored
+ *                    vertices counted into their grid buckets when merging, and with light
+ *                    vertex caching (--bdpt-lvc) their slots put on the tile's list of stored
+ *                    vertices; the host then sums the counts into bucket starts;
  *   vcm_grid_fill    one work-item per light path: its stored vertices placed in their
  *                    buckets' runs of the cell-sorted grid (spatial/hash_grid.cl) when merging.
  *                    (A work-item per slot, most of them empty and each found by a division,
@@ -46,9 +46,10 @@ __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
     const Sampler sampler = sampler_init(params, path, sample_index * vcm->light_per_pixel + j);
     const u32 l = j * path_count + i;
     const size_t first = (size_t)l * vcm->light_vertex_capacity;
-    vertex_counts[l] = vcm_light_path(params, vcm, &scene, &sampler, vertices + first,
-                                      slopes + first, pixel_radii, splat, &rays, &connections);
-    stored += vertex_counts[l];
+    const u32 n = vcm_light_path(params, vcm, &scene, &sampler, vertices + first, slopes + first,
+                                 pixel_radii, splat, &rays, &connections);
+    vertex_counts[l] = n;
+    stored += n;
   }
   ray_counts[path] += rays;
   connection_counts[path] += connections;
