@@ -93,7 +93,8 @@ struct Options {
   bool vcm_merged = false;         // EXR layer "merged": what merging contributed
   std::string vcm_merge = "first"; // where merges are made: first (the first non-delta camera
                                    // vertex), all (every one)
-  uint32_t vcm_light_paths = 1;    // light subpaths per pixel and pass
+  std::string vcm_light_paths_text = "auto";  // --vcm-light-paths as given: auto or K
+  uint32_t vcm_light_paths = 0;    // light subpaths per pixel and pass; 0: auto (parse_options)
   bool vcm_set = false;
   std::optional<std::string> stats;  // "-" for stdout, else a JSON file
   bool variance = false;          // add a variance layer to the EXR

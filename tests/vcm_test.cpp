@@ -43,6 +43,7 @@
 #include "support/reference_render.h"
 #include "support/render.h"
 #include "support/run.h"
+#include "support/device.h"
 #include "support/scenes.h"
 #include "util/error.h"
 
@@ -277,6 +278,24 @@ TEST(CrossIntegrator, VcmWithSeveralLightPathsPerPixelMatchesPt) {
                                  "vcm 2 light paths, pixel radii");
 }
 
+// --vcm-light-paths auto (the default): 16 passes at K = 1, the pilot's passes at 1, 2 and 4
+// in turn, then its choice; each pass stays unbiased whatever its K, and the light subpaths
+// draw consecutive sample indices over passes of any K (VcmParams.light_sample).
+TEST(CrossIntegrator, VcmAutoLightPathsMatchesPt) {
+  const FilmResult cornell =
+      test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  RenderSettings s = vcm_settings(dev::VCM_MODE_VCM, 64);
+  s.vcm.light_per_pixel = 0;
+  s.vcm.pixel_radius = true;
+  s.vcm.alpha = 0.6f;
+  s.vcm.radius = 2.0f * kRadius;
+  s.seed = 7300;
+  const RenderOutput one = Renderer(test::device_context(), test::cornell_box(), s).render();
+  ASSERT_EQ(one.stats.vcm.pilot.size(), 3u);  // the pilot ran (64 passes: 16 + 9 + 39)
+  test::expect_matches_reference(test::render_batches(test::cornell_box(), s, 16, 7400), cornell,
+                                 "vcm auto light paths");
+}
+
 TEST(VcmUnits, RadiusAndEta) {
   EXPECT_FLOAT_EQ(VertexConnectionMerging::radius(0.1f, 0.75f, 0), 0.1f);
   EXPECT_NEAR(VertexConnectionMerging::radius(0.1f, 0.75f, 15), 0.1 * std::pow(16.0, -0.125), 1e-7);
@@ -315,7 +334,8 @@ TEST(VcmOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-merge", "last"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "bdpt", "--vcm-merge", "all"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-light-paths", "4"}), ExitCode::Ok);
-  for (const char* k : {"0", "-1", "65", "1.5", "two"})
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-light-paths", "auto"}), ExitCode::Ok);
+  for (const char* k : {"0", "-1", "65", "1.5", "two", "Auto", ""})
     EXPECT_EQ(parse_error({"s.gltf", "--integrator", "vcm", "--vcm-light-paths", k}), ExitCode::Usage)
         << k;
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "bdpt", "--vcm-light-paths", "2"}), ExitCode::Usage);
@@ -382,7 +402,11 @@ TEST(VcmCli, StatsFigures) {
   const nlohmann::json k = run("k", {"--vcm-light-paths", "3"});
   ASSERT_FALSE(k.is_null());
   EXPECT_EQ(k["vcm"]["light_paths_per_pixel"].get<uint32_t>(), 3u);
-  EXPECT_EQ(e["vcm"]["light_paths_per_pixel"].get<uint32_t>(), 1u);  // the default
+  EXPECT_TRUE(k["vcm"]["light_paths_auto"].is_null());  // K given
+  // The default, auto, in a render of 4 passes: too short for the pilot, K = 1.
+  EXPECT_EQ(e["vcm"]["light_paths_per_pixel"].get<uint32_t>(), 1u);
+  EXPECT_TRUE(e["vcm"]["light_paths_auto"]["chosen"].is_null());
+  EXPECT_EQ(e["vcm"]["light_paths_auto"]["candidates"].size(), 0u);
   const double stored_ratio = double(k["vcm"]["light_vertices"].get<uint64_t>()) /
                               double(e["vcm"]["light_vertices"].get<uint64_t>());
   EXPECT_GT(stored_ratio, 2.7);
@@ -430,6 +454,31 @@ TEST(VcmCli, StatsFigures) {
   const nlohmann::json t = nlohmann::json::parse(tiny_stats, nullptr, false);
   ASSERT_FALSE(t.is_discarded());
   EXPECT_NEAR(t["vcm"]["first_radius"].get<float>(), 0.1f * 0.96074f, 1e-3f);  // Cornell diagonal
+  // auto in a render long enough for its pilot: 16 passes at K = 1, 3 passes each at 1, 2
+  // and 4, then the choice (its figures in --stats).
+  const nlohmann::json au = test::run_clpt_stats(
+      dir, "auto", scene, {"--integrator", "vcm", "--resolution", "24x16", "--spp", "60"});
+  ASSERT_FALSE(au.is_null());
+  const nlohmann::json& pilot = au["vcm"]["light_paths_auto"];
+  ASSERT_EQ(pilot["candidates"].size(), 3u);
+  const uint32_t chosen = pilot["chosen"].get<uint32_t>();
+  EXPECT_TRUE(chosen == 1 || chosen == 2 || chosen == 4) << chosen;
+  EXPECT_EQ(au["vcm"]["light_paths_per_pixel"].get<uint32_t>(), chosen);
+  EXPECT_EQ(au["vcm"]["passes"].get<uint32_t>(), 60u);
+  double least = 1e300;
+  for (size_t i = 0; i < 3; ++i) {
+    const nlohmann::json& c = pilot["candidates"][i];
+    EXPECT_EQ(c["k"].get<uint32_t>(), i == 0 ? 1u : i == 1 ? 2u : 4u);
+    EXPECT_EQ(c["passes"].get<uint32_t>(), 3u);
+    EXPECT_GT(c["seconds_per_pass"].get<double>(), 0.0);
+    EXPECT_GT(c["relative_variance"].get<double>(), 0.0);
+    EXPECT_NEAR(c["relmse_seconds"].get<double>(),
+                c["relative_variance"].get<double>() * c["seconds_per_pass"].get<double>(),
+                1e-9 * c["relmse_seconds"].get<double>());
+    least = std::min(least, c["relmse_seconds"].get<double>());
+  }
+  EXPECT_EQ(pilot["candidates"][chosen == 1 ? 0 : chosen == 2 ? 1 : 2]["relmse_seconds"].get<double>(),
+            least);
   // Without merging nothing merges and no grid is built.
   const nlohmann::json b = run("b", {"--vcm-mode", "bpt"});
   ASSERT_FALSE(b.is_null());

@@ -147,6 +147,24 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
                 {"grids", v.grids},
                 {"grid_seconds", v.grid_seconds},
                 {"device_bytes", v.device_bytes}};
+    // --vcm-light-paths auto: its pilot's figures per candidate K (an empty list where none
+    // ran: a render too short for one, or one that ended first).
+    if (v.light_paths_auto) {
+      nlohmann::json candidates = nlohmann::json::array();
+      uint32_t chosen = 0;
+      for (const LightPathPilot::Candidate& c : v.pilot) {
+        candidates.push_back({{"k", c.k},
+                              {"passes", c.passes},
+                              {"seconds_per_pass", c.passes ? c.seconds / c.passes : 0.0},
+                              {"relative_variance", c.relative_variance},
+                              {"relmse_seconds", c.cost}});
+        chosen = v.light_per_pixel;
+      }
+      j["vcm"]["light_paths_auto"] = {{"chosen", chosen ? nlohmann::json(chosen) : nlohmann::json()},
+                                      {"candidates", candidates}};
+    } else {
+      j["vcm"]["light_paths_auto"] = nullptr;
+    }
     if (v.pixel_radius_count)
       j["vcm"]["pixel_radius"] = {{"min", v.pixel_radius_min},
                                   {"mean", v.pixel_radius_sum / double(v.pixel_radius_count)},

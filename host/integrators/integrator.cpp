@@ -126,6 +126,8 @@ void VcmStats::add(const VcmStats& o) {
   pixel_radii = std::max(pixel_radii, o.pixel_radii);
   merge_first = std::max(merge_first, o.merge_first);  // alike on every device
   light_per_pixel = std::max(light_per_pixel, o.light_per_pixel);  // alike on every device
+  light_paths_auto = std::max(light_paths_auto, o.light_paths_auto);
+  if (pilot.empty()) pilot = o.pilot;  // auto runs on one device only
   if (o.pixel_radius_count) {
     const bool first = pixel_radius_count == 0;
     pixel_radius_min = first ? o.pixel_radius_min : std::min(pixel_radius_min, o.pixel_radius_min);

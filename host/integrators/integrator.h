@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cl/program.h"
+#include "integrators/vcm_pilot.h"
 #include "io/image_io.h"
 #include "render/film.h"
 #include "render/scene_buffers.h"
@@ -81,7 +82,11 @@ struct VcmStats {
   float alpha = 0.0f;             // the shrink's (as the renderer resolved it)
   uint32_t pixel_radii = 0;       // 1: per-pixel radii (--vcm-shrink pixel), 0: the pass rule
   uint32_t merge_first = 0;       // 1: merges at the first non-delta camera vertex only
-  uint32_t light_per_pixel = 0;   // light subpaths per pixel and pass
+  uint32_t light_per_pixel = 0;   // light subpaths per pixel of the last pass (auto's choice after its pilot)
+  uint32_t light_paths_auto = 0;  // 1: --vcm-light-paths auto
+  // --vcm-light-paths auto: the pilot's figures per candidate K (none: K was given, the
+  // render was too short for a pilot, or it ended before the pilot did).
+  std::vector<LightPathPilot::Candidate> pilot;
   // --vcm-shrink pixel: the pixels' radii after the last pass (count 0: not kept per pixel).
   float pixel_radius_min = 0.0f, pixel_radius_max = 0.0f;
   double pixel_radius_sum = 0.0;
@@ -210,7 +215,12 @@ struct VcmConfig {
   float alpha = kVcmPixelAlpha;  // per pixel sppm's shrink; per pass radius_i = radius (i + 1)^((alpha - 1) / 2)
   bool pixel_radius = true;  // --vcm-shrink pixel: each pixel's radius, shrunk by its merges
   bool merge_first = true;  // --vcm-merge first: merging at the first non-delta camera vertex only
-  uint32_t light_per_pixel = 1;  // --vcm-light-paths: light subpaths per pixel and pass
+  // --vcm-light-paths: light subpaths per pixel and pass; 0: auto, chosen by the first
+  // passes' measured efficiency (integrators/vcm_pilot.h)
+  uint32_t light_per_pixel = 0;
+  // The passes the render plans (its --spp when that ends it, 0: --time does): auto takes
+  // K = 1 without a pilot in a render too short for one.
+  uint64_t planned_passes = 0;
   // Whether the command line named the rule and alpha (else the renderer may choose: the pass
   // rule with its own alpha when the passes are split over devices or ranks).
   bool shrink_given = false, alpha_given = false;

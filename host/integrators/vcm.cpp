@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
+#include <string>
 
 #include "cl/programs.h"
 #include "shared/bdpt_types.h"
 #include "shared/photon_types.h"
 #include "util/error.h"
+#include "util/log.h"
 #include "util/timer.h"
 
 namespace clpt {
@@ -27,7 +30,7 @@ VertexConnectionMerging::VertexConnectionMerging(const cl::Context& ctx, const S
       vcm_params_(ctx, sizeof(dev::VcmParams), CL_MEM_READ_ONLY, nullptr, "VCM parameters"),
       cache_count_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "VCM light vertex cache count") {
   config_.radius = first_radius(config.radius, scale, config.pixel_radius);
-  config_.light_per_pixel = std::max(config.light_per_pixel, 1u);
+  // light_per_pixel 0 is auto (pass_k).
   if (!(config_.radius > 0.0f) || !std::isfinite(config_.radius))
     throw Error(ExitCode::Usage, "vcm needs a positive merge radius");
   light_arg_ = scene.bind(light_kernel_, 0);
@@ -68,7 +71,7 @@ float VertexConnectionMerging::radius(float r0, float alpha, uint32_t pass) {
 }
 
 dev::VcmParams VertexConnectionMerging::pass_params(const VcmConfig& c, uint32_t mis, float r,
-                                                    uint32_t paths, uint32_t mask) {
+                                                    uint32_t paths, uint32_t mask, uint32_t k) {
   const auto heuristic = [mis](double x) { return float(mis == dev::MIS_BALANCE ? x : x * x); };
   const double eta = 3.14159265358979323846 * double(r) * double(r) * double(std::max(paths, 1u));
   dev::VcmParams v{};
@@ -82,12 +85,12 @@ dev::VcmParams VertexConnectionMerging::pass_params(const VcmConfig& c, uint32_t
   v.light_paths = paths;
   v.alpha = c.alpha;
   v.merge_first = c.merge_first ? 1u : 0u;
-  v.light_per_pixel = std::max(c.light_per_pixel, 1u);
+  v.light_per_pixel = std::max(k ? k : c.light_per_pixel, 1u);
   v.eta_per_r2 = float(3.14159265358979323846 * double(std::max(paths, 1u)));
   return v;
 }
 
-void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& film) {
+void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& film, uint32_t k) {
   if (!film.splats()) throw Error(ExitCode::Usage, "vcm needs a film with splats");
   // Per-pixel radii only where every contribution lands in one pixel (the command line
   // refuses them with another filter; settings made in code fall back to the pass rule).
@@ -122,14 +125,25 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
     pixels_ = pixels;
     width_ = film.width();
   }
-  // A tile's pixel indices each trace light_per_pixel light paths: the budget divides by them.
-  const size_t k = config_.light_per_pixel;
-  const size_t tile = tile_paths(subpaths_.memory_bytes / k, capacity, pixels);
-  if (capacity != capacity_ || tile != tile_) {
-    const size_t slots = tile * k * capacity;
+  // A tile's pixel indices each trace k light paths: the budget divides by them. The pilot's
+  // passes share the buffers of its largest candidate's tiles.
+  k_ = k;
+  tile_ = tile_pixels(k, capacity, pixels);
+  size_t paths = tile_ * k;
+  if (pilot_ && !pilot_->done())
+    for (uint32_t c : LightPathPilot::kCandidates)
+      paths = std::max(paths, tile_pixels(c, capacity, pixels) * c);
+  // The grid's buckets: a power of two, at least the tile's slots (so the pass's grid is the
+  // same whatever the buffers' size).
+  size_t buckets = 1024;
+  while (buckets < tile_ * k * capacity) buckets *= 2;
+  mask_ = static_cast<uint32_t>(buckets - 1);
+  bucket_starts_.resize(buckets + 1);
+  if (capacity != capacity_ || paths * capacity != slots_) {
+    const size_t slots = paths * capacity;
     vertices_ = cl::Buffer(ctx_, slots * sizeof(dev::PathVertex), CL_MEM_READ_WRITE, nullptr,
                            "VCM light vertices");
-    vertex_counts_ = cl::Buffer(ctx_, tile * k * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
+    vertex_counts_ = cl::Buffer(ctx_, paths * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
                                 "VCM light vertex counts");
     slopes_ = cl::Buffer(ctx_, slots * 2 * sizeof(float), CL_MEM_READ_WRITE, nullptr,
                          "VCM light vertex slopes");
@@ -137,16 +151,14 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
                          "VCM grid points");
     cache_ = cl::Buffer(ctx_, slots * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
                         "VCM light vertex cache");
-    size_t buckets = 1024;
-    while (buckets < slots) buckets *= 2;
-    starts_ = cl::Buffer(ctx_, (buckets + 1) * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
+    size_t most = 1024;
+    while (most < slots) most *= 2;
+    starts_ = cl::Buffer(ctx_, (most + 1) * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
                          "VCM grid bucket starts");
-    cursor_ = cl::Buffer(ctx_, buckets * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
+    cursor_ = cl::Buffer(ctx_, most * sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr,
                          "VCM grid cursors");
-    bucket_starts_.assign(buckets + 1, 0u);
-    mask_ = static_cast<uint32_t>(buckets - 1);
     capacity_ = capacity;
-    tile_ = tile;
+    slots_ = slots;
   }
   stats_.device_bytes = vertices_.size() + slopes_.size() + vertex_counts_.size() + points_.size() +
                         radii_.size() + next_radii_.size() +
@@ -157,8 +169,10 @@ void VertexConnectionMerging::prepare(const dev::RenderParams& params, Film& fil
   params_.write(&params, sizeof(params));
 }
 
-void VertexConnectionMerging::write_vcm_params(uint32_t mis, float r, uint32_t paths) {
-  dev::VcmParams v = pass_params(config_, mis, r, paths, mask_);
+void VertexConnectionMerging::write_vcm_params(uint32_t mis, float r, uint32_t paths,
+                                               uint32_t light_sample) {
+  dev::VcmParams v = pass_params(config_, mis, r, paths, mask_, k_);
+  v.light_sample = light_sample;
   v.pixel_radius = pixel_radius_ ? 1u : 0u;  // pass_params leaves it 0: prepare() decides
   v.light_vertex_capacity = capacity_;
   v.lvc = subpaths_.lvc;
@@ -166,10 +180,10 @@ void VertexConnectionMerging::write_vcm_params(uint32_t mis, float r, uint32_t p
 }
 
 void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& film) {
-  prepare(params, film);
-  write_vcm_params(params.mis, config_.radius, 1);
+  prepare(params, film, std::max(config_.light_per_pixel, 1u));
+  write_vcm_params(params.mis, config_.radius, 1, 0);
   const uint32_t none = 0;
-  light_kernel_.args(light_arg_, params_, vcm_params_, none, none, none, vertices_, slopes_,
+  light_kernel_.args(light_arg_, params_, vcm_params_, none, none, vertices_, slopes_,
                      vertex_counts_, radii_, film.splat(), film.ray_counts(), connection_counts_,
                      stored_counts_);
   light_kernel_.launch(ctx_, 1);
@@ -187,12 +201,15 @@ void VertexConnectionMerging::warm_up(const dev::RenderParams& params, Film& fil
 void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t sample,
                                           uint32_t first, uint32_t count, float r, Film& film) {
   const uint32_t mode = config_.mode;
-  // The tile's light paths: light_per_pixel per pixel index, the first `count` the camera
-  // paths' own (vcm_light's layout).
-  const uint32_t paths = count * config_.light_per_pixel;
-  write_vcm_params(p.mis, r, paths);
+  // The tile's light paths: k_ per pixel index, the first `count` the camera paths' own
+  // (vcm_light's layout). Their first sample index: with a given K the pass's sample index
+  // times K (so that devices rendering other sample indices draw other numbers), with auto
+  // the count of the passes before (one device only).
+  const uint32_t paths = count * k_;
+  const uint32_t light_sample = config_.light_per_pixel ? sample * k_ : light_base_;
+  write_vcm_params(p.mis, r, paths, light_sample);
   if (mode != dev::VCM_MODE_PT) {
-    light_kernel_.args(light_arg_, params_, vcm_params_, sample, first, count, vertices_, slopes_,
+    light_kernel_.args(light_arg_, params_, vcm_params_, first, count, vertices_, slopes_,
                        vertex_counts_, radii_, film.splat(), film.ray_counts(), connection_counts_,
                        stored_counts_);
     light_kernel_.launch(ctx_, count);
@@ -231,22 +248,90 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
   camera_kernel_.launch(ctx_, count);
 }
 
-void VertexConnectionMerging::render_pass(const dev::RenderParams& params, Film& film) {
-  prepare(params, film);
+uint32_t VertexConnectionMerging::pass_k(const Film& film) {
+  if (config_.light_per_pixel) return config_.light_per_pixel;
+  if (pilot_decided_) return chosen_k_;
+  if (!pilot_) {
+    const uint64_t planned = config_.planned_passes;
+    if (planned && planned < LightPathPilot::kMinPlannedPasses) {
+      pilot_decided_ = true;  // too short a render for a pilot: K = 1
+      return chosen_k_;
+    }
+    if (stats_.passes < LightPathPilot::kWarmUp) return 1;
+    pilot_.emplace(film.width(), film.height());
+  }
+  return pilot_->next_k();
+}
+
+std::vector<float> VertexConnectionMerging::pilot_film(Film& film) const {
+  // Row by row, only the rows the pilot reads (every s-th of a large film).
+  const size_t width = film.width(), n = pilot_->sampled_pixels();
+  std::vector<float> rgb(3 * n), sum(4 * width), splat(4 * width);
+  size_t row = SIZE_MAX;
+  for (size_t i = 0; i < n; ++i) {
+    const size_t p = pilot_->pixel(i), y = p / width;
+    if (y != row) {
+      film.sum().read(sum.data(), sum.size() * sizeof(float), y * width * 4 * sizeof(float));
+      film.splat().read(splat.data(), splat.size() * sizeof(float), y * width * 4 * sizeof(float));
+      row = y;
+    }
+    const size_t x = p % width;
+    for (size_t c = 0; c < 3; ++c) rgb[3 * i + c] = sum[4 * x + c] + splat[4 * x + c];
+  }
+  return rgb;
+}
+
+void VertexConnectionMerging::render_sample(const dev::RenderParams& params, uint32_t sample,
+                                            Film& film) {
   const size_t pixels = film.pixels();
+  const float r = radius(config_.radius, config_.alpha, sample);
+  if (stats_.passes == 0) stats_.first_radius = r;
+  stats_.last_radius = r;
+  ++stats_.passes;
+  for (size_t offset = 0; offset < pixels; offset += tile_) {
+    const auto count = static_cast<uint32_t>(std::min(tile_, pixels - offset));
+    launch_tile(params, sample, static_cast<uint32_t>(offset), count, r, film);
+  }
+  if (pixel_radius_) std::swap(radii_, next_radii_);
+  stats_.tiles = static_cast<uint32_t>((pixels + tile_ - 1) / tile_);
+  light_base_ += k_;
+}
+
+void VertexConnectionMerging::render_pass(const dev::RenderParams& params, Film& film) {
   for (uint32_t i = 0; i < params.samples_per_pass; ++i) {
     const uint32_t sample = params.sample_offset + i;
-    const float r = radius(config_.radius, config_.alpha, sample);
-    if (stats_.passes == 0) stats_.first_radius = r;
-    stats_.last_radius = r;
-    ++stats_.passes;
-    for (size_t offset = 0; offset < pixels; offset += tile_) {
-      const auto count = static_cast<uint32_t>(std::min(tile_, pixels - offset));
-      launch_tile(params, sample, static_cast<uint32_t>(offset), count, r, film);
+    prepare(params, film, pass_k(film));
+    if (!pilot_ || pilot_decided_) {
+      render_sample(params, sample, film);
+      continue;
     }
-    if (pixel_radius_) std::swap(radii_, next_radii_);
+    // A pilot pass: its image is the film after it less the film before, its cost the time
+    // from an idle queue to its end.
+    if (pilot_before_.empty()) pilot_before_ = pilot_film(film);
+    ctx_.finish();
+    const auto t0 = Clock::now();
+    render_sample(params, sample, film);
+    ctx_.finish();
+    const double seconds = seconds_since(t0);
+    std::vector<float> after = pilot_film(film);
+    std::vector<float> pass(after.size());
+    for (size_t j = 0; j < pass.size(); ++j) pass[j] = after[j] - pilot_before_[j];
+    pilot_before_ = std::move(after);
+    pilot_->add_pass(pass, seconds);
+    if (pilot_->done()) {
+      pilot_decided_ = true;
+      chosen_k_ = pilot_->chosen();
+      pilot_before_ = {};
+      stats_.pilot.assign(pilot_->candidates().begin(), pilot_->candidates().end());
+      std::string figures;
+      for (const LightPathPilot::Candidate& c : pilot_->candidates())
+        figures += (figures.empty() ? "" : ", ") + std::string("K = ") + std::to_string(c.k) + ": " +
+                   std::to_string(c.cost);
+      log::verbose("vcm: --vcm-light-paths auto takes " + std::to_string(chosen_k_) +
+                   " light subpaths per pixel (relMSE x seconds per pass of the pilot's passes: " +
+                   figures + ")");
+    }
   }
-  stats_.tiles = static_cast<uint32_t>((pixels + tile_ - 1) / tile_);
 }
 
 uint64_t VertexConnectionMerging::connections() const {
@@ -261,7 +346,8 @@ VcmStats VertexConnectionMerging::vcm_stats() const {
   s.alpha = config_.alpha;
   s.pixel_radii = pixel_radius_ ? 1u : 0u;
   s.merge_first = config_.merge_first ? 1u : 0u;
-  s.light_per_pixel = config_.light_per_pixel;
+  s.light_per_pixel = k_;
+  s.light_paths_auto = config_.light_per_pixel == 0 ? 1u : 0u;
   if (!pixels_) return s;
   for (uint32_t c : stored_counts_.read_vector<uint32_t>(pixels_)) s.light_vertices += c;
   for (uint32_t c : merge_counts_.read_vector<uint32_t>(pixels_)) s.merges += c;

@@ -1,9 +1,9 @@
 // Vertex connection and merging (--integrator vcm, kernels/integrators/vcm.cl; Georgiev et
 // al. 2012, docs/concepts/vcm.md). Per sample index one pass with its own merge radius
 // r_i = r_0 (i + 1)^((alpha - 1) / 2) (Knaus and Zwicker 2011's rate, as SmallVCM), and per
-// tile of pixel indices three kernels: vcm_light traces VcmConfig::light_per_pixel light
-// subpaths per pixel index (--vcm-light-paths, 1 by default; camera connections splatted,
-// vertices stored), vcm_grid_count and vcm_grid_fill sort the
+// tile of pixel indices three kernels: vcm_light traces K light subpaths per pixel index
+// (--vcm-light-paths K, or auto: 1, 2 or 4 by the first passes' measured efficiency,
+// integrators/vcm_pilot.h; camera connections splatted, vertices stored), vcm_grid_count and vcm_grid_fill sort the
 // tile's vertices by the bucket of their cell (cells 2r wide; the host sums the counts into
 // bucket starts between them), vcm_camera traces one camera subpath per pixel that connects
 // to its own (first) light subpath and merges with the whole tile's (at its first non-delta vertex,
@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "integrators/integrator.h"
@@ -51,18 +52,31 @@ class VertexConnectionMerging final : public Integrator {
   static float first_radius(float given, const SceneScale& scale, bool pixel);
   // Pass i's merge radius.
   static float radius(float r0, float alpha, uint32_t pass);
-  // The pass's VcmParams for a tile of `paths` light paths.
+  // The pass's VcmParams for a tile of `paths` light paths, `k` per pixel (0: c's).
   static dev::VcmParams pass_params(const VcmConfig& c, uint32_t mis, float radius, uint32_t paths,
-                                    uint32_t mask);
+                                    uint32_t mask, uint32_t k = 0);
 
  private:
-  // Uploads the pass's parameters; buffers sized for the film and the light vertex capacity.
-  void prepare(const dev::RenderParams& params, Film& film);
+  // Uploads the pass's parameters; buffers sized for the film, the light vertex capacity and
+  // k light subpaths per pixel (during auto's pilot: for its largest candidate, so that the
+  // pilot's passes do not reallocate).
+  void prepare(const dev::RenderParams& params, Film& film, uint32_t k);
+  // Pixel indices per tile at k light subpaths each, within --bdpt-memory.
+  size_t tile_pixels(uint32_t k, uint32_t capacity, size_t pixels) const {
+    return tile_paths(subpaths_.memory_bytes / k, capacity, pixels);
+  }
   // Uploads the VcmParams of a tile of `paths` light paths at radius r (pass_params, with the
-  // light vertex capacity and --bdpt-lvc).
-  void write_vcm_params(uint32_t mis, float r, uint32_t paths);
+  // light vertex capacity, --bdpt-lvc and the pass's K and first light sample index).
+  void write_vcm_params(uint32_t mis, float r, uint32_t paths, uint32_t light_sample);
   void launch_tile(const dev::RenderParams& p, uint32_t sample, uint32_t first, uint32_t count,
                    float r, Film& film);
+  // One pass of sample index `sample`, every tile.
+  void render_sample(const dev::RenderParams& params, uint32_t sample, Film& film);
+  // The next pass's K: the given one, 1 before the pilot, the pilot's next candidate, or its
+  // choice.
+  uint32_t pass_k(const Film& film);
+  // The film's sums and splats at the pilot's pixels (RGB), read back.
+  std::vector<float> pilot_film(Film& film) const;
 
   const cl::Context& ctx_;
   VcmConfig config_;  // its radius resolved
@@ -84,8 +98,15 @@ class VertexConnectionMerging final : public Integrator {
   size_t pixels_ = 0;
   uint32_t width_ = 0;
   uint32_t capacity_ = 0;
-  size_t tile_ = 0;
-  uint32_t mask_ = 0;
+  size_t tile_ = 0;         // pixel indices per tile at the pass's K
+  uint32_t mask_ = 0;       // the pass's grid buckets - 1
+  size_t slots_ = 0;        // light vertex slots allocated
+  uint32_t k_ = 1;          // the pass's light subpaths per pixel
+  uint32_t light_base_ = 0;  // auto: the light subpaths each pixel traced in the passes before
+  std::optional<LightPathPilot> pilot_;  // auto: the first passes' measurement
+  bool pilot_decided_ = false;  // auto: K is settled (the pilot's choice, or 1 for a short render)
+  uint32_t chosen_k_ = 1;
+  std::vector<float> pilot_before_;  // the pilot's film before the pass it times
   bool pixel_radius_ = false;  // per-pixel radii in use (config_'s, with the box filter)
   cl_uint light_arg_ = 0, camera_arg_ = 0;
   VcmStats stats_;

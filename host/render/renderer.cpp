@@ -23,7 +23,7 @@ namespace clpt {
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DeviceShare, name, label, samples, passes, busy_seconds)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(VcmStats, light_vertices, connections, merges, passes, tiles,
                                    grids, grid_seconds, first_radius, last_radius, alpha, pixel_radii,
-                                   merge_first, light_per_pixel,
+                                   merge_first, light_per_pixel, light_paths_auto,
                                    pixel_radius_min,
                                    pixel_radius_max, pixel_radius_sum, pixel_radius_count,
                                    device_bytes)
@@ -114,6 +114,10 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
     settings_.vcm.pixel_radius = false;
     if (!settings_.vcm.alpha_given) settings_.vcm.alpha = kVcmPassAlpha;
   }
+  // --vcm-light-paths auto's pilot times one device's passes, and every device's light
+  // subpaths must draw disjoint sample indices: split, vcm traces one per pixel.
+  if (split && settings_.integrator == "vcm" && settings_.vcm.light_per_pixel == 0)
+    settings_.vcm.light_per_pixel = 1;
   if (flat.lights.empty() && row.needs_lights)
     log::warn("the scene has no lights (emissive surfaces, punctual lights or environment): "
               "the image will be black");
@@ -149,6 +153,7 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
   IntegratorConfig config{settings_.bdpt, settings_.pm,  settings_.sppm,     settings_.ao,
                           settings_.mlt,  settings_.ic,  settings_.vcm,      settings_.indirect,
                           {},             settings_.time_limit};
+  config.vcm.planned_passes = settings_.spp;  // vcm passes are samples per pixel; 0: --time alone
   config.scale.diagonal = glm::length(scene.bounds().extent());
   config.scale.pixel_footprint = pixel_footprint(params_.camera, height_, scene.bounds());
   for (const cl::Context* ctx : contexts) {

@@ -28,7 +28,7 @@
 #include "integrators/vcm/vcm_path.cl"
 
 __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
-                        __constant const VcmParams* vcm, u32 sample_index, u32 path_offset,
+                        __constant const VcmParams* vcm, u32 path_offset,
                         u32 path_count, __global PathVertex* vertices, __global float2* slopes,
                         __global u32* vertex_counts, __global const float2* pixel_radii,
                         __global float4* splat, __global u32* ray_counts,
@@ -38,12 +38,13 @@ __kernel void vcm_light(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   const u32 path = path_offset + i;
   const SceneView scene = SCENE_VIEW();
   u32 rays = 0, connections = 0, stored = 0;
-  /* The pixel's j-th light subpath of the pass draws from sample index
-   * sample_index * light_per_pixel + j: numbers of its own (in the light subpaths' stream of
-   * dimensions, DIM_BDPT_LIGHT_STREAM, apart from the camera subpaths'), and with one
-   * subpath per pixel the pass's own sample index, as before --vcm-light-paths. */
+  /* The pixel's j-th light subpath of the pass draws from sample index light_sample + j:
+   * numbers of its own (in the light subpaths' stream of dimensions, DIM_BDPT_LIGHT_STREAM,
+   * apart from the camera subpaths'), consecutive over the passes (a sample sequence's
+   * strides are not its own distribution: Sobol's first dimension at stride 4 stays in a
+   * quarter of [0, 1)), and with one subpath per pixel the pass's own sample index. */
   for (u32 j = 0u; j < vcm->light_per_pixel; ++j) {
-    const Sampler sampler = sampler_init(params, path, sample_index * vcm->light_per_pixel + j);
+    const Sampler sampler = sampler_init(params, path, vcm->light_sample + j);
     const u32 l = j * path_count + i;
     const size_t first = (size_t)l * vcm->light_vertex_capacity;
     const u32 n = vcm_light_path(params, vcm, &scene, &sampler, vertices + first, slopes + first,

@@ -45,6 +45,11 @@ typedef struct VcmParams {
   u32 light_per_pixel;    /* --vcm-light-paths: light subpaths per pixel and pass; a camera
                            * subpath connects to the first, merges with all, and light
                            * tracing (t = 1) takes them all */
+  u32 light_sample;       /* the sample index a pixel's first light subpath of the pass draws
+                           * from (its j-th: light_sample + j; the light subpaths' own stream of
+                           * numbers). The pass's sample index times light_per_pixel, or with
+                           * --vcm-light-paths auto, whose K changes after the pilot, the light
+                           * subpaths the passes before traced per pixel */
 } VcmParams;
 
 CLPT_END_SHARED
