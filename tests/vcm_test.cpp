@@ -16,6 +16,8 @@
 //                        glossy-and-glass box; merging at every non-delta camera vertex
 //                        (--vcm-merge all) on both boxes; several light subpaths per pixel
 //                        (--vcm-light-paths), in tiles, with per-pixel radii and with caching;
+//                        the error falling with passes (defaults and the pass rule); auto's
+//                        K (passes of 1, 2 and 4, then its choice);
 //   VcmOptions, VcmCli   usage errors; --stats figures (merges, light vertices, the radius
 //                        shrinking pass by pass); the --vcm-merged layer.
 // The MIS weights of both techniques are checked path by path against explicit whole-path
@@ -276,6 +278,27 @@ TEST(CrossIntegrator, VcmWithSeveralLightPathsPerPixelMatchesPt) {
   s.vcm.radius = 2.0f * kRadius;
   test::expect_matches_reference(test::render_batches(test::cornell_box(), s, 16, 7000), cornell,
                                  "vcm 2 light paths, pixel radii");
+}
+
+// Consistent: the error against pt's reference falls as passes add up and radii shrink,
+// with the defaults (per-pixel radii from two pixel footprints, alpha 2/3, auto's K) and with
+// the pass rule at r = 0.01.
+TEST(CrossIntegrator, VcmErrorFallsWithPasses) {
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  RenderSettings defaults = test::render_settings("vcm", 16, kSize);
+  RenderSettings pass_rule = vcm_settings(dev::VCM_MODE_VCM, 16);
+  for (RenderSettings* s : {&defaults, &pass_rule}) {
+    double previous = 0.0;
+    for (uint64_t passes : {16u, 64u, 256u}) {
+      s->spp = passes;
+      const double rel_mse =
+          compare_images(test::render(test::cornell_box(), *s, 8100).mean, ref.mean).rel_mse;
+      std::cout << "[ figures  ] vcm cornell, " << (s == &defaults ? "defaults" : "pass rule")
+                << ", " << passes << " passes: relMSE " << rel_mse << "\n";
+      if (previous > 0.0) EXPECT_LT(rel_mse, previous) << passes << " passes";
+      previous = rel_mse;
+    }
+  }
 }
 
 // --vcm-light-paths auto (the default): 16 passes at K = 1, the pilot's passes at 1, 2 and 4
