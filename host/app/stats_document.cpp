@@ -151,17 +151,16 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
     // ran: a render too short for one, or one that ended first).
     if (v.light_paths_auto) {
       nlohmann::json candidates = nlohmann::json::array();
-      uint32_t chosen = 0;
-      for (const LightPathPilot::Candidate& c : v.pilot) {
+      for (const LightPathPilot::Candidate& c : v.pilot)
         candidates.push_back({{"k", c.k},
                               {"passes", c.passes},
                               {"seconds_per_pass", c.passes ? c.seconds / c.passes : 0.0},
                               {"relative_variance", c.relative_variance},
                               {"relmse_seconds", c.cost}});
-        chosen = v.light_per_pixel;
-      }
-      j["vcm"]["light_paths_auto"] = {{"chosen", chosen ? nlohmann::json(chosen) : nlohmann::json()},
-                                      {"candidates", candidates}};
+      // After the pilot the last pass's K is its choice.
+      j["vcm"]["light_paths_auto"] = {
+          {"chosen", v.pilot.empty() ? nlohmann::json() : nlohmann::json(v.light_per_pixel)},
+          {"candidates", candidates}};
     } else {
       j["vcm"]["light_paths_auto"] = nullptr;
     }

@@ -250,13 +250,11 @@ void VertexConnectionMerging::launch_tile(const dev::RenderParams& p, uint32_t s
 
 uint32_t VertexConnectionMerging::pass_k(const Film& film) {
   if (config_.light_per_pixel) return config_.light_per_pixel;
-  if (pilot_decided_) return chosen_k_;
+  if (chosen_k_) return chosen_k_;
   if (!pilot_) {
     const uint64_t planned = config_.planned_passes;
-    if (planned && planned < LightPathPilot::kMinPlannedPasses) {
-      pilot_decided_ = true;  // too short a render for a pilot: K = 1
-      return chosen_k_;
-    }
+    if (planned && planned < LightPathPilot::kMinPlannedPasses)
+      return chosen_k_ = 1;  // too short a render for a pilot
     if (stats_.passes < LightPathPilot::kWarmUp) return 1;
     pilot_.emplace(film.width(), film.height());
   }
@@ -301,7 +299,7 @@ void VertexConnectionMerging::render_pass(const dev::RenderParams& params, Film&
   for (uint32_t i = 0; i < params.samples_per_pass; ++i) {
     const uint32_t sample = params.sample_offset + i;
     prepare(params, film, pass_k(film));
-    if (!pilot_ || pilot_decided_) {
+    if (!pilot_ || chosen_k_) {
       render_sample(params, sample, film);
       continue;
     }
@@ -319,7 +317,6 @@ void VertexConnectionMerging::render_pass(const dev::RenderParams& params, Film&
     pilot_before_ = std::move(after);
     pilot_->add_pass(pass, seconds);
     if (pilot_->done()) {
-      pilot_decided_ = true;
       chosen_k_ = pilot_->chosen();
       pilot_before_ = {};
       stats_.pilot.assign(pilot_->candidates().begin(), pilot_->candidates().end());

@@ -104,8 +104,7 @@ class VertexConnectionMerging final : public Integrator {
   uint32_t k_ = 1;          // the pass's light subpaths per pixel
   uint32_t light_base_ = 0;  // auto: the light subpaths each pixel traced in the passes before
   std::optional<LightPathPilot> pilot_;  // auto: the first passes' measurement
-  bool pilot_decided_ = false;  // auto: K is settled (the pilot's choice, or 1 for a short render)
-  uint32_t chosen_k_ = 1;
+  uint32_t chosen_k_ = 0;  // auto: K once settled (the pilot's choice, or 1 for a short render)
   std::vector<float> pilot_before_;  // the pilot's film before the pass it times
   bool pixel_radius_ = false;  // per-pixel radii in use (config_'s, with the box filter)
   cl_uint light_arg_ = 0, camera_arg_ = 0;

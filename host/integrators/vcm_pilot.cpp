@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "stats/image_stats.h"
+
 namespace clpt {
 
 LightPathPilot::LightPathPilot(uint32_t width, uint32_t height) : width_(width) {
@@ -67,7 +69,7 @@ void LightPathPilot::decide() {
             s += std::abs(mean[j]);
             count += finite_[j];
           }
-        const double d = (count ? s / double(count) : 0.0) + 0.01;
+        const double d = (count ? s / double(count) : 0.0) + kRelMseOffset;
         weight[3 * (y * w + x) + ch] = 1.0 / (d * d);
       }
     }
