@@ -233,6 +233,12 @@ TEST_F(Cli, MltWritesStatsAndRefusesVarianceAndCheckpoints) {
   EXPECT_EQ(m["mutations"].get<uint64_t>(), 1024u);
   EXPECT_GT(m["b"].get<double>(), 0.0);
   EXPECT_GT(m["b_standard_error"].get<double>(), 0.0);
+  // b adds the large steps' targets to the bootstrap's (1 024 mutations, about 0.3 of them
+  // large steps); no length's pool grows to 4 x its 2 500 bootstrap paths here.
+  EXPECT_GT(m["b_bootstrap"].get<double>(), 0.0);
+  EXPECT_GT(m["b_large_steps"].get<uint64_t>(), 200u);
+  EXPECT_LT(m["b_large_steps"].get<uint64_t>(), 1024u);
+  EXPECT_EQ(m["restarts"].get<uint32_t>(), 0u);
   for (const char* key : {"acceptance", "large_step_acceptance", "small_step_acceptance"}) {
     EXPECT_GT(m[key].get<double>(), 0.0) << key;
     EXPECT_LT(m[key].get<double>(), 1.0) << key;

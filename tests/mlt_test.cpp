@@ -12,6 +12,10 @@
 //                     bdpt strategy mmlt chooses from, weighted and scaled, sums to its length
 //   CrossIntegrator   mlt matches the pt reference on the Cornell box (blocks, pixels, image),
 //                     mmlt and pssmlt
+//   MltPool           a chain's pool of large steps picks proposals in proportion to their
+//                     targets (chi-square), and sums them
+//   MltRestart        restarts from the pools take b's error away from the image's
+//                     brightness, without bias; never restarting keeps it (mmlt)
 //   MltStartUp        32 runs of one mutation per pixel average to the reference: the
 //                     bootstrap's resampling removes start-up bias; starting the chains at
 //                     unweighted bootstrap paths instead fails the same test (mmlt)
@@ -168,6 +172,42 @@ TEST(MltStationary, SmallStepsAreStandardNormal) {
     expected[1 + b] = (cdf(-4.0 + 8.0 * (b + 1) / kBins) - cdf(-4.0 + 8.0 * b / kBins)) * kN;
   const test::Chi2Result r = test::chi2_counts(observed, expected, test::Chi2Options{},
                                                [](size_t c) { return "bin " + std::to_string(c); });
+  EXPECT_TRUE(r.passed) << r.report;
+}
+
+// A chain's pool of large steps (integrators/mlt/large_steps.cl): each of its picks is one of
+// the proposals in proportion to its target, independently of the others; a proposal of
+// target 0 is never picked. Drawing with the sum before the proposal is added (target / old
+// sum) fails it.
+TEST(MltPool, PicksAreProportionalToTheTargets) {
+  const std::vector<float> t = {0.0f, 1.0f, 3.0f, 0.0f, 0.5f, 2.0f, 6.0f, 0.25f, 0.0f, 1.25f};
+  constexpr uint32_t kTrials = 20000;
+  const uint32_t n = uint32_t(t.size());
+  cl::Context& ctx = test::device_context();
+  const cl::Buffer targets = cl::Buffer::from_vector(ctx, t, CL_MEM_READ_ONLY, "targets");
+  cl::Buffer sums(ctx, kTrials * sizeof(float)), picks(ctx, kTrials * MLT_PICKS * sizeof(uint32_t));
+  cl::Kernel k(test::test_program("kernels/mlt_test.cl"), "mlt_pool_picks");
+  k.args(0, kTrials, n, targets, sums, picks);
+  k.launch(ctx, kTrials);
+  double total = 0.0;
+  for (float v : t) total += v;
+  for (float s : sums.read_vector<float>(kTrials)) ASSERT_NEAR(s, total, 1e-6 * total);
+  std::vector<double> observed(n, 0.0), expected(n, 0.0);
+  for (uint32_t p : picks.read_vector<uint32_t>(kTrials * MLT_PICKS)) {
+    ASSERT_LT(p, n) << "a pick is none of the pool's proposals with light";
+    observed[p] += 1.0;
+  }
+  std::vector<double> obs, exp;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (t[i] == 0.0f) {
+      EXPECT_EQ(observed[i], 0.0) << "proposal " << i << " of target 0 was picked";
+      continue;
+    }
+    obs.push_back(observed[i]);
+    exp.push_back(double(t[i]) / total * kTrials * MLT_PICKS);
+  }
+  const test::Chi2Result r = test::chi2_counts(obs, exp, test::Chi2Options{},
+                                               [](size_t c) { return "proposal " + std::to_string(c); });
   EXPECT_TRUE(r.passed) << r.report;
 }
 
@@ -380,6 +420,61 @@ TEST(MltStartUp, WithoutResamplingShortRunsAreBiased) {
   const test::BlockTestResult t = startup_blocks(false);
   EXPECT_GT(t.failed, 0u) << t.summary();
   std::cout << "[ figures  ] mlt start-up, not resampled: " << t.summary() << "\n";
+}
+
+// b is the bootstrap's mean target only for the first segment: a length's chains restart
+// from their own large steps' pool when it has grown kRestartGrowth-fold, with b_d that
+// pool's mean. So the image's brightness does not keep the bootstrap's error: with 100 paths
+// per length for b (a tenth of a per cent of what a render proposes as large steps), the
+// renders' image means scatter around the reference by a fraction of what they do with the
+// chains never restarted (restart = false), where b is the bootstrap's to the end.
+struct Brightness {
+  double rms = 0.0;   // of (image mean / reference mean - 1) over the runs
+  double mean = 0.0;  // of the same
+  double se = 0.0;    // of that mean
+  uint32_t restarts = 0;
+};
+
+Brightness brightness(bool restart) {
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  double ref_sum = 0.0;
+  for (float v : ref.mean.rgb) ref_sum += v;
+  RenderSettings s = mlt_settings(kSize, 1024);
+  s.mlt.bootstrap = 2000;  // the tile target's b from 1000 of them per length
+  s.mlt.restart = restart;
+  constexpr uint32_t kRuns = 12;
+  std::vector<double> e;
+  Brightness b;
+  for (uint32_t r = 0; r < kRuns; ++r) {
+    s.seed = 7100 + r;
+    const RenderOutput out = Renderer(test::device_context(), cornell(), s).render();
+    double sum = 0.0;
+    for (float v : out.film.mean.rgb) sum += v;
+    e.push_back(sum / ref_sum - 1.0);
+    b.restarts += out.stats.metropolis.restarts;
+  }
+  for (double x : e) {
+    b.mean += x / kRuns;
+    b.rms += x * x / kRuns;
+  }
+  b.rms = std::sqrt(b.rms);
+  double var = 0.0;
+  for (double x : e) var += (x - b.mean) * (x - b.mean) / (kRuns - 1);
+  b.se = std::sqrt(var / kRuns);
+  return b;
+}
+
+TEST(MltRestart, BrightnessOutgrowsTheBootstrap) {
+  const Brightness on = brightness(true), off = brightness(false);
+  std::cout << "[ figures  ] mmlt image mean / reference - 1 over 12 runs: restarting rms "
+            << on.rms << " (mean " << on.mean << " +- " << on.se << ", " << on.restarts
+            << " restarts); never restarting rms " << off.rms << " (mean " << off.mean
+            << " +- " << off.se << ")\n";
+  EXPECT_GT(on.restarts, 0u);
+  EXPECT_EQ(off.restarts, 0u);
+  EXPECT_LT(on.rms, 0.5 * off.rms) << "restarts did not shrink b's error";
+  // No bias either: the runs' mean error within 4 standard errors (and the reference's 0.2 %).
+  EXPECT_LT(std::fabs(on.mean), 4.0 * on.se + 0.002);
 }
 
 // ---- Options. ----

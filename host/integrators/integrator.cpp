@@ -149,6 +149,7 @@ void MetropolisStats::add_chains(const MetropolisStats& o) {
   large_accepted += o.large_accepted;
   small_proposed += o.small_proposed;
   small_accepted += o.small_accepted;
+  restarts += o.restarts;
   if (chains_by_depth.size() < o.chains_by_depth.size()) chains_by_depth.resize(o.chains_by_depth.size(), 0);
   for (size_t d = 0; d < o.chains_by_depth.size(); ++d) chains_by_depth[d] += o.chains_by_depth[d];
 }

@@ -38,10 +38,14 @@ struct MetropolisStats {
   uint32_t chains = 0;
   uint32_t dims = 0;               // coordinates of a chain's primary sample vector
   uint64_t bootstrap_paths = 0;
-  double b = 0.0;                  // normalisation: the bootstrap's mean target (luminance);
-  double b_standard_error = 0.0;   //   mmlt: the sum over path lengths of theirs
+  double b = 0.0;                  // normalisation: the mean target (luminance) of the
+  double b_standard_error = 0.0;   //   bootstrap's paths and the large steps' proposals;
+                                   //   mmlt: the sum over path lengths of theirs
   std::vector<double> b_by_depth;  // mmlt: each path length's (bounces 0, 1, ...) ...
   std::vector<double> b_depth_standard_error;  // ... and its standard error
+  double b_bootstrap = 0.0;        // b from the bootstrap alone (the first segment's)
+  uint64_t b_large_steps = 0;      // large steps' proposals counted into b
+  uint32_t restarts = 0;           // path lengths whose chains restarted from their pools
   std::vector<uint32_t> chains_by_depth;
   double bootstrap_seconds = 0.0;
   uint64_t large_proposed = 0, large_accepted = 0;
@@ -182,6 +186,9 @@ struct MltConfig {
   // false: chain c starts at bootstrap path c instead of one drawn in proportion to its
   // target, which is the start-up bias the resampling removes (tests show it; no option).
   bool resample = true;
+  // false: the chains never restart from their large steps' pools, and b stays the
+  // bootstrap's for the whole render (its error then never fades; tests show it; no option).
+  bool restart = true;
 };
 
 // ic's settings (--ic-*).

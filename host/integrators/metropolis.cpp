@@ -17,6 +17,7 @@ static_assert(sizeof(dev::MltChain) == 64, "MltChain should stay 64 bytes");
 static_assert(sizeof(dev::PssCoord) == 16, "PssCoord should stay 16 bytes");
 static_assert(sizeof(dev::MltParams) == 64, "MltParams should stay 64 bytes");
 static_assert(sizeof(dev::MltDepth) == 8, "MltDepth is two floats");
+static_assert(sizeof(dev::MltLargeSteps) == 32, "MltLargeSteps is eight words");
 
 namespace {
 
@@ -28,6 +29,14 @@ constexpr uint32_t kMaxDefaultChains = 65536;
 // scene at 20 s (tiles of 8) relMSE was 0.0084, 0.0088, 0.0071, 0.0074 and 0.0077 for floors
 // of 0.03, 0.1, 0.3, 0.5 and 1 (one run each), 0.0133 with the luminance target.
 constexpr double kImportanceFloor = 0.3;
+// A path length's chains restart when its pool of large steps has grown to this many times the
+// pool (or bootstrap) they last started from: segments of geometrically growing length, so
+// that the last ones, most of a long render, splat with a b from most of its large steps.
+// Door ajar (128x128, 3 seeds at 20 s, 2 at 60 s, docs/BENCHMARKS.md session 36): relMSE
+// 0.0077 / 0.00276 without restarts, 0.0075 / - for 2, 0.0071 / 0.00256 for 4, - / 0.00268
+// for 8; restarting from every pool the bootstrap's size, 0.0081 at 20 s (each restart
+// clusters chains on the pool's brightest proposals anew).
+constexpr double kRestartGrowth = 4.0;
 
 // A uniform double in [0, 1) from a seed (splitmix64's finaliser): the one random number of
 // the host's resampling.
@@ -171,13 +180,13 @@ uint32_t Metropolis::chains_for(const dev::RenderParams& params, const Film& fil
 const cl::Kernel& Metropolis::bind_bootstrap(const cl::Buffer& targets, const cl::Buffer& pixels,
                                         Film& film) {
   bootstrap_kernel_.args(bootstrap_arg_, params_, mlt_params_, cl_uint(0), unused_, importance_,
-                         targets, pixels, unused_, unused_, film.ray_counts());
+                         targets, pixels, unused_, unused_, unused_, film.ray_counts());
   return bootstrap_kernel_;
 }
 
-const cl::Kernel& Metropolis::bind_start(const cl::Buffer& starts, Film& film) {
-  start_kernel_.args(start_arg_, params_, mlt_params_, cl_uint(1), starts, importance_, unused_,
-                     unused_, chains_, coords_, film.ray_counts());
+const cl::Kernel& Metropolis::bind_start(cl_uint starting, const cl::Buffer& starts, Film& film) {
+  start_kernel_.args(start_arg_, params_, mlt_params_, starting, starts, importance_, unused_,
+                     unused_, chains_, coords_, starting == 2 ? large_ : unused_, film.ray_counts());
   return start_kernel_;
 }
 
@@ -191,9 +200,9 @@ void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
   // No work-item reads or writes a buffer here, so the placeholder stands for all of them.
   const uint32_t chains = chains_for(params, film);
   bind_bootstrap(unused_, unused_, film).launch(ctx_, config_.bootstrap);
-  bind_start(unused_, film).launch(ctx_, chains);
+  bind_start(1, unused_, film).launch(ctx_, chains);
   mutate_kernel_.args(mutate_arg_, params_, mlt_params_, depths_, importance_, chains_, coords_,
-                      film.splat(), film.ray_counts());
+                      film.splat(), unused_, film.ray_counts());
   mutate_kernel_.launch(ctx_, chains);
   ctx_.finish();
 }
@@ -310,24 +319,19 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
     by_depth[i % depths].push_back(target[i]);
     path_of[i % depths].push_back(uint32_t(i));
   }
-  stats_.b_by_depth.assign(depths, 0.0);
-  stats_.b_depth_standard_error.assign(depths, 0.0);
-  double b = 0.0, variance = 0.0;
+  bootstrap_sums_ = TargetSums(depths);
+  retired_ = TargetSums(depths);
   for (uint32_t d = 0; d < depths; ++d) {
-    double sum = 0.0, sum_sq = 0.0;
     for (float t : by_depth[d]) {
-      sum += t;
-      sum_sq += double(t) * t;
+      bootstrap_sums_.sum[d] += t;
+      bootstrap_sums_.sum_sq[d] += double(t) * t;
     }
-    const double n = double(by_depth[d].size());
-    stats_.b_by_depth[d] = sum / n;
-    b += sum / n;
-    const double v = n > 1 ? std::max(0.0, (sum_sq - sum * sum / n) / (n - 1.0)) / n : 0.0;
-    stats_.b_depth_standard_error[d] = std::sqrt(v);
-    variance += v;
+    bootstrap_sums_.count[d] = by_depth[d].size();
   }
-  stats_.b = b;
-  stats_.b_standard_error = std::sqrt(variance);
+  set_b(stats_);
+  stats_.b_bootstrap = stats_.b;
+  start_count_ = bootstrap_sums_.count;
+  mutations_.assign(depths, 0);
   stats_.bootstrap_paths = mlt_.bootstrap;
   stats_.chains = mlt_.chains;
   stats_.dims = mlt_.dims;
@@ -355,23 +359,26 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
 
   // What each length's chains splat with: its b_d and the share of the chains it has.
   std::vector<uint32_t> count(depths, 0);
-  for (uint32_t i : start) ++count[i % depths];
-  std::vector<dev::MltDepth> norm(depths);
+  chain_depth_.resize(start.size());
+  for (size_t c = 0; c < start.size(); ++c) ++count[chain_depth_[c] = start[c] % depths];
+  norm_.assign(depths, dev::MltDepth{});
   for (uint32_t d = 0; d < depths; ++d) {
-    norm[d].b = float(stats_.b_by_depth[d]);
-    norm[d].chain_scale = count[d] ? float(double(mlt_.chains) / double(count[d])) : 0.0f;
+    norm_[d].b = float(stats_.b_by_depth[d]);
+    norm_[d].chain_scale = count[d] ? float(double(mlt_.chains) / double(count[d])) : 0.0f;
   }
   stats_.chains_by_depth = count;
-  depths_ = cl::Buffer::from_vector(ctx_, norm, CL_MEM_READ_ONLY, "Metropolis normalisations");
+  depths_ = cl::Buffer::from_vector(ctx_, norm_, CL_MEM_READ_ONLY, "Metropolis normalisations");
+  large_ = cl::Buffer::from_vector(ctx_, std::vector<dev::MltLargeSteps>(mlt_.chains),
+                                   CL_MEM_READ_WRITE, "large steps' pools");
 
   chains_ = cl::Buffer(ctx_, size_t(mlt_.chains) * sizeof(dev::MltChain), CL_MEM_READ_WRITE,
                        nullptr, "Metropolis chains");
   coords_ = cl::Buffer(ctx_, size_t(mlt_.chains) * mlt_.dims * sizeof(dev::PssCoord),
                        CL_MEM_READ_WRITE, nullptr, "primary sample vectors");
-  stats_.device_bytes = chains_.size() + coords_.size() + depths_.size();
+  stats_.device_bytes = chains_.size() + coords_.size() + depths_.size() + large_.size();
   const cl::Buffer starts = cl::Buffer::from_vector(ctx_, start, CL_MEM_READ_ONLY, "chain starts");
   mlt_params_.write(&mlt_, sizeof(mlt_));
-  bind_start(starts, film).launch(ctx_, mlt_.chains);
+  bind_start(1, starts, film).launch(ctx_, mlt_.chains);
   ctx_.finish();
   stats_.bootstrap_seconds += seconds_since(t0);
   log::verbose("mlt: b = " + std::to_string(stats_.b) + " +- " +
@@ -385,6 +392,7 @@ void Metropolis::render_pass(const dev::RenderParams& params, Film& film) {
   // The bootstrap, where the renderer did not share it out (setup_items) before this pass.
   if (!started_) setup_finish(params, film, setup_part(params, film, 0, setup_items(params)));
   if (dark_) return;
+  if (launched_ && config_.restart) restart_from_pools(film);
   // spp mutations per pixel in all, spread over the chains; the scale makes up for the
   // rounding, so that the film's division by spp is exact.
   const uint64_t total = uint64_t(params.samples_per_pass) * film.pixels();
@@ -397,13 +405,116 @@ void Metropolis::render_pass(const dev::RenderParams& params, Film& film) {
   params_.write(&params, sizeof(params));
   mlt_params_.write(&mlt_, sizeof(mlt_));
   mutate_kernel_.args(mutate_arg_, params_, mlt_params_, depths_, importance_, chains_, coords_,
-                      film.splat(), film.ray_counts());
+                      film.splat(), large_, film.ray_counts());
   mutate_kernel_.launch(ctx_, mlt_.chains);
+  launched_ = true;
+  for (size_t d = 0; d < mutations_.size(); ++d)
+    mutations_[d] += per_chain * stats_.chains_by_depth[d];
+}
+
+void Metropolis::TargetSums::add(const TargetSums& other, size_t d) {
+  sum[d] += other.sum[d];
+  sum_sq[d] += other.sum_sq[d];
+  count[d] += other.count[d];
+}
+
+Metropolis::TargetSums Metropolis::pools(const std::vector<dev::MltLargeSteps>& large) const {
+  TargetSums s(norm_.size());
+  for (size_t c = 0; c < large.size(); ++c) {
+    const uint32_t d = chain_depth_[c];
+    s.sum[d] += double(large[c].sum) - double(large[c].compensation);
+    s.sum_sq[d] += large[c].sum_sq;
+    s.count[d] += large[c].count;
+  }
+  return s;
+}
+
+void Metropolis::restart_from_pools(Film& film) {
+  // Read the pools only when some length's may have grown enough: its chains have proposed
+  // about large_step times their mutations as large steps.
+  bool due = false;
+  for (size_t d = 0; d < norm_.size(); ++d)
+    due |= double(mlt_.large_step) * double(mutations_[d]) >= kRestartGrowth * double(start_count_[d]);
+  if (!due) return;
+  std::vector<dev::MltLargeSteps> large = large_.read_vector<dev::MltLargeSteps>(mlt_.chains);
+  const TargetSums pool = pools(large);
+  std::vector<uint32_t> start(mlt_.chains, ~0u);
+  bool any = false;
+  for (size_t d = 0; d < norm_.size(); ++d) {
+    // A pool as large as the bootstrap's paths of this length: the restart's b_d and start
+    // states are then no worse than the bootstrap's, and each length's restarts add
+    // independent estimates over the render, so that their errors average out.
+    if (double(pool.count[d]) < kRestartGrowth * double(start_count_[d]) || !(pool.sum[d] > 0.0))
+      continue;
+    std::vector<uint32_t> chains;
+    std::vector<float> weight;
+    for (uint32_t c = 0; c < mlt_.chains; ++c)
+      if (chain_depth_[c] == d) {
+        chains.push_back(c);
+        weight.push_back(std::max(0.0f, large[c].sum - large[c].compensation));
+      }
+    if (chains.empty()) continue;
+    // Chain j's pick is each of its proposals in proportion to the target, and chain j is
+    // drawn in proportion to its pool's sum: each restart is a proposal of the whole pool in
+    // proportion to its target, as the bootstrap's resampling draws the first starts.
+    const double u = seeded_unit(uint64_t(mlt_.seed) + (uint64_t(device_index()) << 32) +
+                                 (uint64_t(restarts_ + 1) << 40));
+    const std::vector<uint32_t> picks = resample(weight, uint32_t(chains.size()), u);
+    if (picks.empty()) continue;
+    // A chain drawn k times gives its picks 0, 1, ... (independent draws from its pool), so
+    // that its restarts do not all start from one state while it has picks left.
+    std::vector<uint32_t> used(chains.size(), 0);
+    for (size_t j = 0; j < chains.size(); ++j)
+      start[chains[j]] = chains[picks[j]] * MLT_PICKS + used[picks[j]]++ % MLT_PICKS;
+    norm_[d].b = float(pool.sum[d] / double(pool.count[d]));
+    start_count_[d] = pool.count[d];
+    mutations_[d] = 0;
+    retired_.add(pool, d);
+    for (uint32_t c : chains) large[c] = dev::MltLargeSteps{};
+    ++restarts_;
+    any = true;
+  }
+  if (!any) return;
+  depths_.write(norm_.data(), norm_.size() * sizeof(dev::MltDepth));
+  const cl::Buffer starts = cl::Buffer::from_vector(ctx_, start, CL_MEM_READ_ONLY, "chain restarts");
+  bind_start(2, starts, film).launch(ctx_, mlt_.chains);
+  // The restart reads the picks first (the queue is in order); then the pools start again.
+  large_.write(large.data(), large.size() * sizeof(dev::MltLargeSteps));
+  ctx_.finish();
+}
+
+void Metropolis::set_b(MetropolisStats& stats) const {
+  TargetSums sums = bootstrap_sums_;
+  const TargetSums now = launched_ ? pools(large_.read_vector<dev::MltLargeSteps>(mlt_.chains))
+                                   : TargetSums(sums.count.size());
+  stats.b_large_steps = 0;
+  for (size_t d = 0; d < sums.count.size(); ++d) {
+    sums.add(retired_, d);
+    sums.add(now, d);
+    stats.b_large_steps += retired_.count[d] + now.count[d];
+  }
+  const size_t depths = sums.sum.size();
+  stats.b_by_depth.assign(depths, 0.0);
+  stats.b_depth_standard_error.assign(depths, 0.0);
+  double b = 0.0, variance = 0.0;
+  for (size_t d = 0; d < depths; ++d) {
+    const double n = double(sums.count[d]), sum = sums.sum[d];
+    if (!(n > 0.0)) continue;
+    stats.b_by_depth[d] = sum / n;
+    b += sum / n;
+    const double v = n > 1 ? std::max(0.0, (sums.sum_sq[d] - sum * sum / n) / (n - 1.0)) / n : 0.0;
+    stats.b_depth_standard_error[d] = std::sqrt(v);
+    variance += v;
+  }
+  stats.b = b;
+  stats.b_standard_error = std::sqrt(variance);
+  stats.restarts = restarts_;
 }
 
 MetropolisStats Metropolis::metropolis_stats() const {
   MetropolisStats s = stats_;
   if (!started_ || dark_) return s;
+  set_b(s);
   for (const dev::MltChain& c : chains_.read_vector<dev::MltChain>(mlt_.chains)) {
     s.large_proposed += c.large_proposed;
     s.large_accepted += c.large_accepted;

@@ -14,7 +14,10 @@
 // chain's start state is drawn from its length's paths in proportion to I (systematic
 // resampling), so the chains start in their stationary distribution and there is no start-up
 // bias. Then each pass runs every chain for ceil(spp * pixels / chains) proposals: --spp
-// counts mutations per pixel. Like lt and bdpt its film has splats: no per-pixel variance,
+// counts mutations per pixel. The large steps' proposals are fresh uniform vectors, samples of
+// b_d as the bootstrap's paths are: before each pass b_d is re-estimated from the bootstrap and
+// every large step so far (a 60 s render proposes some 40 times the bootstrap's paths), so
+// that b's error, a scale error of the whole image, fades as the render runs. Like lt and bdpt its film has splats: no per-pixel variance,
 // sums not bit-reproducible unless PoCL runs on one thread.
 #pragma once
 
@@ -70,13 +73,41 @@ class Metropolis final : public Integrator {
   // One kernel, mlt_begin, in two launches: the bootstrap's paths and the chains' start.
   cl::Kernel bootstrap_kernel_, start_kernel_, mutate_kernel_;
   const cl::Kernel& bind_bootstrap(const cl::Buffer& targets, const cl::Buffer& pixels, Film& film);
-  const cl::Kernel& bind_start(const cl::Buffer& starts, Film& film);
+  // starting 1: the chains' start from the bootstrap; 2: a restart from the pools.
+  const cl::Kernel& bind_start(cl_uint starting, const cl::Buffer& starts, Film& film);
   uint32_t dims_for(const dev::RenderParams& params) const;
   // Path lengths the chains sample: max_depth + 1 (mmlt) or 1 (pssmlt).
   uint32_t depths_for(const dev::RenderParams& params) const;
 
+  // Per path length, targets' sums (in double) and counts.
+  struct TargetSums {
+    explicit TargetSums(size_t depths = 0) : sum(depths, 0.0), sum_sq(depths, 0.0), count(depths, 0) {}
+    void add(const TargetSums& other, size_t depth);
+    std::vector<double> sum, sum_sq;
+    std::vector<uint64_t> count;
+  };
+  // Each length's pool of large steps as the chains' MltLargeSteps hold it.
+  TargetSums pools(const std::vector<dev::MltLargeSteps>& large) const;
+  // b, its standard error and per-length figures into stats, from the bootstrap's targets,
+  // the pools the restarts took and the pools as large_ holds them now.
+  void set_b(MetropolisStats& stats) const;
+  // Restarts the chains of each length whose pool of large steps has grown as large as the
+  // bootstrap's paths of that length were: b_d becomes the pool's mean, every chain of the
+  // length starts again from a proposal of the pool drawn in proportion to its target, and the
+  // pool starts empty.
+  void restart_from_pools(Film& film);
+
   cl::Buffer params_, mlt_params_, depths_, importance_;
   cl::Buffer chains_, coords_;
+  cl::Buffer large_;              // MltLargeSteps per chain: its pool since the last restart
+  TargetSums bootstrap_sums_;     // the bootstrap's targets that estimate b (the tile target's half)
+  TargetSums retired_;            // the pools the restarts have taken
+  std::vector<uint32_t> chain_depth_;  // each chain's path length (mmlt), 0 (pssmlt)
+  std::vector<dev::MltDepth> norm_;    // what depths_ holds
+  bool launched_ = false;         // mlt_mutate has run: large_ holds pools
+  uint32_t restarts_ = 0;         // lengths restarted, all restarts together
+  std::vector<uint64_t> start_count_;  // per length: the paths of the pool its chains started from
+  std::vector<uint64_t> mutations_;    // per length: its chains' proposals since they started
   cl::Buffer unused_;  // 4 bytes: mlt_begin's arguments that one launch does not use
   dev::MltParams mlt_{};
   bool started_ = false;

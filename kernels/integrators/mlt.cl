@@ -7,6 +7,10 @@
  *                  traces the paths MltParams.bootstrap_first on, one per work-item;
  *                  the chains' start (starting 1): chain c starts at bootstrap path
  *                  start[c] (same key, same vector, same length, same path);
+ *                  a restart (starting 2): chain c, unless start[c] is ~0, takes pick
+ *                  start[c] % MLT_PICKS of chain start[c] / MLT_PICKS from its large steps
+ *                  (MltLargeSteps), a state drawn from its length's pool in proportion to
+ *                  the target;
  *   mlt_mutate     every chain takes MltParams.mutations steps and splats them.
  * The program reads its random numbers from the chains' vectors (sampler/pss.cl). */
 #define CLPT_PRIMARY_SAMPLE_SPACE 1
@@ -26,23 +30,32 @@ __kernel void mlt_begin(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                         __constant const MltParams* mlt, u32 starting, __global const u32* start,
                         __global const float* importance, __global float* target,
                         __global u32* pixel, __global MltChain* chains, __global PssCoord* coords,
-                        __global u32* ray_counts) {
+                        __global const MltLargeSteps* large, __global u32* ray_counts) {
   const u32 w = get_global_id(0);
   if (w >= (starting ? mlt->chains : mlt->bootstrap_count)) return;
+  if (starting == 2u && start[w] == 0xffffffffu) return;
   const u32 i = starting ? start[w] : mlt->bootstrap_first + w;
   const SceneView scene = SCENE_VIEW();
-  const u32 depth = i % mlt->depths;
-  const u32 dims = mlt_chain_dims(mlt, depth);
-  const u32 key = mlt_bootstrap_key(mlt->seed, i);
-  __global PssCoord* vector = coords + (size_t)w * mlt->chain_stride;
   MltChain ch;
+  if (starting == 2u) ch = chains[w];
+  const u32 depth = starting == 2u ? ch.depth : i % mlt->depths;
+  const u32 dims = mlt_chain_dims(mlt, depth);
+  const u32 key = starting == 2u ? large[i / MLT_PICKS].pick[i % MLT_PICKS]
+                                  : mlt_bootstrap_key(mlt->seed, i);
+  __global PssCoord* vector = coords + (size_t)w * mlt->chain_stride;
   Sampler sampler = pss_fresh(key, dims);
   if (starting) {
+    /* A restarted chain keeps its counts, and its proposals' counter: the keys of its
+     * proposals after the restart are new ones. */
+    const u32 proposals = starting == 2u ? ch.proposals : 0u;
+    if (starting == 1u) {
+      ch.large_proposed = ch.large_accepted = ch.small_proposed = ch.small_accepted = 0u;
+      ch.depth = depth;
+    }
     ch.weight = 0.0f;
-    ch.large_proposed = ch.large_accepted = ch.small_proposed = ch.small_accepted = 0u;
-    ch.depth = depth;
     ch.frac = 0u;
     pss_chain_start(&ch, vector, mlt->dim_stride, dims, key);
+    ch.proposals = proposals;
     sampler = pss_current(&ch, vector, mlt->dim_stride, dims);
   }
   u32 rays = 0;
@@ -62,11 +75,13 @@ __kernel void mlt_begin(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   }
 }
 
+/* large[c]: chain c's pool of large steps since its length's last restart, to which this
+ * launch's add (the host estimates b from them and restarts chains from the picks). */
 __kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params,
                          __constant const MltParams* mlt, __global const MltDepth* depths,
                          __global const float* importance, __global MltChain* chains,
                          __global PssCoord* coords, __global float4* splat,
-                         __global u32* ray_counts) {
+                         __global MltLargeSteps* large, __global u32* ray_counts) {
   const u32 c = get_global_id(0);
   if (c >= mlt->chains) return;
   const SceneView scene = SCENE_VIEW();
@@ -74,9 +89,12 @@ __kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params
   __global PssCoord* vector = coords + (size_t)c * mlt->chain_stride;
   const u32 key = pss_chain_key(mlt->seed, mlt->chain_base + c);
   const MltDepth n = depths[ch.depth];
+  MltLargeSteps ls = large[c];
   u32 rays = 0;
-  for (u32 i = 0; i < mlt->mutations; ++i) mlt_step(&scene, params, mlt, n, &ch, vector, key, importance, splat, &rays);
+  for (u32 i = 0; i < mlt->mutations; ++i)
+    mlt_step(&scene, params, mlt, n, &ch, vector, key, importance, splat, &ls, &rays);
   mlt_flush(params, mlt, n, &ch, splat);
   chains[c] = ch;
+  large[c] = ls;
   atomic_add(ray_counts + c % (params->width * params->height), rays);
 }

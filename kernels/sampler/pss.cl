@@ -45,6 +45,7 @@
 #define PSS_SALT_GAUSS 0xb5297a4du
 #define PSS_SALT_LARGE 0x1b56c4e9u
 #define PSS_SALT_ACCEPT 0x3c6ef372u
+#define PSS_SALT_PICK 0xa54ff53au
 
 #ifdef CLPT_MLT_MULTIPLEXED
 #define PSS_STREAMS 2u

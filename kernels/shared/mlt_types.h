@@ -50,10 +50,27 @@ typedef struct MltParams {
 /* What the chains of one path length (all chains, for pssmlt) splat with. */
 typedef struct MltDepth {
   float b;           /* the normalisation: the mean target of the paths of this length (mmlt)
-                        or of all paths (pssmlt), from the bootstrap */
+                        or of all paths (pssmlt), from the bootstrap and, after the first
+                        pass, the large steps' proposals as well (MltLargeSteps) */
   float chain_scale; /* all chains / the chains of this length: makes up for the share of the
                         chains this length was given */
 } MltDepth;
+
+/* What a chain's large steps have proposed since its length's chains last restarted: fresh
+ * uniform vectors, independent of the chain, so their targets are samples of b_d as the
+ * bootstrap's paths are, and a pool to restart chains from (host/integrators/metropolis.h).
+ * Each pick is one of them drawn in proportion to its target (MLT_PICKS independent weighted
+ * reservoirs of one), the states restarts from this chain's share of the pool take. The sum
+ * is compensated (Kahan): a chain may propose hundreds of thousands between restarts.
+ * 32 bytes. */
+#define MLT_PICKS 4u
+typedef struct MltLargeSteps {
+  float sum;          /* the targets' sum */
+  float compensation; /* what the float sum lost (Kahan's c) */
+  float sum_sq;       /* their squares' sum, for b's standard error */
+  u32 count;          /* large steps proposed */
+  u32 pick[MLT_PICKS]; /* the picked proposals' keys (a vector: sampler/pss.cl's pss_fresh) */
+} MltLargeSteps;
 
 /* A chain between launches: its current state's contribution, the lazily updated vector's
  * counters and acceptance counts. 64 bytes. */

@@ -60,3 +60,22 @@ __kernel void mlt_gaussians(u32 n, __global float* out) {
   if (i >= n) return;
   out[i] = pss_gaussian(hash_u32(i), 3u);
 }
+
+#include "integrators/mlt/large_steps.cl"
+
+/* A pool of n large steps of targets t[0..n-1] per trial (keys new per trial): out[trial]
+ * holds the index of each of its MLT_PICKS picks (n: none) and the compensated sum. */
+__kernel void mlt_pool_picks(u32 trials, u32 n, __global const float* t, __global float* sums,
+                             __global u32* picks) {
+  const u32 trial = get_global_id(0);
+  if (trial >= trials) return;
+  MltLargeSteps ls = {0.0f, 0.0f, 0.0f, 0u, {0u, 0u, 0u, 0u}};
+  for (u32 k = 0; k < n; ++k) mlt_count_large_step(&ls, hash_combine(hash_u32(trial), k), t[k]);
+  sums[trial] = ls.sum - ls.compensation;
+  for (u32 j = 0; j < MLT_PICKS; ++j) {
+    u32 index = n;
+    for (u32 k = 0; k < n; ++k)
+      if (t[k] > 0.0f && ls.pick[j] == hash_combine(hash_u32(trial), k)) index = k;
+    picks[trial * MLT_PICKS + j] = index;
+  }
+}

@@ -19,6 +19,7 @@
 
 #include "film/splat.cl"
 #include "film/splat_filter.cl"
+#include "integrators/mlt/large_steps.cl"
 #include "integrators/mlt/mmlt_path.cl"
 #include "integrators/mlt/pss_path.cl"
 
@@ -88,11 +89,12 @@ static inline void mlt_step(const SceneView* s, __constant const RenderParams* p
                             __constant const MltParams* m, MltDepth n, MltChain* ch,
                             __global PssCoord* coords, u32 chain_key,
                             __global const float* importance,
-                            __global float4* splat, u32* rays) {
+                            __global float4* splat, MltLargeSteps* large, u32* rays) {
   const Sampler proposal =
       pss_propose(ch, coords, m->dim_stride, mlt_chain_dims(m, ch->depth), chain_key,
                   m->large_step, m->sigma);
   const PssPath y = mlt_path(s, p, &proposal, ch->depth, importance, rays);
+  if (proposal.large_step) mlt_count_large_step(large, proposal.step_key, y.target);
   const float a = pss_acceptance(y.target, ch->target);
   if (y.target > 0.0f)
     mlt_splat(p, splat, y.pixel, mlt_pack_frac(p, y),
