@@ -424,10 +424,11 @@ TEST(MltStartUp, WithoutResamplingShortRunsAreBiased) {
 
 // b is the bootstrap's mean target only for the first segment: a length's chains restart
 // from their own large steps' pool when it has grown kRestartGrowth-fold, with b_d that
-// pool's mean. So the image's brightness does not keep the bootstrap's error: with 100 paths
-// per length for b (a tenth of a per cent of what a render proposes as large steps), the
-// renders' image means scatter around the reference by a fraction of what they do with the
-// chains never restarted (restart = false), where b is the bootstrap's to the end.
+// pool's mean. So the image's brightness does not keep the bootstrap's error: with 1 000 paths
+// per length for b (a render of 1 024 mutations per pixel proposes some 35 000 large steps
+// per length), the renders' image means scatter around the reference by a fraction of what
+// they do with the chains never restarted (restart = false), where b is the bootstrap's to
+// the end.
 struct Brightness {
   double rms = 0.0;   // of (image mean / reference mean - 1) over the runs
   double mean = 0.0;  // of the same

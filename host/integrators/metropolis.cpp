@@ -441,9 +441,9 @@ void Metropolis::restart_from_pools(Film& film) {
   std::vector<uint32_t> start(mlt_.chains, ~0u);
   bool any = false;
   for (size_t d = 0; d < norm_.size(); ++d) {
-    // A pool as large as the bootstrap's paths of this length: the restart's b_d and start
-    // states are then no worse than the bootstrap's, and each length's restarts add
-    // independent estimates over the render, so that their errors average out.
+    // A pool kRestartGrowth times the one the chains started from: b_d and the start states
+    // of each segment come from one pool (together they are unbiased, as the bootstrap's
+    // are), and the segments, growing geometrically, put most of the render on the largest.
     if (double(pool.count[d]) < kRestartGrowth * double(start_count_[d]) || !(pool.sum[d] > 0.0))
       continue;
     std::vector<uint32_t> chains;

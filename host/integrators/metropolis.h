@@ -15,10 +15,12 @@
 // resampling), so the chains start in their stationary distribution and there is no start-up
 // bias. Then each pass runs every chain for ceil(spp * pixels / chains) proposals: --spp
 // counts mutations per pixel. The large steps' proposals are fresh uniform vectors, samples of
-// b_d as the bootstrap's paths are: before each pass b_d is re-estimated from the bootstrap and
-// every large step so far (a 60 s render proposes some 40 times the bootstrap's paths), so
-// that b's error, a scale error of the whole image, fades as the render runs. Like lt and bdpt its film has splats: no per-pixel variance,
-// sums not bit-reproducible unless PoCL runs on one thread.
+// b_d as the bootstrap's paths are, and each chain keeps them as a pool: when a length's pool
+// has grown kRestartGrowth times the pool (or bootstrap) its chains started from, its chains
+// restart from it, b_d its mean and the starts drawn from it in proportion to I (a 60 s
+// render proposes some 40 times the bootstrap's paths), so that b's error, a scale error of
+// the whole image, fades as the render runs. Like lt and bdpt its film has splats: no
+// per-pixel variance, sums not bit-reproducible unless PoCL runs on one thread.
 #pragma once
 
 #include <cstdint>
@@ -91,10 +93,10 @@ class Metropolis final : public Integrator {
   // b, its standard error and per-length figures into stats, from the bootstrap's targets,
   // the pools the restarts took and the pools as large_ holds them now.
   void set_b(MetropolisStats& stats) const;
-  // Restarts the chains of each length whose pool of large steps has grown as large as the
-  // bootstrap's paths of that length were: b_d becomes the pool's mean, every chain of the
-  // length starts again from a proposal of the pool drawn in proportion to its target, and the
-  // pool starts empty.
+  // Restarts the chains of each length whose pool of large steps has grown kRestartGrowth
+  // times the pool (or bootstrap) they started from: b_d becomes the pool's mean, every chain
+  // of the length starts again from a proposal of the pool drawn in proportion to its target,
+  // and the pool starts empty.
   void restart_from_pools(Film& film);
 
   cl::Buffer params_, mlt_params_, depths_, importance_;

@@ -50,8 +50,9 @@ typedef struct MltParams {
 /* What the chains of one path length (all chains, for pssmlt) splat with. */
 typedef struct MltDepth {
   float b;           /* the normalisation: the mean target of the paths of this length (mmlt)
-                        or of all paths (pssmlt), from the bootstrap and, after the first
-                        pass, the large steps' proposals as well (MltLargeSteps) */
+                        or of all paths (pssmlt), from the bootstrap and, after the chains'
+                        last restart, from the pool of large steps they restarted from
+                        (MltLargeSteps) */
   float chain_scale; /* all chains / the chains of this length: makes up for the share of the
                         chains this length was given */
 } MltDepth;
