@@ -243,6 +243,12 @@ struct Parser {
                    "brightness and choose the chains' start states [100000]")
         ->type_name("N")
         ->check(CLI::Range(1u, 1u << 26).description(""));
+    app.add_option("--mlt-direct", o.mlt_direct,
+                   "mlt (mmlt): the direct light (bounces 0 and 1) rendered apart by path tracing, "
+                   "R samples per pixel for every mutation per pixel, the chains sampling the "
+                   "rest; 0: the chains sample it too; auto: R is the bootstrap's share of the "
+                   "light that is direct [auto]")
+        ->type_name("R");
     app.add_option("--mlt-chains", o.mlt_chains,
                    "mlt: Markov chains run in parallel on each device; --spp counts mutations per pixel "
                    "[one per pixel, at most 65536]")
@@ -465,8 +471,7 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
   o.pm_filter_set = p.app.count("--pm-filter") > 0;
   o.sppm_alpha_set = p.app.count("--sppm-alpha") > 0;
   for (const char* name : {"--mlt-mode", "--mlt-target", "--mlt-large-step", "--mlt-sigma",
-                           "--mlt-bootstrap",
-                           "--mlt-chains"})
+                           "--mlt-bootstrap", "--mlt-direct", "--mlt-chains"})
     o.mlt_set = o.mlt_set || p.app.count(name) > 0;
   for (const char* name : {"--ic-error", "--ic-rays", "--ic-min-spacing", "--ic-max-spacing",
                            "--ic-no-gradients", "--ic-show-records", "--ic-photons"})
@@ -563,11 +568,21 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
     throw Error(ExitCode::Usage, "--ao-radius needs --integrator ao");
   if (!reads(OPTIONS_MLT) && o.mlt_set)
     throw Error(ExitCode::Usage, "--mlt-mode, --mlt-target, --mlt-large-step, --mlt-sigma, "
-                                 "--mlt-bootstrap and "
-                                 "--mlt-chains need --integrator mlt");
+                                 "--mlt-bootstrap, --mlt-direct and --mlt-chains need "
+                                 "--integrator mlt");
   if (reads(OPTIONS_MLT)) {
     one_of("--mlt-mode", o.mlt_mode, {"pssmlt", "mmlt"});
     one_of("--mlt-target", o.mlt_target, {"tile", "luminance"});
+    if (o.mlt_direct != "auto") {
+      char* end = nullptr;
+      const float r = std::strtof(o.mlt_direct.c_str(), &end);
+      if (o.mlt_direct.empty() || *end != '\0' || !(r >= 0.0f) || !std::isfinite(r) || r > 64.0f)
+        throw Error(ExitCode::Usage, "--mlt-direct must be auto or a number in [0, 64], not '" +
+                                         o.mlt_direct + "'");
+      if (r > 0.0f && o.mlt_mode != "mmlt")
+        throw Error(ExitCode::Usage, "--mlt-direct renders mmlt's bounces 0 and 1 apart: it needs "
+                                     "--mlt-mode mmlt (pssmlt's chains sample every bounce)");
+    }
     // A chain's path must be a function of its vector alone: one stream of dimensions.
     if (o.light_samples != 1 || o.branching != 1)
       throw Error(ExitCode::Usage, "--integrator mlt mutates one path of one shadow ray per "

@@ -227,7 +227,15 @@ TEST_F(Cli, MltWritesStatsAndRefusesVarianceAndCheckpoints) {
   }
   EXPECT_NEAR(b_sum, m["b"].get<double>(), 1e-9 * b_sum);
   EXPECT_EQ(chain_sum, 64u);
-  EXPECT_GT(m["chains_by_depth"][0].get<uint32_t>(), m["chains_by_depth"][8].get<uint32_t>());
+  // The direct light (bounces 0 and 1) rendered apart (--mlt-direct auto): no chains there,
+  // and at least one direct sample per pixel a pass, at most one per mutation per pixel.
+  EXPECT_EQ(m["chains_by_depth"][0].get<uint32_t>(), 0u);
+  EXPECT_EQ(m["chains_by_depth"][1].get<uint32_t>(), 0u);
+  EXPECT_GT(m["chains_by_depth"][2].get<uint32_t>(), m["chains_by_depth"][8].get<uint32_t>());
+  EXPECT_GT(m["direct_ratio"].get<double>(), 0.0);
+  EXPECT_LT(m["direct_ratio"].get<double>(), 1.0);
+  EXPECT_GE(m["direct_samples"].get<uint64_t>(), 1u);
+  EXPECT_LE(m["direct_samples"].get<uint64_t>(), 4u);
   // 4 mutations per pixel of 256 pixels: 16 per chain, whatever the passes (each pass
   // rounds its mutations per chain up, and 64 chains divide 256 pixels).
   EXPECT_EQ(m["mutations"].get<uint64_t>(), 1024u);
@@ -255,7 +263,17 @@ TEST_F(Cli, MltWritesStatsAndRefusesVarianceAndCheckpoints) {
   EXPECT_EQ(p["dimensions"].get<uint32_t>(), 4u + 8u * 9u);
   EXPECT_EQ(p["bootstrap_paths"].get<uint64_t>(), 5000u);
   EXPECT_FALSE(p.contains("b_by_depth"));
+  EXPECT_FALSE(p.contains("direct_ratio"));
   EXPECT_GT(image_mean(read_image(path("p.exr"))), 0.01);
+  // --mlt-direct 0: the chains sample every length, the light seen directly the most.
+  r = run_clpt({kCornell, "--device", "pocl", "--integrator", "mlt", "--mlt-direct", "0",
+                "--resolution", "16x16", "--spp", "4", "--mlt-chains", "64", "--mlt-bootstrap",
+                "5000", "-o", path("d.exr"), "--stats", path("d.json"), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json d = nlohmann::json::parse(test::read_file(path("d.json")))["mlt"];
+  EXPECT_GT(d["chains_by_depth"][0].get<uint32_t>(), d["chains_by_depth"][8].get<uint32_t>());
+  EXPECT_EQ(d["direct_samples"].get<uint64_t>(), 0u);
+  EXPECT_EQ(d["direct_ratio"].get<double>(), 0.0);
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{kCornell, "--integrator", "mlt", "--variance", "-o", path("v.exr")},
         std::vector<std::string>{kCornell, "--integrator", "mlt", "--checkpoint", path("c.ckpt")},

@@ -295,6 +295,7 @@ const char* mode_name(bool multiplexed) { return multiplexed ? "mmlt" : "pssmlt"
 struct MltFurnaceCase {
   test::FurnaceCase furnace;
   bool multiplexed;
+  float direct = kMltDirectAuto;  // mmlt: 0, the chains sample bounces 0 and 1 too
 };
 
 class SphereFurnaceMlt : public ::testing::TestWithParam<MltFurnaceCase> {};
@@ -307,6 +308,7 @@ TEST_P(SphereFurnaceMlt, MatchesClosedForm) {
   const double expected = test::furnace_radiance(c.rho, 1.0, c.max_depth);
   RenderSettings s = mlt_settings(16, 64, GetParam().multiplexed);
   s.max_depth = c.max_depth;
+  s.mlt.direct = GetParam().direct;
   s.mlt.bootstrap = 10000;  // b to about 0.5 %; the default 100 000 took most of the test's time
   const std::vector<Image> batches = test::render_batches(scene, s, 24, 3100);
   const test::ChannelMeans m = test::channel_means(batches);
@@ -328,11 +330,68 @@ TEST_P(SphereFurnaceMlt, MatchesClosedForm) {
 INSTANTIATE_TEST_SUITE_P(
     Cases, SphereFurnaceMlt,
     ::testing::Values(MltFurnaceCase{{0.5f, 1}, true}, MltFurnaceCase{{0.8f, 8}, true},
-                      MltFurnaceCase{{0.5f, 1}, false}, MltFurnaceCase{{0.8f, 8}, false}),
+                      MltFurnaceCase{{0.8f, 8}, true, 0.0f}, MltFurnaceCase{{0.5f, 1}, false},
+                      MltFurnaceCase{{0.8f, 8}, false}),
     [](const auto& info) {
-      return std::string(mode_name(info.param.multiplexed)) + "_" +
+      return std::string(mode_name(info.param.multiplexed)) +
+             (info.param.direct == 0.0f && info.param.multiplexed ? "_chains_only_" : "_") +
              test::furnace_case_name(info.param.furnace);
     });
+
+// ---- The direct light apart (--mlt-direct). ----
+// auto's R: the share of the bootstrap's target that paths of bounces below `first` carry.
+TEST(MltDirect, RatioIsTheShareOfTheShortPaths) {
+  // Path i has i % 3 bounces: bounces 0 and 1 carry 1 + 2 + 1 + 2 of 12.
+  EXPECT_DOUBLE_EQ(Metropolis::direct_ratio({1, 2, 3, 1, 2, 3}, 3, 2), 0.5);
+  EXPECT_DOUBLE_EQ(Metropolis::direct_ratio({1, 2, 3, 1, 2, 3}, 3, 0), 0.0);
+  EXPECT_DOUBLE_EQ(Metropolis::direct_ratio({0, 0, 0}, 3, 2), 0.0);
+}
+
+// At --max-depth 1 the chains have no path length left, and with R = 1 each pass takes as
+// many direct samples as mutations, weighted 1: the image is the `direct` integrator's, sample
+// for sample (the same indices), up to the order of the film's sums.
+TEST(MltDirect, AtOneBounceItIsTheDirectIntegrator) {
+  RenderSettings s = mlt_settings(16, 37);
+  s.max_depth = 1;
+  s.mlt.direct = 1.0f;
+  s.seed = 11;
+  const Scene scene = test::cornell_box();
+  const RenderOutput mlt = Renderer(test::device_context(), scene, s).render();
+  RenderSettings d = s;
+  d.integrator = "direct";
+  const RenderOutput direct = Renderer(test::device_context(), scene, d).render();
+  const double rel = compare_images(mlt.film.mean, direct.film.mean).rel_mse;
+  EXPECT_LT(rel, 1e-10);
+  EXPECT_EQ(mlt.stats.metropolis.direct_samples, 37u);
+  for (uint32_t n : mlt.stats.metropolis.chains_by_depth) EXPECT_EQ(n, 0u);
+  std::cout << "[ figures  ] mlt at one bounce against direct: relMSE " << rel << "\n";
+}
+
+// In the furnace a path of d bounces carries Le rho^d, so with the luminance target auto's R
+// is (1 + rho) / sum_{d <= D} rho^d; the render takes about R times as many direct samples as
+// mutations (round(R n) a pass).
+TEST(MltDirect, AutoRatioIsTheFurnacesDirectShare) {
+  constexpr float kRho = 0.6f;
+  constexpr uint32_t kDepth = 5;
+  RenderSettings s = mlt_settings(16, 64);
+  s.max_depth = kDepth;
+  s.mlt.importance_tile = 0;
+  s.mlt.bootstrap = 100000;
+  const RenderOutput out = Renderer(test::device_context(), test::furnace_scene(kRho, 1.0f), s).render();
+  const MetropolisStats& m = out.stats.metropolis;
+  double all = 0.0;
+  for (uint32_t d = 0; d <= kDepth; ++d) all += std::pow(double(kRho), double(d));
+  const double expected = (1.0 + kRho) / all;
+  // The bootstrap's 100 000 paths a length put R's standard error near 0.1 %.
+  EXPECT_NEAR(m.direct_ratio, expected, 0.01 * expected);
+  EXPECT_NEAR(double(m.direct_samples), m.direct_ratio * 64.0, 8.0);  // one rounding a pass
+  EXPECT_EQ(m.chains_by_depth[0], 0u);
+  EXPECT_EQ(m.chains_by_depth[1], 0u);
+  EXPECT_GT(m.chains_by_depth[2], 0u);
+  std::cout << "[ figures  ] mmlt furnace rho " << kRho << " depth " << kDepth << ": auto R "
+            << m.direct_ratio << " expected " << expected << ", " << m.direct_samples
+            << " direct samples for 64 mutations per pixel\n";
+}
 
 // In the furnace every path of d bounces carries Le rho^d exactly, so each path length's
 // bootstrap mean b_d, which mmlt estimates from one strategy per path (chosen uniformly,
@@ -348,6 +407,7 @@ TEST(MmltFurnace, EachPathLengthCarriesItsShare) {
   s.mlt.importance_tile = 0;  // b_d of the luminance target
   s.mlt.bootstrap = 100000;
   s.mlt.chains = 64;
+  s.mlt.direct = 0.0f;  // every length's b_d: bounces 0 and 1 not rendered apart
   const RenderOutput out = Renderer(test::device_context(), test::furnace_scene(kRho, 1.0f), s).render();
   const MetropolisStats& m = out.stats.metropolis;
   ASSERT_EQ(m.b_by_depth.size(), kDepth + 1);
@@ -443,6 +503,10 @@ Brightness brightness(bool restart) {
   RenderSettings s = mlt_settings(kSize, 1024);
   s.mlt.bootstrap = 2000;  // the tile target's b from 1000 of them per length
   s.mlt.restart = restart;
+  // The chains carry the whole image, so that all of its brightness is b's: with the direct
+  // light apart (the default) only the indirect 23 % of the Cornell box's is, and b's error
+  // shows a quarter as much in the image mean.
+  s.mlt.direct = 0.0f;
   constexpr uint32_t kRuns = 12;
   std::vector<double> e;
   Brightness b;
@@ -493,6 +557,19 @@ TEST(MltOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--light-samples", "2"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--sampler", "sobol"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--mlt-sigma", "0.1"}), ExitCode::Usage);  // not mlt
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "auto"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "0"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "0.25"}), ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "-1"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "x"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "nan"}), ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "100"}), ExitCode::Usage);
+  // pssmlt's chains sample every bounce: auto and 0 are accepted, a ratio is not.
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "pssmlt", "--mlt-direct", "0"}),
+            ExitCode::Ok);
+  EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "pssmlt", "--mlt-direct", "0.5"}),
+            ExitCode::Usage);
+  EXPECT_EQ(parse_error({"s.gltf", "--mlt-direct", "0.5"}), ExitCode::Usage);  // not mlt
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-sigma", "0.05",
                          "--mlt-large-step", "1", "--mlt-chains", "7"}),
             ExitCode::Ok);

@@ -150,6 +150,7 @@ void MetropolisStats::add_chains(const MetropolisStats& o) {
   small_proposed += o.small_proposed;
   small_accepted += o.small_accepted;
   restarts += o.restarts;
+  direct_samples += o.direct_samples;
   if (chains_by_depth.size() < o.chains_by_depth.size()) chains_by_depth.resize(o.chains_by_depth.size(), 0);
   for (size_t d = 0; d < o.chains_by_depth.size(); ++d) chains_by_depth[d] += o.chains_by_depth[d];
 }

@@ -47,6 +47,11 @@ struct MetropolisStats {
   uint64_t b_large_steps = 0;      // large steps' proposals counted into b
   uint32_t restarts = 0;           // path lengths whose chains restarted from their pools
   std::vector<uint32_t> chains_by_depth;
+  // mmlt with the direct light rendered apart (--mlt-direct): its samples per pixel for every
+  // mutation per pixel, and the samples per pixel it took (every device's together); the
+  // chains then sample bounces 2 on. 0 and 0: the chains sample the direct light too.
+  double direct_ratio = 0.0;
+  uint64_t direct_samples = 0;
   double bootstrap_seconds = 0.0;
   uint64_t large_proposed = 0, large_accepted = 0;
   uint64_t small_proposed = 0, small_accepted = 0;
@@ -173,6 +178,9 @@ inline dev::RenderParams without_samples(const dev::RenderParams& params) {
 // The tile target's tiles (--mlt-target tile): kMltTile x kMltTile pixels.
 constexpr uint32_t kMltTile = 8;
 
+// --mlt-direct auto (MltConfig::direct).
+constexpr float kMltDirectAuto = -1.0f;
+
 // mlt's settings (--mlt-*).
 struct MltConfig {
   bool multiplexed = true;   // --mlt-mode mmlt (over bdpt's strategies); false: pssmlt (over pt)
@@ -189,6 +197,11 @@ struct MltConfig {
   // false: the chains never restart from their large steps' pools, and b stays the
   // bootstrap's for the whole render (its error then never fades; tests show it; no option).
   bool restart = true;
+  // --mlt-direct (mmlt only): the direct light (bounces 0 and 1) rendered apart by pt_render,
+  // this many samples per pixel for every mutation per pixel, the chains sampling bounces 2
+  // on; 0: the chains sample it too; kMltDirectAuto: the bootstrap's share of the light that
+  // is direct (Metropolis::direct_ratio), and off for pssmlt.
+  float direct = kMltDirectAuto;
 };
 
 // ic's settings (--ic-*).

@@ -59,6 +59,10 @@ const MltConfig& checked(const MltConfig& c) {
   // The tile target splits the bootstrap's rounds in two (weights, then b and the starts).
   if (c.importance_tile > 0 && c.bootstrap < 2)
     throw Error(ExitCode::Usage, "mlt: --mlt-target tile needs --mlt-bootstrap of at least 2");
+  if (!(c.direct >= 0.0f || c.direct == kMltDirectAuto) || !std::isfinite(c.direct))
+    throw Error(ExitCode::Usage, "--mlt-direct must be auto or a number >= 0");
+  if (c.direct > 0.0f && !c.multiplexed)
+    throw Error(ExitCode::Usage, "--mlt-direct needs --mlt-mode mmlt");
   return c;
 }
 
@@ -79,7 +83,10 @@ Metropolis::Metropolis(const cl::Context& ctx, const SceneBuffers& scene, const 
       importance_(ctx, sizeof(float), CL_MEM_READ_ONLY, nullptr, "Metropolis importance"),
       chains_(ctx, sizeof(dev::MltChain), CL_MEM_READ_WRITE, nullptr, "Metropolis chains"),
       coords_(ctx, sizeof(dev::PssCoord), CL_MEM_READ_WRITE, nullptr, "primary sample vectors"),
-      unused_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "mlt_begin's unused buffers") {
+      unused_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "mlt_begin's unused buffers"),
+      add_direct_kernel_(program_, "mlt_add_direct") {
+  if (config_.multiplexed && config_.direct != 0.0f)  // pssmlt: auto is off
+    direct_ = std::make_unique<MegakernelIntegrator>(ctx, scene, "direct", programs::kPt, "pt_render");
   bootstrap_arg_ = scene.bind(bootstrap_kernel_, 0);
   start_arg_ = scene.bind(start_kernel_, 0);
   mutate_arg_ = scene.bind(mutate_kernel_, 0);
@@ -134,6 +141,15 @@ std::vector<uint32_t> Metropolis::allocate(const std::vector<double>& b, uint32_
     n[d] = 1;
   }
   return n;
+}
+
+double Metropolis::direct_ratio(const std::vector<float>& target, uint32_t depths, uint32_t first) {
+  double direct = 0.0, all = 0.0;
+  for (size_t i = 0; i < target.size(); ++i) {
+    all += target[i];
+    if (i % depths < first) direct += target[i];
+  }
+  return all > 0.0 ? direct / all : 0.0;
 }
 
 std::vector<float> Metropolis::tile_importance(const std::vector<float>& target,
@@ -204,6 +220,15 @@ void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
   mutate_kernel_.args(mutate_arg_, params_, mlt_params_, depths_, importance_, chains_, coords_,
                       film.splat(), unused_, film.ray_counts());
   mutate_kernel_.launch(ctx_, chains);
+  if (direct_) {
+    if (!direct_film_) direct_film_ = std::make_unique<Film>(ctx_, film.width(), film.height());
+    dev::RenderParams direct = params;
+    direct.max_depth = std::min(params.max_depth, 1u);
+    direct_->warm_up(direct, *direct_film_);
+    add_direct_kernel_.args(0, film.sum(), film.ray_counts(), direct_film_->sum(),
+                            direct_film_->ray_counts(), 0.0f, cl_uint(0));
+    add_direct_kernel_.launch(ctx_, film.pixels());
+  }
   ctx_.finish();
 }
 
@@ -222,6 +247,9 @@ void Metropolis::set_up(const dev::RenderParams& params, const Film& film) {
   mlt_.dim_stride = gpu ? mlt_.chains : 1u;
   mlt_.chain_stride = gpu ? 1u : mlt_.dims;
   mlt_.depths = depths_for(params);
+  // With the direct light apart, the chains sample bounces 2 on (none where max_depth < 2).
+  first_depth_ = direct_ ? std::min(2u, mlt_.depths) : 0u;
+  if (direct_ && !direct_film_) direct_film_ = std::make_unique<Film>(ctx_, film.width(), film.height());
   const uint64_t paths = setup_items(params);
   if (paths > 0xffffffffull)
     throw Error(ExitCode::Usage, "mlt: --mlt-bootstrap times the path lengths (--max-depth + 1) "
@@ -314,10 +342,21 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
   // and its error.
   std::vector<std::vector<float>> by_depth(depths);
   std::vector<std::vector<uint32_t>> path_of(depths);
+  // Lengths below first_depth_ (the direct light, rendered apart) get no paths: b_d = 0 and
+  // no chains. The tile weights above still come from every length: they follow the whole
+  // image, whose relative error the chains' share of it adds to.
+  std::vector<float> b_paths;
   for (size_t i = 0; i < target.size(); ++i) {
     if (for_weights(i)) continue;
+    b_paths.push_back(target[i]);
+    if (i % depths < first_depth_) continue;
     by_depth[i % depths].push_back(target[i]);
     path_of[i % depths].push_back(uint32_t(i));
+  }
+  if (direct_) {
+    // b_paths holds every depths-th path of each round alike, so path j has j % depths bounces.
+    stats_.direct_ratio = config_.direct == kMltDirectAuto ? direct_ratio(b_paths, depths, first_depth_)
+                                                           : double(config_.direct);
   }
   bootstrap_sums_ = TargetSums(depths);
   retired_ = TargetSums(depths);
@@ -348,8 +387,11 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
     for (uint32_t j : resample(by_depth[d], chains_of[d], u)) start.push_back(path_of[d][j]);
   }
   if (start.empty()) {
-    log::warn("mlt: all " + std::to_string(mlt_.bootstrap) + " bootstrap paths carry no light; "
-              "the image stays black");
+    // Nothing for chains to sample: the direct light apart is then the image (max_depth < 2,
+    // or no light past one bounce), or else the image stays black.
+    if (!direct_)
+      log::warn("mlt: all " + std::to_string(mlt_.bootstrap) + " bootstrap paths carry no light; "
+                "the image stays black");
     dark_ = true;
     stats_.bootstrap_seconds += seconds_since(t0);
     return;
@@ -391,6 +433,7 @@ void Metropolis::render_pass(const dev::RenderParams& params, Film& film) {
   if (!film.splats()) throw Error(ExitCode::Usage, "Metropolis needs a film with splats");
   // The bootstrap, where the renderer did not share it out (setup_items) before this pass.
   if (!started_) setup_finish(params, film, setup_part(params, film, 0, setup_items(params)));
+  if (direct_) direct_pass(params, film);
   if (dark_) return;
   if (launched_ && config_.restart) restart_from_pools(film);
   // spp mutations per pixel in all, spread over the chains; the scale makes up for the
@@ -410,6 +453,32 @@ void Metropolis::render_pass(const dev::RenderParams& params, Film& film) {
   launched_ = true;
   for (size_t d = 0; d < mutations_.size(); ++d)
     mutations_[d] += per_chain * stats_.chains_by_depth[d];
+}
+
+void Metropolis::direct_pass(const dev::RenderParams& params, Film& film) {
+  // K = max(1, round(R N)) direct samples per pixel after N mutations per pixel: this pass
+  // takes what K has grown by (often none in a short pass when R is small; always the first).
+  direct_mutations_ += params.samples_per_pass;
+  const uint64_t want = std::max<uint64_t>(
+      1, static_cast<uint64_t>(std::llround(stats_.direct_ratio * double(direct_mutations_))));
+  if (want > stats_.direct_samples) {
+    // Samples K .. want - 1 of this device's own stream: the first device's is the seed's (so
+    // that R = 1 renders what `direct` renders), the others' keyed apart by their index.
+    dev::RenderParams direct = params;
+    direct.max_depth = std::min(params.max_depth, 1u);
+    direct.sample_offset = static_cast<uint32_t>(stats_.direct_samples);
+    direct.samples_per_pass = static_cast<uint32_t>(want - stats_.direct_samples);
+    direct.spp_total = 0;
+    if (device_index() > 0)
+      direct.seed = static_cast<uint32_t>(seeded_unit(uint64_t(params.seed) ^ (uint64_t(device_index()) << 32)) * 4294967296.0);
+    direct_->render_pass(direct, *direct_film_);
+    stats_.direct_samples = want;
+  }
+  add_direct_kernel_.args(0, film.sum(), film.ray_counts(), direct_film_->sum(),
+                          direct_film_->ray_counts(),
+                          float(double(direct_mutations_) / double(stats_.direct_samples)),
+                          cl_uint(film.pixels()));
+  add_direct_kernel_.launch(ctx_, film.pixels());
 }
 
 void Metropolis::TargetSums::add(const TargetSums& other, size_t d) {
@@ -434,7 +503,8 @@ void Metropolis::restart_from_pools(Film& film) {
   // about large_step times their mutations as large steps.
   bool due = false;
   for (size_t d = 0; d < norm_.size(); ++d)
-    due |= double(mlt_.large_step) * double(mutations_[d]) >= kRestartGrowth * double(start_count_[d]);
+    due |= stats_.chains_by_depth[d] > 0 &&
+           double(mlt_.large_step) * double(mutations_[d]) >= kRestartGrowth * double(start_count_[d]);
   if (!due) return;
   std::vector<dev::MltLargeSteps> large = large_.read_vector<dev::MltLargeSteps>(mlt_.chains);
   const TargetSums pool = pools(large);

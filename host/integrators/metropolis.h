@@ -21,11 +21,25 @@
 // render proposes some 40 times the bootstrap's paths), so that b's error, a scale error of
 // the whole image, fades as the render runs. Like lt and bdpt its film has splats: no
 // per-pixel variance, sums not bit-reproducible unless PoCL runs on one thread.
+//
+// mmlt renders the direct light apart by default (--mlt-direct; as Mitsuba 0.6's MLT
+// integrators do with their directSamples, 16 per pixel by default there: Metropolis gains
+// nothing on light a path tracer finds at once, and its correlated chains lose). After N
+// mutations per pixel the device has taken K = max(1, round(R N)) samples per pixel of pt cut
+// at one bounce (pt_render with max_depth 1, the `direct` integrator's kernel, into sums of
+// its own, S), and the film's per-pixel sums, which the chains do not use, hold S N / K: the
+// film's division by N gives S / K, an unbiased mean whatever K is, at every pass. The chains
+// sample bounces 2 on. R is --mlt-direct, or with auto the bootstrap's share of the chains'
+// target that bounces 0 and 1 carry (direct_ratio): a scene lit mostly directly spends more of
+// its time there (docs/concepts/metropolis.md).
 #pragma once
 
 #include <cstdint>
 
+#include <memory>
+
 #include "integrators/integrator.h"
+#include "integrators/megakernel.h"
 #include "shared/mlt_types.h"
 
 namespace clpt {
@@ -60,6 +74,9 @@ class Metropolis final : public Integrator {
   // The tile target's weight per pixel: the image's mean luminance over its tile's mean
   // (tiles of tile x tile pixels), both estimated from the bootstrap's luminance targets and
   // pixels (path i has i % depths bounces), the tile's mean floored at 0.3 of the image's.
+  // --mlt-direct auto's R: the share of the bootstrap's target sum that its paths of fewer
+  // than `first` bounces carry (path i has i % depths bounces), 0 when all are black.
+  static double direct_ratio(const std::vector<float>& target, uint32_t depths, uint32_t first);
   static std::vector<float> tile_importance(const std::vector<float>& target,
                                             const std::vector<uint32_t>& pixel, uint32_t depths,
                                             uint32_t width, uint32_t height, uint32_t tile);
@@ -98,6 +115,9 @@ class Metropolis final : public Integrator {
   // of the length starts again from a proposal of the pool drawn in proportion to its target,
   // and the pool starts empty.
   void restart_from_pools(Film& film);
+  // This pass's direct light (--mlt-direct): the samples per pixel it owes (pt_render's, into
+  // direct_film_), then the film's sums set to all of them so far, scaled (mlt_add_direct).
+  void direct_pass(const dev::RenderParams& params, Film& film);
 
   cl::Buffer params_, mlt_params_, depths_, importance_;
   cl::Buffer chains_, coords_;
@@ -111,6 +131,13 @@ class Metropolis final : public Integrator {
   std::vector<uint64_t> start_count_;  // per length: the paths of the pool its chains started from
   std::vector<uint64_t> mutations_;    // per length: its chains' proposals since they started
   cl::Buffer unused_;  // 4 bytes: mlt_begin's arguments that one launch does not use
+  // The direct light rendered apart (null: the chains sample it): pt_render, its own sums,
+  // and the kernel that adds them to the film.
+  std::unique_ptr<MegakernelIntegrator> direct_;
+  std::unique_ptr<Film> direct_film_;
+  cl::Kernel add_direct_kernel_;
+  uint32_t first_depth_ = 0;  // the chains' shortest path length: 2 with direct_, else 0
+  uint64_t direct_mutations_ = 0;  // mutations per pixel this device has rendered (direct_)
   dev::MltParams mlt_{};
   bool started_ = false;
   bool dark_ = false;  // every bootstrap path was black: nothing to mutate

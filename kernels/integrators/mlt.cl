@@ -11,7 +11,8 @@
  *                  start[c] % MLT_PICKS of chain start[c] / MLT_PICKS from its large steps
  *                  (MltLargeSteps), a state drawn from its length's pool in proportion to
  *                  the target;
- *   mlt_mutate     every chain takes MltParams.mutations steps and splats them.
+ *   mlt_mutate     every chain takes MltParams.mutations steps and splats them;
+ *   mlt_add_direct the direct light (pt_render's, bounces 0 and 1) into the film's sums.
  * The program reads its random numbers from the chains' vectors (sampler/pss.cl). */
 #define CLPT_PRIMARY_SAMPLE_SPACE 1
 #include "integrators/mlt/chain.cl"
@@ -97,4 +98,20 @@ __kernel void mlt_mutate(SCENE_KERNEL_ARGS __constant const RenderParams* params
   chains[c] = ch;
   large[c] = ls;
   atomic_add(ray_counts + c % (params->width * params->height), rays);
+}
+
+/* mmlt's direct light, rendered apart (--mlt-direct; host/integrators/metropolis.h): the
+ * film's per-pixel sums, which the chains leave alone, become the direct light's sums over all
+ * of its samples so far (pt_render's, bounces 0 and 1) times `scale`, the mutations per pixel
+ * so far over those samples per pixel: the film's division by the mutations then gives their
+ * mean, however few they are. The pass's direct rays go into the film's counts. */
+__kernel void mlt_add_direct(__global float4* film_sum, __global u32* ray_counts,
+                             __global const float4* direct_sum, __global u32* direct_rays,
+                             float scale, u32 pixels) {
+  const u32 i = get_global_id(0);
+  if (i >= pixels) return;
+  const float4 d = direct_sum[i];
+  film_sum[i] = (float4)(d.xyz * scale, d.w);
+  ray_counts[i] += direct_rays[i];
+  direct_rays[i] = 0u;
 }
