@@ -295,7 +295,9 @@ TEST(CrossIntegrator, VcmErrorFallsWithPasses) {
           compare_images(test::render(test::cornell_box(), *s, 8100).mean, ref.mean).rel_mse;
       std::cout << "[ figures  ] vcm cornell, " << (s == &defaults ? "defaults" : "pass rule")
                 << ", " << passes << " passes: relMSE " << rel_mse << "\n";
-      if (previous > 0.0) EXPECT_LT(rel_mse, previous) << passes << " passes";
+      if (previous > 0.0) {
+        EXPECT_LT(rel_mse, previous) << passes << " passes";
+      }
       previous = rel_mse;
     }
   }
