@@ -144,7 +144,9 @@ TEST(VcmPilot, LargeFilmsOnAGrid) {
   for (size_t i = 0; i < hd.sampled_pixels(); ++i) {
     const size_t p = hd.pixel(i);
     ASSERT_LT(p, size_t(1920) * 1080);
-    if (i) ASSERT_GT(p, last);
+    if (i) {
+      ASSERT_GT(p, last);
+    }
     last = p;
   }
   // A pass of the wrong size is a programming error.
