@@ -388,8 +388,8 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
   }
   if (start.empty()) {
     // Nothing for chains to sample: the direct light apart is then the image (max_depth < 2,
-    // or no light past one bounce), or else the image stays black.
-    if (!direct_)
+    // or no light past one bounce), unless no bootstrap path found light at all.
+    if (std::none_of(b_paths.begin(), b_paths.end(), [](float t) { return t > 0.0f; }))
       log::warn("mlt: all " + std::to_string(mlt_.bootstrap) + " bootstrap paths carry no light; "
                 "the image stays black");
     dark_ = true;
@@ -469,6 +469,9 @@ void Metropolis::direct_pass(const dev::RenderParams& params, Film& film) {
     direct.sample_offset = static_cast<uint32_t>(stats_.direct_samples);
     direct.samples_per_pass = static_cast<uint32_t>(want - stats_.direct_samples);
     direct.spp_total = 0;
+    // The chains splat through the pixel filter (filter_splat); pt's samples are drawn from it
+    // instead (filter importance sampling), which gives the same filtered image.
+    direct.filter_splat = 0u;
     if (device_index() > 0)
       direct.seed = static_cast<uint32_t>(seeded_unit(uint64_t(params.seed) ^ (uint64_t(device_index()) << 32)) * 4294967296.0);
     direct_->render_pass(direct, *direct_film_);
