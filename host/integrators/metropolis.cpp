@@ -38,15 +38,16 @@ constexpr double kImportanceFloor = 0.3;
 // clusters chains on the pool's brightest proposals anew).
 constexpr double kRestartGrowth = 4.0;
 
-// A uniform double in [0, 1) from a seed (splitmix64's finaliser): the one random number of
-// the host's resampling.
-double seeded_unit(uint64_t x) {
+// splitmix64's finaliser: 64 well-mixed bits from a seed.
+uint64_t splitmix64(uint64_t x) {
   x += 0x9e3779b97f4a7c15ull;
   x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
   x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  x ^= x >> 31;
-  return double(x >> 11) * 0x1.0p-53;
+  return x ^ (x >> 31);
 }
+
+// A uniform double in [0, 1) from a seed: the one random number of the host's resampling.
+double seeded_unit(uint64_t x) { return double(splitmix64(x) >> 11) * 0x1.0p-53; }
 
 // The settings' checks, before the program is built (a usage error should not wait for it).
 const MltConfig& checked(const MltConfig& c) {
@@ -221,10 +222,8 @@ void Metropolis::warm_up(const dev::RenderParams& params, Film& film) {
                       film.splat(), unused_, film.ray_counts());
   mutate_kernel_.launch(ctx_, chains);
   if (direct_) {
-    if (!direct_film_) direct_film_ = std::make_unique<Film>(ctx_, film.width(), film.height());
-    dev::RenderParams direct = params;
-    direct.max_depth = std::min(params.max_depth, 1u);
-    direct_->warm_up(direct, *direct_film_);
+    make_direct_film(film);
+    direct_->warm_up(direct_params(params), *direct_film_);
     add_direct_kernel_.args(0, film.sum(), film.ray_counts(), direct_film_->sum(),
                             direct_film_->ray_counts(), 0.0f, cl_uint(0));
     add_direct_kernel_.launch(ctx_, film.pixels());
@@ -249,7 +248,7 @@ void Metropolis::set_up(const dev::RenderParams& params, const Film& film) {
   mlt_.depths = depths_for(params);
   // With the direct light apart, the chains sample bounces 2 on (none where max_depth < 2).
   first_depth_ = direct_ ? std::min(2u, mlt_.depths) : 0u;
-  if (direct_ && !direct_film_) direct_film_ = std::make_unique<Film>(ctx_, film.width(), film.height());
+  if (direct_) make_direct_film(film);
   const uint64_t paths = setup_items(params);
   if (paths > 0xffffffffull)
     throw Error(ExitCode::Usage, "mlt: --mlt-bootstrap times the path lengths (--max-depth + 1) "
@@ -455,6 +454,25 @@ void Metropolis::render_pass(const dev::RenderParams& params, Film& film) {
     mutations_[d] += per_chain * stats_.chains_by_depth[d];
 }
 
+void Metropolis::make_direct_film(const Film& film) {
+  if (!direct_film_) direct_film_ = std::make_unique<Film>(ctx_, film.width(), film.height());
+}
+
+dev::RenderParams Metropolis::direct_params(const dev::RenderParams& params) const {
+  dev::RenderParams direct = params;
+  direct.max_depth = std::min(params.max_depth, 1u);
+  direct.spp_total = 0;
+  // The chains splat through the pixel filter (filter_splat); pt's samples are drawn from it
+  // instead (filter importance sampling), which gives the same filtered image.
+  direct.filter_splat = 0u;
+  // The first device's stream is the seed's (so that R = 1 renders what `direct` renders),
+  // the others' keyed apart by their index.
+  if (device_index() > 0)
+    direct.seed = static_cast<uint32_t>(
+        splitmix64(uint64_t(params.seed) ^ (uint64_t(device_index()) << 32)) >> 32);
+  return direct;
+}
+
 void Metropolis::direct_pass(const dev::RenderParams& params, Film& film) {
   // K = max(1, round(R N)) direct samples per pixel after N mutations per pixel: this pass
   // takes what K has grown by (often none in a short pass when R is small; always the first).
@@ -462,18 +480,10 @@ void Metropolis::direct_pass(const dev::RenderParams& params, Film& film) {
   const uint64_t want = std::max<uint64_t>(
       1, static_cast<uint64_t>(std::llround(stats_.direct_ratio * double(direct_mutations_))));
   if (want > stats_.direct_samples) {
-    // Samples K .. want - 1 of this device's own stream: the first device's is the seed's (so
-    // that R = 1 renders what `direct` renders), the others' keyed apart by their index.
-    dev::RenderParams direct = params;
-    direct.max_depth = std::min(params.max_depth, 1u);
+    // Samples K .. want - 1 of this device's own stream.
+    dev::RenderParams direct = direct_params(params);
     direct.sample_offset = static_cast<uint32_t>(stats_.direct_samples);
     direct.samples_per_pass = static_cast<uint32_t>(want - stats_.direct_samples);
-    direct.spp_total = 0;
-    // The chains splat through the pixel filter (filter_splat); pt's samples are drawn from it
-    // instead (filter importance sampling), which gives the same filtered image.
-    direct.filter_splat = 0u;
-    if (device_index() > 0)
-      direct.seed = static_cast<uint32_t>(seeded_unit(uint64_t(params.seed) ^ (uint64_t(device_index()) << 32)) * 4294967296.0);
     direct_->render_pass(direct, *direct_film_);
     stats_.direct_samples = want;
   }

@@ -35,7 +35,6 @@
 #pragma once
 
 #include <cstdint>
-
 #include <memory>
 
 #include "integrators/integrator.h"
@@ -71,12 +70,12 @@ class Metropolis final : public Integrator {
   // with at least one for every length of b_d > 0 while chains allow (a length without
   // chains would lose its light); all zero when every b_d is 0.
   static std::vector<uint32_t> allocate(const std::vector<double>& b, uint32_t chains);
-  // The tile target's weight per pixel: the image's mean luminance over its tile's mean
-  // (tiles of tile x tile pixels), both estimated from the bootstrap's luminance targets and
-  // pixels (path i has i % depths bounces), the tile's mean floored at 0.3 of the image's.
   // --mlt-direct auto's R: the share of the bootstrap's target sum that its paths of fewer
   // than `first` bounces carry (path i has i % depths bounces), 0 when all are black.
   static double direct_ratio(const std::vector<float>& target, uint32_t depths, uint32_t first);
+  // The tile target's weight per pixel: the image's mean luminance over its tile's mean
+  // (tiles of tile x tile pixels), both estimated from the bootstrap's luminance targets and
+  // pixels (path i has i % depths bounces), the tile's mean floored at 0.3 of the image's.
   static std::vector<float> tile_importance(const std::vector<float>& target,
                                             const std::vector<uint32_t>& pixel, uint32_t depths,
                                             uint32_t width, uint32_t height, uint32_t tile);
@@ -118,6 +117,11 @@ class Metropolis final : public Integrator {
   // This pass's direct light (--mlt-direct): the samples per pixel it owes (pt_render's, into
   // direct_film_), then the film's sums set to all of them so far, scaled (mlt_add_direct).
   void direct_pass(const dev::RenderParams& params, Film& film);
+  // The direct light's launch parameters: pt cut at one bounce, drawing its camera samples
+  // from the pixel filter, with this device's seed.
+  dev::RenderParams direct_params(const dev::RenderParams& params) const;
+  // direct_film_, the size of the film, once.
+  void make_direct_film(const Film& film);
 
   cl::Buffer params_, mlt_params_, depths_, importance_;
   cl::Buffer chains_, coords_;
