@@ -45,6 +45,28 @@ static inline float2 cos_sin_turns(float t) {
   }
 }
 
+/* ln x for a positive normal float x, at a fraction of the built-in log's cost (PoCL calls
+ * SLEEF's logf out of line: 9 % of an mmlt render, whose small steps draw a Gaussian per
+ * coordinate; docs/BENCHMARKS.md). x = 2^e (1 + f) with 1 + f in [sqrt(1/2), sqrt(2)), and
+ * ln(1 + f) = 2 atanh(s), s = f / (2 + f), |s| <= 0.1716, whose series' terms past s^9 are below
+ * 7e-10; the series is summed as f - (f^2 / 2 - s (f^2 / 2 + R)), R its terms from s^3 on
+ * (fdlibm's arrangement), so that near x = 1 the error stays a fraction of f's last bit.
+ * tests/warp_test.cpp (WarpLog) measures it against double precision. Subnormals, zero,
+ * infinities and NaN are outside its domain. */
+static inline float ln_positive(float x) {
+  const uint bits = as_uint(x);
+  int e = (int)(bits >> 23) - 127;
+  float m = as_float((bits & 0x007fffffu) | 0x3f800000u);
+  if (m > 1.41421356f) {
+    m *= 0.5f;
+    e += 1;
+  }
+  const float f = m - 1.0f, s = f / (2.0f + f), z = s * s;
+  const float R = z * (0.666666667f + z * (0.4f + z * (0.285714286f + z * 0.222222222f)));
+  const float hfsq = 0.5f * f * f;
+  return (float)e * 0.693147181f + (f - (hfsq - s * (hfsq + R)));
+}
+
 static inline float max_component(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
 static inline float luminance(float3 c) { return dot(c, (float3)(0.2126f, 0.7152f, 0.0722f)); }

@@ -37,6 +37,7 @@
 #include "shared/render_types.h"
 /* clang-format on */
 #include "sampler/dimensions.h"
+#include "core/math.cl"
 #include "sampler/hash.cl"
 #include "shared/mlt_types.h"
 
@@ -85,15 +86,17 @@ static inline float pss_uniform(u32 key, u32 d) {
 /* A standard normal number for coordinate d of proposal `key` (Box and Muller 1958): its
  * magnitude from a quarter turn (|cos| of a uniform angle is cos of a uniform angle in
  * [0, pi/2)), its sign from an independent bit. The step is thus symmetric by construction,
- * which is all Metropolis' acceptance rule needs of it, so the fast native_ functions may
- * round as they like. With them mlt ran about 1.17x faster on PoCL than with log, sqrt
- * and cos (Cornell box, 128x128, three A/B pairs). */
+ * which is all Metropolis' acceptance rule needs of it, so the functions may round as they
+ * like: native_sqrt, and core/math.cl's ln_positive and cos_sin_turns, polynomials inline
+ * where PoCL's native_log and native_cos call SLEEF out of line (mmlt about 1.09x faster on
+ * the door scene, whole processes; before them, the native_ functions had made mlt about 1.17x
+ * faster than log, sqrt and cos). */
 static inline float pss_gaussian(u32 key, u32 d) {
   const u32 h = hash_combine(key ^ PSS_SALT_GAUSS, d);
   const u32 h2 = hash_u32(h);
   const float u1 = ((float)(h >> 8) + 1.0f) * 0x1.0p-24f; /* (0, 1]: log is finite */
   const float u2 = (float)(h2 >> 9) * 0x1.0p-23f;          /* [0, 1), bit 0 is the sign's */
-  const float magnitude = native_sqrt(-2.0f * native_log(u1)) * native_cos(0.5f * M_PI_F * u2);
+  const float magnitude = native_sqrt(-2.0f * ln_positive(u1)) * cos_sin_turns(0.25f * u2).x;
   return (h2 & 1u) ? -magnitude : magnitude;
 }
 

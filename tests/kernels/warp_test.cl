@@ -95,3 +95,10 @@ __kernel void cos_sin_turns_at(__global const float* t, __global float2* out, ui
   if (i >= n) return;
   out[i] = cos_sin_turns(t[i]);
 }
+
+/* core/math.cl's ln_positive at x[i]: tests/warp_test.cpp's WarpLog. */
+__kernel void ln_positive_at(__global const float* x, __global float* out, uint n) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  out[i] = ln_positive(x[i]);
+}
