@@ -244,10 +244,11 @@ struct Parser {
         ->type_name("N")
         ->check(CLI::Range(1u, 1u << 26).description(""));
     app.add_option("--mlt-direct", o.mlt_direct,
-                   "mlt (mmlt): the direct light (bounces 0 and 1) rendered apart by path tracing, "
+                   "mlt: the direct light (bounces 0 and 1) rendered apart by path tracing, "
                    "R samples per pixel for every mutation per pixel, the chains sampling the "
-                   "rest; 0: the chains sample it too; auto: R is the bootstrap's share of the "
-                   "light that is direct [auto]")
+                   "rest; 0: the chains sample it too; auto: R is the direct light's share of the "
+                   "image's brightness, from the bootstrap (pssmlt: from the first direct "
+                   "samples) [auto]")
         ->type_name("R");
     app.add_option("--mlt-chains", o.mlt_chains,
                    "mlt: Markov chains run in parallel on each device; --spp counts mutations per pixel "
@@ -579,9 +580,6 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
       if (o.mlt_direct.empty() || *end != '\0' || !(r >= 0.0f) || !std::isfinite(r) || r > 64.0f)
         throw Error(ExitCode::Usage, "--mlt-direct must be auto or a number in [0, 64], not '" +
                                          o.mlt_direct + "'");
-      if (r > 0.0f && o.mlt_mode != "mmlt")
-        throw Error(ExitCode::Usage, "--mlt-direct renders mmlt's bounces 0 and 1 apart: it needs "
-                                     "--mlt-mode mmlt (pssmlt's chains sample every bounce)");
     }
     // A chain's path must be a function of its vector alone: one stream of dimensions.
     if (o.light_samples != 1 || o.branching != 1)

@@ -263,7 +263,11 @@ TEST_F(Cli, MltWritesStatsAndRefusesVarianceAndCheckpoints) {
   EXPECT_EQ(p["dimensions"].get<uint32_t>(), 4u + 8u * 9u);
   EXPECT_EQ(p["bootstrap_paths"].get<uint64_t>(), 5000u);
   EXPECT_FALSE(p.contains("b_by_depth"));
-  EXPECT_FALSE(p.contains("direct_ratio"));
+  // Its direct light apart too, R from the first direct samples.
+  EXPECT_GT(p["direct_ratio"].get<double>(), 0.0);
+  EXPECT_LT(p["direct_ratio"].get<double>(), 1.0);
+  EXPECT_GE(p["direct_samples"].get<uint64_t>(), 1u);
+  EXPECT_LE(p["direct_samples"].get<uint64_t>(), 4u);
   EXPECT_GT(image_mean(read_image(path("p.exr"))), 0.01);
   // --mlt-direct 0: the chains sample every length, the light seen directly the most.
   r = run_clpt({kCornell, "--device", "pocl", "--integrator", "mlt", "--mlt-direct", "0",

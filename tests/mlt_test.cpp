@@ -295,7 +295,7 @@ const char* mode_name(bool multiplexed) { return multiplexed ? "mmlt" : "pssmlt"
 struct MltFurnaceCase {
   test::FurnaceCase furnace;
   bool multiplexed;
-  float direct = kMltDirectAuto;  // mmlt: 0, the chains sample bounces 0 and 1 too
+  float direct = kMltDirectAuto;  // 0: the chains sample bounces 0 and 1 too
 };
 
 class SphereFurnaceMlt : public ::testing::TestWithParam<MltFurnaceCase> {};
@@ -331,10 +331,10 @@ INSTANTIATE_TEST_SUITE_P(
     Cases, SphereFurnaceMlt,
     ::testing::Values(MltFurnaceCase{{0.5f, 1}, true}, MltFurnaceCase{{0.8f, 8}, true},
                       MltFurnaceCase{{0.8f, 8}, true, 0.0f}, MltFurnaceCase{{0.5f, 1}, false},
-                      MltFurnaceCase{{0.8f, 8}, false}),
+                      MltFurnaceCase{{0.8f, 8}, false}, MltFurnaceCase{{0.8f, 8}, false, 0.0f}),
     [](const auto& info) {
       return std::string(mode_name(info.param.multiplexed)) +
-             (info.param.direct == 0.0f && info.param.multiplexed ? "_chains_only_" : "_") +
+             (info.param.direct == 0.0f ? "_chains_only_" : "_") +
              test::furnace_case_name(info.param.furnace);
     });
 
@@ -347,24 +347,58 @@ TEST(MltDirect, RatioIsTheShareOfTheShortPaths) {
   EXPECT_DOUBLE_EQ(Metropolis::direct_ratio({0, 0, 0}, 3, 2), 0.0);
 }
 
-// At --max-depth 1 the chains have no path length left, and with R = 1 each pass takes as
-// many direct samples as mutations, weighted 1: the image is the `direct` integrator's, sample
-// for sample (the same indices), up to the order of the film's sums.
+// At --max-depth 1 the chains have nothing left to sample (mmlt: no path length; pssmlt: its
+// paths count bounces 2 on), and with R = 1 each pass takes as many direct samples as
+// mutations, weighted 1: the image is the `direct` integrator's, sample for sample (the same
+// indices), up to the order of the film's sums.
 TEST(MltDirect, AtOneBounceItIsTheDirectIntegrator) {
-  RenderSettings s = mlt_settings(16, 37);
-  s.max_depth = 1;
-  s.mlt.direct = 1.0f;
-  s.seed = 11;
-  const Scene scene = test::cornell_box();
-  const RenderOutput mlt = Renderer(test::device_context(), scene, s).render();
-  RenderSettings d = s;
-  d.integrator = "direct";
-  const RenderOutput direct = Renderer(test::device_context(), scene, d).render();
-  const double rel = compare_images(mlt.film.mean, direct.film.mean).rel_mse;
-  EXPECT_LT(rel, 1e-10);
-  EXPECT_EQ(mlt.stats.metropolis.direct_samples, 37u);
-  for (uint32_t n : mlt.stats.metropolis.chains_by_depth) EXPECT_EQ(n, 0u);
-  std::cout << "[ figures  ] mlt at one bounce against direct: relMSE " << rel << "\n";
+  for (const bool multiplexed : {true, false}) {
+    RenderSettings s = mlt_settings(16, 37, multiplexed);
+    s.max_depth = 1;
+    s.mlt.direct = 1.0f;
+    s.seed = 11;
+    const Scene scene = test::cornell_box();
+    const RenderOutput mlt = Renderer(test::device_context(), scene, s).render();
+    RenderSettings d = s;
+    d.integrator = "direct";
+    const RenderOutput direct = Renderer(test::device_context(), scene, d).render();
+    const double rel = compare_images(mlt.film.mean, direct.film.mean).rel_mse;
+    EXPECT_LT(rel, 1e-10) << mode_name(multiplexed);
+    EXPECT_EQ(mlt.stats.metropolis.direct_samples, 37u) << mode_name(multiplexed);
+    for (uint32_t n : mlt.stats.metropolis.chains_by_depth) EXPECT_EQ(n, 0u);
+    std::cout << "[ figures  ] " << mode_name(multiplexed) << " at one bounce against direct: relMSE "
+              << rel << "\n";
+  }
+}
+
+// pssmlt's bootstrap paths leave bounces 0 and 1 out (b is the chains' part alone: in the
+// furnace sum_{2 <= d <= D} rho^d Le), and its auto R comes from the direct light's first
+// samples, the furnace's 1 + rho at every pixel: R = (1 + rho) / sum_{d <= D} rho^d, as mmlt's.
+TEST(MltDirect, PssmltLeavesTheDirectLightToItsOwnSamples) {
+  constexpr float kRho = 0.6f;
+  constexpr uint32_t kDepth = 5;
+  RenderSettings s = mlt_settings(32, 64, false);
+  s.max_depth = kDepth;
+  s.mlt.bootstrap = 100000;
+  const RenderOutput out = Renderer(test::device_context(), test::furnace_scene(kRho, 1.0f), s).render();
+  const MetropolisStats& m = out.stats.metropolis;
+  double all = 0.0;
+  for (uint32_t d = 0; d <= kDepth; ++d) all += std::pow(double(kRho), double(d));
+  const double chains = all - 1.0 - kRho, direct = 1.0 + kRho, expected = direct / all;
+  // b against its standard error (z < 4); R = direct / (direct + b) carries b's error,
+  // direct sigma_b / (direct + b)^2, and the direct samples' own, which a furnace's pt keeps
+  // near zero (each sample's NEE and emission hit add up to nearly 1 + rho): 4 sigma_R and
+  // 0.1 % of R for them.
+  const double sigma_b = m.b_standard_error;
+  EXPECT_GT(sigma_b, 0.0);
+  EXPECT_LT(std::fabs(m.b_bootstrap - chains), 4.0 * sigma_b) << "sigma_b " << sigma_b;
+  const double sigma_r = direct * sigma_b / ((direct + chains) * (direct + chains));
+  EXPECT_LT(std::fabs(m.direct_ratio - expected), 4.0 * sigma_r + 0.001 * expected);
+  EXPECT_NEAR(double(m.direct_samples), m.direct_ratio * 64.0, 8.0);  // one rounding a pass
+  std::cout << "[ figures  ] pssmlt furnace rho " << kRho << " depth " << kDepth << ": b "
+            << m.b_bootstrap << " expected " << chains << " (sigma " << sigma_b << "), auto R "
+            << m.direct_ratio << " expected " << expected << " (sigma from b " << sigma_r << "), "
+            << m.direct_samples << " direct samples for 64 mutations per pixel\n";
 }
 
 // In the furnace a path of d bounces carries Le rho^d, so with the luminance target auto's R
@@ -564,11 +598,11 @@ TEST(MltOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "x"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "nan"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "100"}), ExitCode::Usage);
-  // pssmlt's chains sample every bounce: auto and 0 are accepted, a ratio is not.
+  // Both modes render the direct light apart.
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "pssmlt", "--mlt-direct", "0"}),
             ExitCode::Ok);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "pssmlt", "--mlt-direct", "0.5"}),
-            ExitCode::Usage);
+            ExitCode::Ok);
   EXPECT_EQ(parse_error({"s.gltf", "--mlt-direct", "0.5"}), ExitCode::Usage);  // not mlt
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-sigma", "0.05",
                          "--mlt-large-step", "1", "--mlt-chains", "7"}),

@@ -105,11 +105,11 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
                 {"small_step_acceptance", rate(m.small_accepted, m.small_proposed)},
                 {"acceptance", rate(m.large_accepted + m.small_accepted, proposed)},
                 {"device_bytes", m.device_bytes}};
+    j["mlt"]["direct_ratio"] = m.direct_ratio;
+    j["mlt"]["direct_samples"] = m.direct_samples;
     if (opt.mlt_mode == "mmlt") {
       j["mlt"]["b_by_depth"] = m.b_by_depth;
       j["mlt"]["chains_by_depth"] = m.chains_by_depth;
-      j["mlt"]["direct_ratio"] = m.direct_ratio;
-      j["mlt"]["direct_samples"] = m.direct_samples;
     }
   }
   if ((row.options & OPTIONS_IC) || ((row.options & OPTIONS_PM) && opt.final_gather_cache)) {

@@ -1,6 +1,7 @@
 #include "integrators/metropolis.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -62,8 +63,6 @@ const MltConfig& checked(const MltConfig& c) {
     throw Error(ExitCode::Usage, "mlt: --mlt-target tile needs --mlt-bootstrap of at least 2");
   if (!(c.direct >= 0.0f || c.direct == kMltDirectAuto) || !std::isfinite(c.direct))
     throw Error(ExitCode::Usage, "--mlt-direct must be auto or a number >= 0");
-  if (c.direct > 0.0f && !c.multiplexed)
-    throw Error(ExitCode::Usage, "--mlt-direct needs --mlt-mode mmlt");
   return c;
 }
 
@@ -86,7 +85,7 @@ Metropolis::Metropolis(const cl::Context& ctx, const SceneBuffers& scene, const 
       coords_(ctx, sizeof(dev::PssCoord), CL_MEM_READ_WRITE, nullptr, "primary sample vectors"),
       unused_(ctx, sizeof(uint32_t), CL_MEM_READ_WRITE, nullptr, "mlt_begin's unused buffers"),
       add_direct_kernel_(program_, "mlt_add_direct") {
-  if (config_.multiplexed && config_.direct != 0.0f)  // pssmlt: auto is off
+  if (config_.direct != 0.0f)
     direct_ = std::make_unique<MegakernelIntegrator>(ctx, scene, "direct", programs::kPt, "pt_render");
   bootstrap_arg_ = scene.bind(bootstrap_kernel_, 0);
   start_arg_ = scene.bind(start_kernel_, 0);
@@ -151,6 +150,22 @@ double Metropolis::direct_ratio(const std::vector<float>& target, uint32_t depth
     if (i % depths < first) direct += target[i];
   }
   return all > 0.0 ? direct / all : 0.0;
+}
+
+double Metropolis::direct_share(double b_direct, double b_chains) {
+  return b_direct + b_chains > 0.0 ? b_direct / (b_direct + b_chains) : 0.0;
+}
+
+double Metropolis::sampled_direct_b() const {
+  const FilmSums sums = direct_film_->read();
+  const double k = double(std::max<uint64_t>(stats_.direct_samples, 1));
+  double b = 0.0;
+  for (size_t p = 0; p < sums.sum.size(); ++p) {
+    const std::array<float, 4>& s = sums.sum[p];
+    const double y = 0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2];  // the kernels' luminance
+    b += (importance_weights_.empty() ? 1.0 : double(importance_weights_[p])) * y / k;
+  }
+  return sums.sum.empty() ? 0.0 : b / double(sums.sum.size());
 }
 
 std::vector<float> Metropolis::tile_importance(const std::vector<float>& target,
@@ -246,8 +261,11 @@ void Metropolis::set_up(const dev::RenderParams& params, const Film& film) {
   mlt_.dim_stride = gpu ? mlt_.chains : 1u;
   mlt_.chain_stride = gpu ? 1u : mlt_.dims;
   mlt_.depths = depths_for(params);
-  // With the direct light apart, the chains sample bounces 2 on (none where max_depth < 2).
-  first_depth_ = direct_ ? std::min(2u, mlt_.depths) : 0u;
+  // With the direct light apart, the chains sample bounces 2 on (none where max_depth < 2):
+  // mmlt gives the shorter lengths no chains, pssmlt's paths leave those bounces out.
+  const uint32_t first = direct_ ? std::min(2u, params.max_depth + 1u) : 0u;
+  first_depth_ = config_.multiplexed ? first : 0u;
+  mlt_.first_depth = config_.multiplexed ? 0u : first;
   if (direct_) make_direct_film(film);
   const uint64_t paths = setup_items(params);
   if (paths > 0xffffffffull)
@@ -335,6 +353,7 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
                                                  config_.importance_tile);
     for (size_t i = 0; i < target.size(); ++i) target[i] *= w[pixel[i]];
     importance_ = cl::Buffer::from_vector(ctx_, w, CL_MEM_READ_ONLY, "Metropolis importance");
+    importance_weights_ = w;
   }
 
   // Path i has i % depths bounces: each length's targets (and their paths), their mean b_d
@@ -354,8 +373,14 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
   }
   if (direct_) {
     // b_paths holds every depths-th path of each round alike, so path j has j % depths bounces.
-    stats_.direct_ratio = config_.direct == kMltDirectAuto ? direct_ratio(b_paths, depths, first_depth_)
-                                                           : double(config_.direct);
+    // pssmlt's paths leave bounces 0 and 1 out: its auto ratio waits for the direct light's
+    // first samples (direct_pass).
+    if (config_.direct != kMltDirectAuto)
+      stats_.direct_ratio = double(config_.direct);
+    else if (config_.multiplexed)
+      stats_.direct_ratio = direct_ratio(b_paths, depths, first_depth_);
+    else
+      direct_ratio_pending_ = true;
   }
   bootstrap_sums_ = TargetSums(depths);
   retired_ = TargetSums(depths);
@@ -388,7 +413,9 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
   if (start.empty()) {
     // Nothing for chains to sample: the direct light apart is then the image (max_depth < 2,
     // or no light past one bounce), unless no bootstrap path found light at all.
-    if (std::none_of(b_paths.begin(), b_paths.end(), [](float t) { return t > 0.0f; }))
+    // (pssmlt's paths do not see the direct light apart, which may still be there.)
+    if ((config_.multiplexed || !direct_) &&
+        std::none_of(b_paths.begin(), b_paths.end(), [](float t) { return t > 0.0f; }))
       log::warn("mlt: all " + std::to_string(mlt_.bootstrap) + " bootstrap paths carry no light; "
                 "the image stays black");
     dark_ = true;
@@ -486,6 +513,10 @@ void Metropolis::direct_pass(const dev::RenderParams& params, Film& film) {
     direct.samples_per_pass = static_cast<uint32_t>(want - stats_.direct_samples);
     direct_->render_pass(direct, *direct_film_);
     stats_.direct_samples = want;
+  }
+  if (direct_ratio_pending_) {
+    stats_.direct_ratio = direct_share(sampled_direct_b(), stats_.b);
+    direct_ratio_pending_ = false;
   }
   add_direct_kernel_.args(0, film.sum(), film.ray_counts(), direct_film_->sum(),
                           direct_film_->ray_counts(),

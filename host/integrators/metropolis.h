@@ -22,16 +22,19 @@
 // the whole image, fades as the render runs. Like lt and bdpt its film has splats: no
 // per-pixel variance, sums not bit-reproducible unless PoCL runs on one thread.
 //
-// mmlt renders the direct light apart by default (--mlt-direct; as Mitsuba 0.6's MLT
+// Both modes render the direct light apart by default (--mlt-direct; as Mitsuba 0.6's MLT
 // integrators do with their directSamples, 16 per pixel by default there: Metropolis gains
 // nothing on light a path tracer finds at once, and its correlated chains lose). After N
 // mutations per pixel the device has taken K = max(1, round(R N)) samples per pixel of pt cut
 // at one bounce (pt_render with max_depth 1, the `direct` integrator's kernel, into sums of
 // its own, S), and the film's per-pixel sums, which the chains do not use, hold S N / K: the
 // film's division by N gives S / K, an unbiased mean whatever K is, at every pass. The chains
-// sample bounces 2 on. R is --mlt-direct, or with auto the bootstrap's share of the chains'
-// target that bounces 0 and 1 carry (direct_ratio): a scene lit mostly directly spends more of
-// its time there (docs/concepts/metropolis.md).
+// sample bounces 2 on: mmlt's lengths 0 and 1 get no chains, pssmlt's paths leave those
+// bounces out (MltParams.first_depth). R is --mlt-direct, or with auto the share of the
+// chains' target that bounces 0 and 1 carry: from the bootstrap's lengths for mmlt
+// (direct_ratio), from the first direct samples against b for pssmlt, whose bootstrap no
+// longer sees them (direct_share); a scene lit mostly directly spends more of its time there
+// (docs/concepts/metropolis.md).
 #pragma once
 
 #include <cstdint>
@@ -73,6 +76,10 @@ class Metropolis final : public Integrator {
   // --mlt-direct auto's R: the share of the bootstrap's target sum that its paths of fewer
   // than `first` bounces carry (path i has i % depths bounces), 0 when all are black.
   static double direct_ratio(const std::vector<float>& target, uint32_t depths, uint32_t first);
+  // pssmlt's auto R, whose bootstrap paths leave bounces 0 and 1 out: the same share from
+  // b_direct, the direct light's mean target over the film (sampled_direct_b, after its first
+  // samples), and the chains' b.
+  static double direct_share(double b_direct, double b_chains);
   // The tile target's weight per pixel: the image's mean luminance over its tile's mean
   // (tiles of tile x tile pixels), both estimated from the bootstrap's luminance targets and
   // pixels (path i has i % depths bounces), the tile's mean floored at 0.3 of the image's.
@@ -122,6 +129,9 @@ class Metropolis final : public Integrator {
   dev::RenderParams direct_params(const dev::RenderParams& params) const;
   // direct_film_, the size of the film, once.
   void make_direct_film(const Film& film);
+  // The direct light's samples so far as a target's mean over the film: their per-pixel mean
+  // luminance times the pixel's tile weight (1 with the luminance target), averaged.
+  double sampled_direct_b() const;
 
   cl::Buffer params_, mlt_params_, depths_, importance_;
   cl::Buffer chains_, coords_;
@@ -140,7 +150,9 @@ class Metropolis final : public Integrator {
   std::unique_ptr<MegakernelIntegrator> direct_;
   std::unique_ptr<Film> direct_film_;
   cl::Kernel add_direct_kernel_;
-  uint32_t first_depth_ = 0;  // the chains' shortest path length: 2 with direct_, else 0
+  uint32_t first_depth_ = 0;  // mmlt: the chains' shortest path length, 2 with direct_, else 0
+  bool direct_ratio_pending_ = false;  // pssmlt with auto: R waits for the first direct samples
+  std::vector<float> importance_weights_;  // the tile weights importance_ holds (empty: none)
   uint64_t direct_mutations_ = 0;  // mutations per pixel this device has rendered (direct_)
   dev::MltParams mlt_{};
   bool started_ = false;

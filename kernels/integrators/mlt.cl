@@ -60,7 +60,7 @@ __kernel void mlt_begin(SCENE_KERNEL_ARGS __constant const RenderParams* params,
     sampler = pss_current(&ch, vector, mlt->dim_stride, dims);
   }
   u32 rays = 0;
-  const PssPath x = mlt_path(&scene, params, &sampler, depth, importance, &rays);
+  const PssPath x = mlt_path(&scene, params, mlt, &sampler, depth, importance, &rays);
   const u32 pixels = params->width * params->height;
   if (starting) {
     vstore3(x.L, 0, ch.color);

@@ -13,7 +13,7 @@ __kernel void pt_render(SCENE_KERNEL_ARGS __constant const RenderParams* params,
   for (u32 i = 0; i < params->samples_per_pass; ++i) {
     float3 org, dir;
     const Sampler sampler = pixel_sample(params, &ps, i, &org, &dir);
-    film_add(&ps.film, pt_radiance(&scene, params, &sampler, org, dir, &ps.rays));
+    film_add(&ps.film, pt_radiance(&scene, params, &sampler, org, dir, 0u, &ps.rays));
   }
   pixel_samples_end(&ps, film_sum, film_sum_sq, ray_counts);
 }

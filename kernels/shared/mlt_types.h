@@ -44,7 +44,10 @@ typedef struct MltParams {
                         random numbers are keyed by chain_base + c (one device: 0) */
   u32 bootstrap_first; /* this bootstrap launch's paths: bootstrap_first to         */
   u32 bootstrap_count; /*   bootstrap_first + bootstrap_count - 1 (the devices share them) */
-  u32 pad[2];
+  u32 first_depth;   /* pssmlt: the shortest depth (bounces) its paths count, 2 where the direct
+                        light is rendered apart (--mlt-direct), else 0; mmlt gives the shorter
+                        lengths no chains instead */
+  u32 pad[1];
 } MltParams;
 
 /* What the chains of one path length (all chains, for pssmlt) splat with. */

@@ -54,7 +54,7 @@ static inline float3 ic_indirect_at(__constant const RenderParams* p, const Scen
   return nee_direct(p, s, sampler, &w->sh, w->wo, offset_ray_origin(w->sh.p, w->sh.ng), w->depth,
                     w->stream, rays) +
          pt_continue(p, s, sampler, &w->sh, w->wo, w->depth, (float2)(w->cone_width, w->cone_spread),
-                     w->channel, w->stream, rays);
+                     w->channel, w->stream, 0u, rays);
 }
 
 /* The pixel footprint at the end of a camera path `travelled` long. */
