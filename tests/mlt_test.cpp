@@ -489,6 +489,17 @@ TEST(CrossIntegrator, PssmltMatchesPtOnCornellBox) {
       test::render_batches(cornell(), mlt_settings(kSize, 64, false), 48, 900), ref, "pssmlt");
 }
 
+// pssmlt with the tile target (the command line's default), its direct light apart: the
+// bootstrap's weight paths count every depth, its b paths and the chains bounces 2 on. b from
+// paths of every depth would make the image too bright by the direct light's share.
+TEST(CrossIntegrator, PssmltTileTargetMatchesPtOnCornellBox) {
+  const FilmResult ref = test::pt_reference(test::ReferenceScene::CornellBox, kSize, 8192, 4242);
+  RenderSettings s = mlt_settings(kSize, 64, false);
+  s.mlt.importance_tile = kMltTile;
+  s.mlt.bootstrap = 30000;
+  test::expect_matches_reference(test::render_batches(cornell(), s, 48, 900), ref, "pssmlt tile");
+}
+
 // One mutation per pixel with one chain per pixel: the image is mostly the chains' start
 // states, each splatted with weight b / I. Resampled in proportion to I they average to the
 // image; taken as they come (uniform in primary sample space) the dim pixels, which start

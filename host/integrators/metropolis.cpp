@@ -266,6 +266,8 @@ void Metropolis::set_up(const dev::RenderParams& params, const Film& film) {
   const uint32_t first = direct_ ? std::min(2u, params.max_depth + 1u) : 0u;
   first_depth_ = config_.multiplexed ? first : 0u;
   mlt_.first_depth = config_.multiplexed ? 0u : first;
+  // The tile weights' paths count every depth: the weights follow the whole image.
+  mlt_.weight_rounds = config_.importance_tile > 0 ? 1u : 0u;
   if (direct_) make_direct_film(film);
   const uint64_t paths = setup_items(params);
   if (paths > 0xffffffffull)

@@ -60,7 +60,9 @@ __kernel void mlt_begin(SCENE_KERNEL_ARGS __constant const RenderParams* params,
     sampler = pss_current(&ch, vector, mlt->dim_stride, dims);
   }
   u32 rays = 0;
-  const PssPath x = mlt_path(&scene, params, mlt, &sampler, depth, importance, &rays);
+  const u32 first_depth =
+      !starting && mlt->weight_rounds && (i / mlt->depths) % 2u == 0u ? 0u : mlt->first_depth;
+  const PssPath x = mlt_path(&scene, params, &sampler, depth, first_depth, importance, &rays);
   const u32 pixels = params->width * params->height;
   if (starting) {
     vstore3(x.L, 0, ch.color);

@@ -47,7 +47,9 @@ typedef struct MltParams {
   u32 first_depth;   /* pssmlt: the shortest depth (bounces) its paths count, 2 where the direct
                         light is rendered apart (--mlt-direct), else 0; mmlt gives the shorter
                         lengths no chains instead */
-  u32 pad[1];
+  u32 weight_rounds; /* 1: the tile target's bootstrap, whose even rounds of paths
+                        ((i / depths) % 2 == 0) estimate the image for the tile weights: those
+                        count every depth (the weights follow the whole image) */
 } MltParams;
 
 /* What the chains of one path length (all chains, for pssmlt) splat with. */

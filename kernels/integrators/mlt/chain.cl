@@ -24,16 +24,17 @@
 #include "integrators/mlt/pss_path.cl"
 
 /* The path of a chain's vector: over bdpt's strategies for mmlt (of `depth` bounces), pt's
- * path for pssmlt (its bounces m->first_depth on); its target is the path's luminance times
- * its pixel's importance (all 1 for --mlt-target luminance, the bootstrap's tile weights for
- * tile: host/integrators/metropolis.h). */
+ * path for pssmlt (its bounces first_depth on, MltParams.first_depth but for the tile
+ * weights' bootstrap paths); its target is the path's luminance times its pixel's importance
+ * (all 1 for --mlt-target luminance, the bootstrap's tile weights for tile:
+ * host/integrators/metropolis.h). */
 static inline PssPath mlt_path(const SceneView* s, __constant const RenderParams* p,
-                               __constant const MltParams* m, const Sampler* sampler, u32 depth,
+                               const Sampler* sampler, u32 depth, u32 first_depth,
                                __global const float* importance, u32* rays) {
 #ifdef CLPT_MLT_MULTIPLEXED
   PssPath path = mmlt_path(s, p, sampler, depth, rays);
 #else
-  PssPath path = pss_path(s, p, sampler, m->first_depth, rays);
+  PssPath path = pss_path(s, p, sampler, first_depth, rays);
 #endif
   path.target *= importance[path.pixel];
   return path;
@@ -94,7 +95,7 @@ static inline void mlt_step(const SceneView* s, __constant const RenderParams* p
   const Sampler proposal =
       pss_propose(ch, coords, m->dim_stride, mlt_chain_dims(m, ch->depth), chain_key,
                   m->large_step, m->sigma);
-  const PssPath y = mlt_path(s, p, m, &proposal, ch->depth, importance, rays);
+  const PssPath y = mlt_path(s, p, &proposal, ch->depth, m->first_depth, importance, rays);
   if (proposal.large_step) mlt_count_large_step(large, proposal.step_key, y.target);
   const float a = pss_acceptance(y.target, ch->target);
   if (y.target > 0.0f)
