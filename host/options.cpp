@@ -234,7 +234,8 @@ struct Parser {
         ->check(CLI::Range(0.0f, 1.0f).description(""))
         ->check(kFinite);
     app.add_option("--mlt-sigma", o.mlt_sigma,
-                   "mlt: standard deviation of a small step in primary sample space [0.01]")
+                   "mlt: standard deviation of a small step in primary sample space (mmlt: the "
+                   "light subpath's coordinates a quarter of it) [0.01]")
         ->type_name("S")
         ->check(CLI::Range(1e-7f, 1.0f).description(""))
         ->check(kFinite);

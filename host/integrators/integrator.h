@@ -197,10 +197,11 @@ struct MltConfig {
   // false: the chains never restart from their large steps' pools, and b stays the
   // bootstrap's for the whole render (its error then never fades; tests show it; no option).
   bool restart = true;
-  // --mlt-direct (mmlt only): the direct light (bounces 0 and 1) rendered apart by pt_render,
-  // this many samples per pixel for every mutation per pixel, the chains sampling bounces 2
-  // on; 0: the chains sample it too; kMltDirectAuto: the bootstrap's share of the light that
-  // is direct (Metropolis::direct_ratio), and off for pssmlt.
+  // --mlt-direct: the direct light (bounces 0 and 1) rendered apart by pt_render, this many
+  // samples per pixel for every mutation per pixel, the chains sampling bounces 2 on; 0: the
+  // chains sample it too; kMltDirectAuto: its share of the chains' target, from the bootstrap
+  // for mmlt (Metropolis::direct_ratio), from the first direct samples for pssmlt
+  // (Metropolis::direct_share).
   float direct = kMltDirectAuto;
 };
 

@@ -14,7 +14,9 @@
  *   a large step: a fresh uniform vector (Kelemen's "large step", probability
  *                 MltParams.large_step), or
  *   a small step: every coordinate moved by a Gaussian of standard deviation sigma, wrapped
- *                 into [0, 1) (pbrt-v4's perturbation; Kelemen's was exponential).
+ *                 into [0, 1) (pbrt-v4's perturbation; Kelemen's was exponential); in
+ *                 multiplexed MLT the light subpath's coordinates by sigma / 4
+ *                 (PSS_LIGHT_SIGMA_SCALE).
  * Coordinates are updated lazily, when the path reads them: a coordinate last brought up to
  * date at iteration m and read at iteration i takes the last accepted large step's value if
  * that came after m, then the i - m small steps it missed as one Gaussian of standard deviation
@@ -53,6 +55,16 @@
 #else
 #define PSS_STREAMS 1u
 #endif
+
+/* The light subpath's small steps (mmlt's odd coordinates) are a quarter of the camera
+ * subpath's: a light subpath's emission point and direction, moved as far as a camera ray's
+ * film position, mostly miss what made the path (the door-ajar scene's gap). Measured
+ * (docs/BENCHMARKS.md, session 38; 128x128, depth 8, two or three seeds): the door at 60 s
+ * relMSE 0.00164 against 0.00209 with sigma alike (1/2: 0.00187; 2: worse at 20 s), the
+ * caustic scene at 30 s 0.00513 against 0.00623, the Cornell box at 10 s 0.00143 against
+ * 0.00130. Each coordinate's Gaussian keeps its own fixed width, so a step stays symmetric and
+ * the lazy updates exact. */
+#define PSS_LIGHT_SIGMA_SCALE 0.25f
 
 /* The coordinate of a sampler dimension (see above); ~0u: none, the dimension is outside the
  * vector. */
@@ -138,7 +150,12 @@ static inline float pss_value(const Sampler* s, u32 dimension) {
     value = pss_uniform(s->step_key, d);
   } else if (modified < s->iteration) {
     const float steps = (float)(s->iteration - modified);
-    value += s->sigma * native_sqrt(steps) * pss_gaussian(s->step_key, d);
+#if PSS_STREAMS == 2u
+    const float sigma = (d & 1u) ? s->sigma * PSS_LIGHT_SIGMA_SCALE : s->sigma;
+#else
+    const float sigma = s->sigma;
+#endif
+    value += sigma * native_sqrt(steps) * pss_gaussian(s->step_key, d);
     value -= floor(value);
     value = fmin(value, 0x1.fffffep-1f);
   }
