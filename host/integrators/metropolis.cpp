@@ -158,12 +158,14 @@ double Metropolis::direct_share(double b_direct, double b_chains) {
 
 double Metropolis::sampled_direct_b() const {
   const FilmSums sums = direct_film_->read();
+  // The weights the chains' targets carry: the tile weights, or 1 everywhere (set_up).
+  const std::vector<float> w = importance_.read_vector<float>(sums.sum.size());
   const double k = double(std::max<uint64_t>(stats_.direct_samples, 1));
   double b = 0.0;
   for (size_t p = 0; p < sums.sum.size(); ++p) {
     const std::array<float, 4>& s = sums.sum[p];
     const double y = 0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2];  // the kernels' luminance
-    b += (importance_weights_.empty() ? 1.0 : double(importance_weights_[p])) * y / k;
+    b += double(w[p]) * y / k;
   }
   return sums.sum.empty() ? 0.0 : b / double(sums.sum.size());
 }
@@ -355,7 +357,6 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
                                                  config_.importance_tile);
     for (size_t i = 0; i < target.size(); ++i) target[i] *= w[pixel[i]];
     importance_ = cl::Buffer::from_vector(ctx_, w, CL_MEM_READ_ONLY, "Metropolis importance");
-    importance_weights_ = w;
   }
 
   // Path i has i % depths bounces: each length's targets (and their paths), their mean b_d

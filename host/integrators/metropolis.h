@@ -152,7 +152,6 @@ class Metropolis final : public Integrator {
   cl::Kernel add_direct_kernel_;
   uint32_t first_depth_ = 0;  // mmlt: the chains' shortest path length, 2 with direct_, else 0
   bool direct_ratio_pending_ = false;  // pssmlt with auto: R waits for the first direct samples
-  std::vector<float> importance_weights_;  // the tile weights importance_ holds (empty: none)
   uint64_t direct_mutations_ = 0;  // mutations per pixel this device has rendered (direct_)
   dev::MltParams mlt_{};
   bool started_ = false;
