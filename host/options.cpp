@@ -581,6 +581,7 @@ std::optional<Options> parse_options(int argc, const char* const* argv, std::ost
       if (o.mlt_direct.empty() || *end != '\0' || !(r >= 0.0f) || !std::isfinite(r) || r > 64.0f)
         throw Error(ExitCode::Usage, "--mlt-direct must be auto or a number in [0, 64], not '" +
                                          o.mlt_direct + "'");
+      o.mlt_direct_ratio = r;
     }
     // A chain's path must be a function of its vector alone: one stream of dimensions.
     if (o.light_samples != 1 || o.branching != 1)

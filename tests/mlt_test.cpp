@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -32,6 +33,7 @@
 #include <glm/glm.hpp>
 
 #include "integrators/metropolis.h"
+#include "options.h"
 #include "render/renderer.h"
 #include "shared/mlt_types.h"
 #include "stats/image_stats.h"
@@ -608,6 +610,14 @@ TEST(MltOptions, BadValuesAreUsageErrors) {
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "-1"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "x"}), ExitCode::Usage);
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "nan"}), ExitCode::Usage);
+  // The ratio is parsed once, where it is checked: the number reaches the settings, auto none.
+  const auto ratio = [](const char* value) {
+    const char* argv[] = {"clpt", "s.gltf", "--integrator", "mlt", "--mlt-direct", value};
+    return parse_options(6, argv)->mlt_direct_ratio;
+  };
+  EXPECT_EQ(ratio("0.25"), std::optional<float>(0.25f));
+  EXPECT_EQ(ratio("0"), std::optional<float>(0.0f));
+  EXPECT_FALSE(ratio("auto").has_value());
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-direct", "100"}), ExitCode::Usage);
   // Both modes render the direct light apart.
   EXPECT_EQ(parse_error({"s.gltf", "--integrator", "mlt", "--mlt-mode", "pssmlt", "--mlt-direct", "0"}),

@@ -123,8 +123,7 @@ RenderSettings render_settings(const Options& opt) {
   settings.mlt.bootstrap = opt.mlt_bootstrap;
   settings.mlt.large_step = opt.mlt_large_step;
   settings.mlt.sigma = opt.mlt_sigma;
-  settings.mlt.direct =
-      opt.mlt_direct == "auto" ? kMltDirectAuto : std::strtof(opt.mlt_direct.c_str(), nullptr);
+  settings.mlt.direct = opt.mlt_direct_ratio.value_or(kMltDirectAuto);
   settings.ic.error = opt.ic_error;
   settings.ic.rays = opt.ic_rays;
   settings.ic.min_spacing = opt.ic_min_spacing;
