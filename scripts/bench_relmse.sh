@@ -6,11 +6,15 @@
 #   e.g. scripts/bench_relmse.sh scenes/caustic.gltf 10 pt bdpt
 #        REF_SPP=65536 scripts/bench_relmse.sh scenes/indirect.gltf 30 pt lt bdpt -- --rr-depth 5
 #
-# 1. Reference: REF_INTEGRATOR (pt) at REF_SPP samples per pixel, rendered as two independent
-#    halves of REF_SPP/2 (seeds 1000001 and 1000002) averaged with oiiotool. It is cached under
-#    $BENCH_DIR/<scene>/ref-<key>/, the key being a hash of the scene file's bytes, RES, DEPTH,
-#    REF_SPP, REF_INTEGRATOR, DEVICE and the extra clpt args; a later run with the same key
-#    reuses it (delete the folder to render it again).
+# 1. Reference: REF_INTEGRATOR (pt) at REF_SPP samples per pixel, rendered as REF_PARTS (2)
+#    independent parts of REF_SPP/REF_PARTS spp (seeds 1000001, 1000002, ...) averaged with
+#    oiiotool. It is cached under $BENCH_DIR/<scene>/ref-<key>/, the key being a hash of the
+#    scene file's bytes, RES, DEPTH, REF_SPP, REF_PARTS (when not 2), REF_INTEGRATOR, DEVICE and
+#    the extra clpt args; a later run with the same key reuses it (delete the folder to render
+#    it again). The parts are cached apart, under parts-<key>/ (the same key less REF_SPP and
+#    REF_PARTS, plus the part's spp), so a longer reference reuses the parts rendered before:
+#    REF_SPP=65536 REF_PARTS=4 after REF_SPP=32768 renders parts 3 and 4 only (the halves of an
+#    earlier two-part reference count as parts 1 and 2).
 #    REF=DIR|FILE uses a reference made elsewhere instead (e.g. with many more samples on a
 #    GPU): a ref-<key> folder of this script, or an EXR (its spp from the file's clpt:spp; its
 #    own error is known only when a reference.txt written by this script lies beside it).
@@ -36,7 +40,8 @@
 # 1. It must therefore lie well below the relMSE values measured (a tenth of the smallest at
 # most). The script estimates it as a quarter of the relMSE between the two independent halves
 # (the average of two halves has half the variance of one half; two halves differ by twice
-# that), prints it with the reference's spp and seconds, and warns when it is above a tenth of
+# that; with n parts, the mean relMSE of the disjoint pairs (1, 2), (3, 4), ... over 2n),
+# prints it with the reference's spp and seconds, and warns when it is above a tenth of
 # some integrator's relMSE. Raise REF_SPP until it is not. On the caustic scene a pt reference
 # converges very slowly (the caustic is found only when a BSDF-sampled path happens to hit the
 # small light through the glass, and each such sample is a firefly), so there the floor stays
@@ -48,7 +53,7 @@
 #   CLPT [build/clpt], CLPT_DIFF [build/clpt-diff]  binaries (relative to the repository root
 #                                                    when the default is used)
 #   BENCH_DIR [bench-out/relmse]  reference cache and per-run outputs
-#   REF_SPP [4096]  RES [128x128]  DEPTH [8]  (--max-depth, for every render)
+#   REF_SPP [4096]  REF_PARTS [2]  RES [128x128]  DEPTH [8]  (--max-depth, for every render)
 #   REF_INTEGRATOR [pt]  REF [unset]  SEED [1] (the timed renders' first --seed)  RUNS [1]
 #   DEVICE [pocl] (clpt --device, every render)
 # Each run writes its images, stats, diffs, commands.txt and table.txt to
@@ -76,6 +81,7 @@ CLPT=${CLPT:-$root/build/clpt}
 CLPT_DIFF=${CLPT_DIFF:-$root/build/clpt-diff}
 BENCH_DIR=${BENCH_DIR:-$root/bench-out/relmse}
 REF_SPP=${REF_SPP:-4096}
+REF_PARTS=${REF_PARTS:-2}
 RES=${RES:-128x128}
 DEPTH=${DEPTH:-8}
 REF_INTEGRATOR=${REF_INTEGRATOR:-pt}
@@ -87,19 +93,31 @@ for tool in "$CLPT" "$CLPT_DIFF"; do
   [ -x "$tool" ] || { echo "bench_relmse: $tool not found or not executable (set CLPT / CLPT_DIFF)" >&2; exit 2; }
 done
 case "$REF_SPP" in '' | *[!0-9]*) echo "bench_relmse: REF_SPP must be a whole number" >&2; exit 2;; esac
+case "$REF_PARTS" in '' | *[!0-9]* | 0 | 1) echo "bench_relmse: REF_PARTS must be a whole number of at least 2" >&2; exit 2;; esac
+[ $((REF_SPP % REF_PARTS)) -eq 0 ] && [ "$REF_SPP" -ge "$REF_PARTS" ] ||
+  { echo "bench_relmse: REF_SPP ($REF_SPP) must be a positive multiple of REF_PARTS ($REF_PARTS)" >&2; exit 2; }
 case "$RUNS" in '' | *[!0-9]* | 0) echo "bench_relmse: RUNS must be a positive whole number" >&2; exit 2;; esac
 case "$SEED" in '' | *[!0-9]*) echo "bench_relmse: SEED must be a whole number" >&2; exit 2;; esac
-if [ "$SEED" -le 1000002 ] && [ $((SEED + RUNS - 1)) -ge 1000001 ]; then
-  echo "bench_relmse: seeds $SEED..$((SEED + RUNS - 1)) include a reference seed (1000001, 1000002)" >&2; exit 2
+if [ "$SEED" -le $((1000000 + REF_PARTS)) ] && [ $((SEED + RUNS - 1)) -ge 1000001 ]; then
+  echo "bench_relmse: seeds $SEED..$((SEED + RUNS - 1)) include a reference seed (1000001..$((1000000 + REF_PARTS)))" >&2; exit 2
 fi
 oiiotool=$(command -v oiiotool || true)
 
 name=$(basename "$scene")
 name=${name%.*}
 common=(--device "$DEVICE" --quiet --resolution "$RES" --max-depth "$DEPTH")
-key=$( { sha256sum < "$scene" | cut -d' ' -f1
-         printf '%s\n' "$RES" "$DEPTH" "$REF_SPP" "$REF_INTEGRATOR" "$DEVICE" "${oiiotool:+halves}" "${extra[@]+"${extra[@]}"}"
-       } | sha256sum | cut -c1-12)
+scene_hash=$(sha256sum < "$scene" | cut -d' ' -f1)
+ref_key() {  # REF_SPP [PARTS]: the cache key of a reference (two parts: the key it always had)
+  { echo "$scene_hash"
+    printf '%s\n' "$RES" "$DEPTH" "$1" "$REF_INTEGRATOR" "$DEVICE" "${oiiotool:+halves}" "${extra[@]+"${extra[@]}"}"
+    [ "${2:-2}" -eq 2 ] || echo "parts=$2"
+  } | sha256sum | cut -c1-12
+}
+key=$(ref_key "$REF_SPP" "$REF_PARTS")
+part_spp=$((REF_SPP / REF_PARTS))
+partdir=$BENCH_DIR/$name/parts-$( { echo "$scene_hash"
+  printf '%s\n' "$RES" "$DEPTH" "part=$part_spp" "$REF_INTEGRATOR" "$DEVICE" "${extra[@]+"${extra[@]}"}"
+} | sha256sum | cut -c1-12)
 refdir=$BENCH_DIR/$name/ref-$key
 if [ -n "$REF" ]; then
   if [ -d "$REF" ]; then refdir=$REF; else refdir=$(dirname "$REF"); fi
@@ -139,20 +157,40 @@ elif [ -f "$ref" ] && [ -f "$refdir/reference.txt" ]; then
   log "reusing the reference $ref"
 else
   rm -f "$ref" "$refdir/reference.txt"
-  if [ -n "$oiiotool" ] && [ "$REF_SPP" -ge 2 ]; then
-    half=$((REF_SPP / 2))
-    secs=0
-    for k in 0 1; do
-      log "reference half $k: $REF_INTEGRATOR, $half spp, $RES, depth $DEPTH, seed $((1000001 + k)) ..."
-      render "$refdir/half$k.exr" "$refdir/half$k.json" $(integrator_args "$REF_INTEGRATOR") --spp "$half" --seed $((1000001 + k))
-      secs=$(python3 -c 'import sys; print(float(sys.argv[1]) + float(sys.argv[2]))' "$secs" "$(json "$refdir/half$k.json" 'j["render_seconds"]')")
+  if [ -n "$oiiotool" ]; then
+    # An earlier two-part reference of 2 x part_spp holds parts 1 and 2 as its halves.
+    halves=$BENCH_DIR/$name/ref-$(ref_key $((2 * part_spp)) 2)
+    mkdir -p "$partdir"
+    secs=0 parts=()
+    for ((k = 0; k < REF_PARTS; k++)); do
+      seed=$((1000001 + k)) part=$partdir/part-$((1000001 + k))
+      if [ ! -f "$part.exr" ] && [ $k -lt 2 ] && [ -f "$halves/half$k.exr" ] && [ -f "$halves/half$k.json" ]; then
+        cp "$halves/half$k.exr" "$part.tmp.exr" && cp "$halves/half$k.json" "$part.json" && mv "$part.tmp.exr" "$part.exr"
+      fi
+      if [ -f "$part.exr" ] && [ -f "$part.json" ]; then
+        log "reference part $((k + 1)) of $REF_PARTS: reusing $part.exr"
+      else
+        log "reference part $((k + 1)) of $REF_PARTS: $REF_INTEGRATOR, $part_spp spp, $RES, depth $DEPTH, seed $seed ..."
+        render "$part.tmp.exr" "$part.json" $(integrator_args "$REF_INTEGRATOR") --spp "$part_spp" --seed "$seed"
+        mv "$part.tmp.exr" "$part.exr"
+      fi
+      secs=$(python3 -c 'import sys; print(float(sys.argv[1]) + float(sys.argv[2]))' "$secs" "$(json "$part.json" 'j["render_seconds"]')")
+      parts+=("$part.exr")
     done
-    "$CLPT_DIFF" --json "$refdir/half0.exr" "$refdir/half1.exr" > "$refdir/halves-diff.json"
-    floor=$(json "$refdir/halves-diff.json" 'j["relmse"] / 4 if j["relmse"] is not None else None')
-    "$oiiotool" "$refdir/half0.exr" "$refdir/half1.exr" --add --mulc 0.5 \
-      --attrib:type=int clpt:spp $((2 * half)) -d float -o "$refdir/reference.tmp.exr"
+    # The reference's own relMSE: two independent parts differ by twice one part's variance,
+    # and the mean of n parts has 1/n of it, so floor = (mean relMSE of disjoint pairs) / (2n).
+    pairs=()
+    for ((k = 0; k + 1 < REF_PARTS; k += 2)); do
+      "$CLPT_DIFF" --json "${parts[k]}" "${parts[k + 1]}" > "$refdir/parts-diff-$k.json"
+      pairs+=("$(json "$refdir/parts-diff-$k.json" 'j["relmse"]')")
+    done
+    floor=$(python3 -c 'import sys; v = [float(x) for x in sys.argv[2:] if x]; print(sum(v) / len(v) / (2 * int(sys.argv[1])) if v else "")' "$REF_PARTS" "${pairs[@]}")
+    sum=("${parts[0]}")
+    for ((k = 1; k < REF_PARTS; k++)); do sum+=("${parts[k]}" --add); done
+    "$oiiotool" "${sum[@]}" --mulc "$(python3 -c "print(repr(1.0 / $REF_PARTS))")" \
+      --attrib:type=int clpt:spp "$REF_SPP" -d float -o "$refdir/reference.tmp.exr"
     mv "$refdir/reference.tmp.exr" "$ref"
-    ref_spp=$((2 * half))
+    ref_spp=$REF_SPP
   else
     [ -n "$oiiotool" ] || log "oiiotool not found: one reference render, its own error not estimated"
     log "reference: $REF_INTEGRATOR, $REF_SPP spp, $RES, depth $DEPTH, seed 1000001 ..."
@@ -161,13 +199,14 @@ else
     floor=
     ref_spp=$REF_SPP
   fi
-  printf 'spp=%s\nseconds=%s\nfloor=%s\nintegrator=%s\n' "$ref_spp" "$secs" "$floor" "$REF_INTEGRATOR" > "$refdir/reference.txt"
+  printf 'spp=%s\nseconds=%s\nfloor=%s\nintegrator=%s\nparts=%s\n' "$ref_spp" "$secs" "$floor" "$REF_INTEGRATOR" "$REF_PARTS" > "$refdir/reference.txt"
 fi
 refinfo=${refinfo:-$refdir/reference.txt}
 ref_spp=$(sed -n 's/^spp=//p' "$refinfo")
 ref_secs=$(sed -n 's/^seconds=//p' "$refinfo")
 floor=$(sed -n 's/^floor=//p' "$refinfo")
 ref_integ=$(sed -n 's/^integrator=//p' "$refinfo")
+ref_parts=$(sed -n 's/^parts=//p' "$refinfo")
 
 # ---- timed renders ----------------------------------------------------------------------------
 status=0
@@ -204,9 +243,9 @@ done
 
 # ---- table ------------------------------------------------------------------------------------
 python3 - "$scene" "$seconds" "$RES" "$DEPTH" "$ref" "$ref_spp" "$ref_secs" "$floor" "$ref_integ" \
-  "$RUNS" "${rows[@]}" <<'PY' | tee "$rundir/table.txt"
+  "$RUNS" "${ref_parts:-2}" "${rows[@]}" <<'PY' | tee "$rundir/table.txt"
 import math, sys
-scene, seconds, res, depth, ref, ref_spp, ref_secs, floor, ref_integ, runs = sys.argv[1:11]
+scene, seconds, res, depth, ref, ref_spp, ref_secs, floor, ref_integ, runs, ref_parts = sys.argv[1:12]
 floor = float(floor) if floor else None
 runs = int(runs)
 
@@ -215,7 +254,7 @@ def mean(xs):
 
 rows = []
 spread = {}  # each integrator's relMSE per run
-for r in sys.argv[11:]:
+for r in sys.argv[12:]:
     integ, spp, secs, rel = r.split("|")
     if not secs:  # failed: spp holds the message
         rows.append((integ, spp, None, None))
@@ -232,7 +271,8 @@ print(f"scene {scene}, {res}, max depth {depth}, {seconds} s per integrator"
       + (f", means over {runs} runs (seeds differ)" if runs > 1 else ""))
 print(f"reference {ref}: {ref_integ} {ref_spp} spp"
       + (f", {float(ref_secs):.1f} s" if ref_secs else "") + "; its own relMSE "
-      + (f"~ {floor:.3g} (a quarter of the relMSE between its two halves)" if floor is not None
+      + ((f"~ {floor:.3g} (a quarter of the relMSE between its two halves)" if ref_parts == "2" else
+          f"~ {floor:.3g} (from the relMSE between pairs of its {ref_parts} parts)") if floor is not None
          else "not estimated"))
 pt = next((r[3] for r in rows if r[0] == "pt" and r[3] is not None and not math.isnan(r[3])), None)
 head = f"{'integrator':<12} {'spp':>8} {'seconds':>8} {'relMSE':>11} {'relMSE-ref':>11} {'pt/this':>8} {'pt/this-ref':>11}"
