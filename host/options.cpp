@@ -224,9 +224,9 @@ struct Parser {
                    "pssmlt (Kelemen's primary sample space over pt) [mmlt]")
         ->type_name("MODE");
     app.add_option("--mlt-target", o.mlt_target,
-                   "mlt: what the chains' density follows: tile (luminance over the bootstrap's "
-                   "estimate of its 8x8 tile's mean, so dim regions get their share) or "
-                   "luminance [tile]")
+                   "mlt: what the chains' density follows: tile (luminance times (image mean / "
+                   "its 8x8 tile's mean)^0.65, both from the bootstrap, so dim regions get their "
+                   "share) or luminance [tile]")
         ->type_name("T");
     app.add_option("--mlt-large-step", o.mlt_large_step,
                    "mlt: probability that a mutation is a large step (a fresh path) [0.3]")
@@ -253,7 +253,7 @@ struct Parser {
         ->type_name("R");
     app.add_option("--mlt-chains", o.mlt_chains,
                    "mlt: Markov chains run in parallel on each device; --spp counts mutations per pixel "
-                   "[one per pixel, at most 65536]")
+                   "[one per pixel, at most 65536 on a GPU and 1024 per compute unit on a CPU]")
         ->type_name("N")
         ->check(CLI::Range(1u, 1u << 24).description(""));
     app.add_option("--ic-error", o.ic_error,

@@ -177,6 +177,35 @@ TEST(MltStationary, SmallStepsAreStandardNormal) {
   EXPECT_TRUE(r.passed) << r.report;
 }
 
+// A small step's two coordinates of one sample_2d (pss_gaussian2, a Box-Muller pair): each a
+// standard normal and the two independent, by chi-square over 12 x 12 cells of equal
+// probability under two independent normals (the cells of Phi(x), Phi(y)). Taking the pair's
+// angle over a quarter turn (as pss_gaussian does for one number with a sign bit of its own)
+// leaves both positive and fails it; so does a pair of x and x.
+TEST(MltStationary, SmallStepPairsAreIndependentStandardNormals) {
+  constexpr uint32_t kN = 144000;
+  constexpr int kCells = 12;
+  cl::Context& ctx = test::device_context();
+  cl::Buffer out(ctx, 2 * kN * sizeof(float));
+  cl::Kernel k(test::test_program("kernels/mlt_test.cl"), "mlt_gaussian_pairs");
+  k.args(0, kN, out);
+  k.launch(ctx, kN);
+  const std::vector<float> g = out.read_vector<float>(2 * kN);
+  const auto cell = [](float v) {
+    const double p = 0.5 * std::erfc(-double(v) / std::sqrt(2.0));
+    return std::min(kCells - 1, int(p * kCells));
+  };
+  std::vector<double> observed(kCells * kCells, 0.0);
+  for (uint32_t i = 0; i < kN; ++i) {
+    ASSERT_TRUE(std::isfinite(g[2 * i]) && std::isfinite(g[2 * i + 1]));
+    observed[cell(g[2 * i]) * kCells + cell(g[2 * i + 1])] += 1.0;
+  }
+  const std::vector<double> expected(kCells * kCells, double(kN) / (kCells * kCells));
+  const test::Chi2Result r = test::chi2_counts(observed, expected, test::Chi2Options{},
+                                               [](size_t c) { return "cell " + std::to_string(c); });
+  EXPECT_TRUE(r.passed) << r.report;
+}
+
 // A chain's pool of large steps (integrators/mlt/large_steps.cl): each of its picks is one of
 // the proposals in proportion to its target, independently of the others; a proposal of
 // target 0 is never picked. Drawing with the sum before the proposal is added (target / old
@@ -258,25 +287,39 @@ TEST(MltResample, TileImportanceEvensOutTheImage) {
     pixel.push_back(p);
     target.push_back((p % 4) < 2 ? 4.0f : 1.0f);
   }
-  const std::vector<float> w = Metropolis::tile_importance(target, pixel, 2, 4, 2, 2);
+  const std::vector<float> w = Metropolis::tile_importance(target, pixel, 2, 4, 2, 2, 1.0);
   // Per length 4 paths in each tile, summing to 16 (tile 0) and 4 (tile 1). Image mean
   // sum_d (1/8) sum I = 2 * (16 + 4) / 8 = 5; tile 0's mean 2 * 16 / 8 / (4/8) = 8, tile 1's
   // 2 (above the floor 0.3 * 5); weights 5/8 and 5/2.
   ASSERT_EQ(w.size(), 8u);
   for (uint32_t p = 0; p < 8; ++p) EXPECT_FLOAT_EQ(w[p], (p % 4) < 2 ? 5.0f / 8.0f : 5.0f / 2.0f) << p;
+  // The default exponent keeps part of the luminance's pull: weights (5/8)^e and (5/2)^e, so
+  // the bright tile's share of the target, 8 (5/8)^e against 2 (5/2)^e, stays above the dim
+  // one's (equal at e = 1).
+  const double e = Metropolis::kTileExponent;
+  const std::vector<float> p = Metropolis::tile_importance(target, pixel, 2, 4, 2, 2, e);
+  EXPECT_FLOAT_EQ(p[0], float(std::pow(5.0 / 8.0, e)));
+  EXPECT_FLOAT_EQ(p[2], float(std::pow(5.0 / 2.0, e)));
+  EXPECT_GT(8.0 * p[0], 2.0 * p[2]);
   // A tile the bootstrap saw black gets the floor: 1 / 0.3 of the image's weight.
   for (float& t : target) t = (t == 1.0f) ? 0.0f : t;
-  const std::vector<float> f = Metropolis::tile_importance(target, pixel, 2, 4, 2, 2);
+  const std::vector<float> f = Metropolis::tile_importance(target, pixel, 2, 4, 2, 2, 1.0);
   EXPECT_FLOAT_EQ(f[2], float(1.0 / 0.3));
   EXPECT_FLOAT_EQ(f[0], 0.5f);  // image 4, tile 8
 }
 
 TEST(MltResample, DefaultChainsFitTheBudget) {
-  EXPECT_EQ(Metropolis::default_chains(1000, 76, size_t(256) << 20), 1000u);
-  EXPECT_EQ(Metropolis::default_chains(size_t(1) << 22, 76, size_t(256) << 20), 65536u);
-  const uint32_t fit = Metropolis::default_chains(size_t(1) << 22, PSS_DIMS(1024), size_t(256) << 20);
+  EXPECT_EQ(Metropolis::default_chains(1000, 76, size_t(256) << 20, 65536), 1000u);
+  EXPECT_EQ(Metropolis::default_chains(size_t(1) << 22, 76, size_t(256) << 20, 65536), 65536u);
+  EXPECT_EQ(Metropolis::default_chains(size_t(1) << 22, 76, size_t(256) << 20, 2048), 2048u);
+  const uint32_t fit = Metropolis::default_chains(size_t(1) << 22, PSS_DIMS(1024), size_t(256) << 20, 65536);
   EXPECT_LE(fit * (sizeof(dev::MltChain) + PSS_DIMS(1024) * sizeof(dev::PssCoord)), size_t(256) << 20);
   EXPECT_GT(fit, 1000u);
+  // The device's cap: GPUs 65536, CPU devices 1024 per compute unit (at most 65536).
+  EXPECT_EQ(Metropolis::default_chain_cap(false, 132), 65536u);
+  EXPECT_EQ(Metropolis::default_chain_cap(true, 2), 2048u);
+  EXPECT_EQ(Metropolis::default_chain_cap(true, 0), 1024u);
+  EXPECT_EQ(Metropolis::default_chain_cap(true, 256), 65536u);
 }
 
 // ---- Renders. ----

@@ -26,9 +26,10 @@ namespace {
 constexpr size_t kDefaultChainBudget = size_t(256) << 20;
 constexpr uint32_t kMaxDefaultChains = 65536;
 // The tile target's floor on a tile's mean, as a fraction of the image's: a tile the
-// bootstrap saw dark gets at most 1 / 0.3 times the weight of an average one. On the door-ajar
-// scene at 20 s (tiles of 8) relMSE was 0.0084, 0.0088, 0.0071, 0.0074 and 0.0077 for floors
-// of 0.03, 0.1, 0.3, 0.5 and 1 (one run each), 0.0133 with the luminance target.
+// bootstrap saw dark gets at most (1 / 0.3)^kTileExponent times the weight of an average one.
+// On the door-ajar scene at 20 s (tiles of 8, exponent 1) relMSE was 0.0084, 0.0088, 0.0071,
+// 0.0074 and 0.0077 for floors of 0.03, 0.1, 0.3, 0.5 and 1 (one run each), 0.0133 with the
+// luminance target.
 constexpr double kImportanceFloor = 0.3;
 // A path length's chains restart when its pool of large steps has grown to this many times the
 // pool (or bootstrap) they last started from: segments of geometrically growing length, so
@@ -92,9 +93,14 @@ Metropolis::Metropolis(const cl::Context& ctx, const SceneBuffers& scene, const 
   mutate_arg_ = scene.bind(mutate_kernel_, 0);
 }
 
-uint32_t Metropolis::default_chains(size_t pixels, uint32_t dims, size_t budget_bytes) {
+uint32_t Metropolis::default_chains(size_t pixels, uint32_t dims, size_t budget_bytes, uint32_t cap) {
   const size_t fit = budget_bytes / chain_bytes(dims);
-  return static_cast<uint32_t>(std::max<size_t>(1, std::min({pixels, size_t(kMaxDefaultChains), fit})));
+  return static_cast<uint32_t>(std::max<size_t>(1, std::min({pixels, size_t(cap), fit})));
+}
+
+uint32_t Metropolis::default_chain_cap(bool cpu, uint32_t compute_units) {
+  if (!cpu) return kMaxDefaultChains;
+  return std::min(kMaxDefaultChains, kCpuChainsPerUnit * std::max(compute_units, 1u));
 }
 
 std::vector<uint32_t> Metropolis::resample(const std::vector<float>& targets, uint32_t chains,
@@ -172,7 +178,8 @@ double Metropolis::sampled_direct_b() const {
 
 std::vector<float> Metropolis::tile_importance(const std::vector<float>& target,
                                                const std::vector<uint32_t>& pixel, uint32_t depths,
-                                               uint32_t width, uint32_t height, uint32_t tile) {
+                                               uint32_t width, uint32_t height, uint32_t tile,
+                                               double exponent) {
   const uint32_t tx = (width + tile - 1) / tile, ty = (height + tile - 1) / tile;
   std::vector<double> sum(size_t(tx) * ty, 0.0);
   std::vector<uint32_t> area(sum.size(), 0);
@@ -196,7 +203,8 @@ std::vector<float> Metropolis::tile_importance(const std::vector<float>& target,
   std::vector<float> w(size_t(width) * height);
   for (uint32_t y = 0; y < height; ++y)
     for (uint32_t x = 0; x < width; ++x)
-      w[size_t(y) * width + x] = float(image / std::max(mean[(y / tile) * tx + x / tile], floor));
+      w[size_t(y) * width + x] =
+          float(std::pow(image / std::max(mean[(y / tile) * tx + x / tile], floor), exponent));
   return w;
 }
 
@@ -205,8 +213,10 @@ uint32_t Metropolis::dims_for(const dev::RenderParams& params) const {
 }
 
 uint32_t Metropolis::chains_for(const dev::RenderParams& params, const Film& film) const {
+  const cl::DeviceInfo& dev = ctx_.device();
   return config_.chains ? config_.chains
-                        : default_chains(film.pixels(), dims_for(params), kDefaultChainBudget);
+                        : default_chains(film.pixels(), dims_for(params), kDefaultChainBudget,
+                                         default_chain_cap(dev.is_cpu(), dev.compute_units));
 }
 
 // mlt_begin's two launches (kernels/integrators/mlt.cl): each binds the buffers the other
@@ -354,7 +364,7 @@ void Metropolis::setup_finish(const dev::RenderParams& params, Film& film, const
         p_w.push_back(pixel[i]);
       }
     const std::vector<float> w = tile_importance(t_w, p_w, depths, params.width, params.height,
-                                                 config_.importance_tile);
+                                                 config_.importance_tile, kTileExponent);
     for (size_t i = 0; i < target.size(); ++i) target[i] *= w[pixel[i]];
     importance_ = cl::Buffer::from_vector(ctx_, w, CL_MEM_READ_ONLY, "Metropolis importance");
   }

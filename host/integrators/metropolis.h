@@ -8,8 +8,8 @@
 // their target values I; their mean is each length's normalisation b_d. I is the path's
 // luminance, or with the tile target (--mlt-target tile, the default) its luminance times
 // the pixel's weight from the bootstrap's estimate of the image (tile_importance), which
-// sends the chains to dim tiles as often as to bright ones (the weight is fixed before the
-// chains start, so any positive weight keeps the estimate unbiased).
+// sends the chains to dim tiles nearly as often as to bright ones (the weight is fixed before
+// the chains start, so any positive weight keeps the estimate unbiased).
 // The chains are shared out over the lengths in proportion to b_d (allocate), and each
 // chain's start state is drawn from its length's paths in proportion to I (systematic
 // resampling), so the chains start in their stationary distribution and there is no start-up
@@ -63,9 +63,18 @@ class Metropolis final : public Integrator {
   const cl::BuildInfo& build_info() const override { return program_.build_info(); }
   MetropolisStats metropolis_stats() const override;
 
-  // Chains for an image when --mlt-chains is not given: one per pixel, at most 65536, and
-  // no more than fit `budget_bytes` of chain state.
-  static uint32_t default_chains(size_t pixels, uint32_t dims, size_t budget_bytes);
+  // Chains for an image when --mlt-chains is not given: one per pixel, at most `cap`
+  // (default_chain_cap), and no more than fit `budget_bytes` of chain state.
+  static uint32_t default_chains(size_t pixels, uint32_t dims, size_t budget_bytes, uint32_t cap);
+  // The most chains by default on a device: 65536 on a GPU, which needs tens of thousands of
+  // work-items in flight; on a CPU device kCpuChainsPerUnit per compute unit, which is plenty
+  // for its threads, and whose fewer, longer chains keep more of their state in the caches.
+  static uint32_t default_chain_cap(bool cpu, uint32_t compute_units);
+  // Door ajar (128x128, 30 s, two seeds) and the Cornell box (10 s, three seeds), 2 threads,
+  // relMSE by --mlt-chains: 16384 (one per pixel) 0.00221 / 0.00142, 4096 0.00200 / 0.00135,
+  // 2048 0.00194 and 0.00197 / 0.00127, 1024 0.00202 / 0.00127, 512 0.00216 / 0.00138
+  // (docs/BENCHMARKS.md, session 39).
+  static constexpr uint32_t kCpuChainsPerUnit = 1024;
   // Chain c's start is the bootstrap path whose cumulative target interval holds
   // (c + u) / chains (systematic resampling); empty when every target is 0.
   static std::vector<uint32_t> resample(const std::vector<float>& targets, uint32_t chains, double u);
@@ -82,10 +91,18 @@ class Metropolis final : public Integrator {
   static double direct_share(double b_direct, double b_chains);
   // The tile target's weight per pixel: the image's mean luminance over its tile's mean
   // (tiles of tile x tile pixels), both estimated from the bootstrap's luminance targets and
-  // pixels (path i has i % depths bounces), the tile's mean floored at 0.3 of the image's.
+  // pixels (path i has i % depths bounces), the tile's mean floored at 0.3 of the image's,
+  // raised to `exponent` (1: every tile as often as any other; 0: the luminance target).
   static std::vector<float> tile_importance(const std::vector<float>& target,
                                             const std::vector<uint32_t>& pixel, uint32_t depths,
-                                            uint32_t width, uint32_t height, uint32_t tile);
+                                            uint32_t width, uint32_t height, uint32_t tile,
+                                            double exponent);
+  // The tile target's exponent (tile_importance): bright tiles keep some of their luminance's
+  // pull. On the door-ajar scene a tile's relative error per mutation grows with its
+  // brightness (the bright strip seen through the gap, lit by long paths few chains reach),
+  // so evening the tiles out fully (exponent 1) left most of the image's error there
+  // (docs/concepts/metropolis.md, "The target").
+  static constexpr double kTileExponent = 0.65;
 
  private:
   uint32_t chains_for(const dev::RenderParams& params, const Film& film) const;

@@ -61,6 +61,15 @@ __kernel void mlt_gaussians(u32 n, __global float* out) {
   out[i] = pss_gaussian(hash_u32(i), 3u);
 }
 
+/* pss_gaussian2 for keys 0..n-1 at dimension 3: out[2i], out[2i + 1] one pair. */
+__kernel void mlt_gaussian_pairs(u32 n, __global float* out) {
+  const u32 i = get_global_id(0);
+  if (i >= n) return;
+  const float2 g = pss_gaussian2(hash_u32(i), 3u);
+  out[2u * i] = g.x;
+  out[2u * i + 1u] = g.y;
+}
+
 #include "integrators/mlt/large_steps.cl"
 
 /* A pool of n large steps of targets t[0..n-1] per trial (keys new per trial): out[trial]
