@@ -69,8 +69,8 @@ struct Options {
   float mlt_sigma = 0.01f;
   uint32_t mlt_bootstrap = 100000;
   std::string mlt_direct = "auto";  // a number >= 0, or auto (MltConfig::direct), as given
-  std::optional<float> mlt_direct_ratio;  // --mlt-direct parsed by validate(); empty: auto
-  uint32_t mlt_chains = 0;         // 0: one per pixel, at most 65536 (and 256 MiB of state)
+  std::optional<float> mlt_direct_ratio;  // --mlt-direct parsed by parse_options; empty: auto
+  uint32_t mlt_chains = 0;  // 0: Metropolis::default_chains (one per pixel, capped per device)
   bool mlt_set = false;
   // Irradiance cache (ic). ic_set: one of the --ic-* options was given.
   float ic_error = 0.2f;

@@ -142,18 +142,27 @@ static inline float2 pss_gaussian2(u32 key, u32 d) {
   return native_sqrt(-2.0f * ln_positive(u1)) * cos_sin_turns(u2);
 }
 
-/* A small step's update of coordinate d (at c), not yet read by this proposal, by the standard
- * normal g: the last accepted large step's value first if that came after the coordinate was
- * last brought up to date, then the small steps it missed as one Gaussian (file comment). */
-static inline float pss_small_step(const Sampler* s, __global PssCoord* c, u32 d, float g) {
+/* Coordinate d (at c), not yet read by this proposal, as the current state holds it: the last
+ * accepted large step's value if that came after the coordinate was last brought up to date.
+ * Kept as its backup (a rejection restores it); *modified: the iteration it belongs to. */
+static inline float pss_backup(const Sampler* s, __global PssCoord* c, u32 d, u32* modified) {
   float value = c->value;
-  u32 modified = c->modified;
-  if (modified < s->last_large) { /* the last accepted large step's value */
+  *modified = c->modified;
+  if (*modified < s->last_large) {
     value = pss_uniform(s->large_key, d);
-    modified = s->last_large;
+    *modified = s->last_large;
   }
   c->backup = value;
-  c->backup_modified = modified;
+  c->backup_modified = *modified;
+  return value;
+}
+
+/* A small step's update of coordinate d (at c), not yet read by this proposal, by the standard
+ * normal g: the small steps it missed since its backup's iteration as one Gaussian (file
+ * comment). */
+static inline float pss_small_step(const Sampler* s, __global PssCoord* c, u32 d, float g) {
+  u32 modified;
+  float value = pss_backup(s, c, d, &modified);
   const float steps = (float)(s->iteration - modified);
 #if PSS_STREAMS == 2u
   const float sigma = (d & 1u) ? s->sigma * PSS_LIGHT_SIGMA_SCALE : s->sigma;
@@ -181,15 +190,9 @@ static inline float pss_value(const Sampler* s, u32 dimension) {
   if (c->modified >= s->iteration) return c->value;
   if (!s->large_step) return pss_small_step(s, c, d, pss_gaussian(s->step_key, d));
   /* A large step: the value before it is kept as the backup, as a small step keeps it. */
-  float value = c->value;
-  u32 modified = c->modified;
-  if (modified < s->last_large) {
-    value = pss_uniform(s->large_key, d);
-    modified = s->last_large;
-  }
-  c->backup = value;
-  c->backup_modified = modified;
-  value = pss_uniform(s->step_key, d);
+  u32 modified;
+  pss_backup(s, c, d, &modified);
+  const float value = pss_uniform(s->step_key, d);
   c->value = value;
   c->modified = s->iteration;
   return value;
