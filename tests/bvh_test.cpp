@@ -289,6 +289,46 @@ TEST(BvhBuild, OptionsAreHonoured) {
   }
 }
 
+// triangle_lanes (bvh.h): every leaf's groups of up to four, nine rows of the group's size,
+// each float of the array written once with its triangle's vertex, three zeros at the end.
+TEST(BvhBuild, TriangleLanesHoldEachLeafsPositions) {
+  const Mesh m = test::random_soup(3000, 3, glm::vec3(0), glm::vec3(1), 0.1f);
+  for (int leaf : {1, 4, 7, 32}) {
+    SCOPED_TRACE("max leaf " + std::to_string(leaf));
+    BvhBuildOptions o;
+    o.max_leaf_size = leaf;
+    const Bvh bvh = build_bvh(m.positions, m.triangles, o);
+    const std::vector<float> lanes = triangle_lanes(bvh, m.positions, m.triangles);
+    const size_t n = bvh.triangle_order.size();
+    ASSERT_EQ(lanes.size(), 9 * n + 3);
+    std::vector<int> written(9 * n, 0);
+    size_t groups = 0, mismatches = 0;
+    for (const BvhNode& leaf_node : bvh.nodes) {
+      if (leaf_node.count <= 0) continue;
+      const size_t first = size_t(leaf_node.offset), end = first + size_t(leaf_node.count);
+      for (size_t i = first; i < end; i += 4, ++groups) {
+        const size_t g = std::min<size_t>(end - i, 4);
+        for (size_t l = 0; l < g; ++l) {
+          const glm::uvec3 t = m.triangles[bvh.triangle_order[i + l]];
+          for (int v = 0; v < 3; ++v)
+            for (int a = 0; a < 3; ++a) {
+              const size_t k = 9 * i + size_t(3 * v + a) * g + l;
+              ++written[k];
+              mismatches += lanes[k] != m.positions[t[v]][a];
+            }
+        }
+      }
+    }
+    EXPECT_EQ(mismatches, 0u);
+    EXPECT_EQ(std::count(written.begin(), written.end(), 1), std::ptrdiff_t(9 * n));
+    EXPECT_GE(groups, n / 4);
+    for (size_t k = 9 * n; k < lanes.size(); ++k) EXPECT_EQ(lanes[k], 0.0f);
+  }
+  // The empty scene: its phantom leaf is never read; only the padding.
+  const Bvh empty = build_bvh({}, {});
+  EXPECT_EQ(triangle_lanes(empty, {}, {}).size(), 3u);
+}
+
 TEST(BvhBuild, DegenerateTriangles) {
   Mesh m = test::random_soup(2000, 11, glm::vec3(-1), glm::vec3(1), 0.2f);
   std::mt19937 rng(5);
@@ -398,7 +438,7 @@ TEST(BvhBuild, MillionTrianglesStructure) {
 
 // The BVH and mesh as the kernels see them: triangles in leaf order.
 struct DeviceScene {
-  cl::Buffer nodes, triangles, vertices;
+  cl::Buffer nodes, triangles, vertices, lanes;
   uint32_t num_triangles = 0;
 };
 
@@ -418,6 +458,8 @@ DeviceScene upload(const Bvh& bvh, const Mesh& mesh) {
   d.nodes = cl::Buffer::from_vector(ctx, bvh.wide, CL_MEM_READ_ONLY, "bvh nodes");
   d.triangles = cl::Buffer::from_vector(ctx, tris, CL_MEM_READ_ONLY, "triangles");
   d.vertices = cl::Buffer::from_vector(ctx, verts, CL_MEM_READ_ONLY, "vertices");
+  d.lanes = cl::Buffer::from_vector(ctx, triangle_lanes(bvh, mesh.positions, mesh.triangles),
+                                    CL_MEM_READ_ONLY, "triangle lanes");
   d.num_triangles = uint32_t(tris.size());
   return d;
 }
@@ -456,7 +498,7 @@ std::vector<Out> run_rays(const DeviceScene& scene, const Rays& rays, const char
   cl::Buffer dir = cl::Buffer::from_vector(ctx, rays.dir);
   cl::Buffer out(ctx, n * sizeof(Out), CL_MEM_WRITE_ONLY, nullptr, "hits");
   cl::Kernel kernel(bvh_program(lanes), kernel_name);
-  const cl_uint next = kernel.args(0, scene.nodes, scene.triangles, scene.vertices, org, dir, out, n);
+  const cl_uint next = kernel.args(0, scene.nodes, scene.triangles, scene.vertices, scene.lanes, org, dir, out, n);
   if (brute) kernel.arg(next, scene.num_triangles);
   ctx.finish();
   const auto t0 = std::chrono::steady_clock::now();
@@ -548,8 +590,9 @@ struct Comparison {
 
 // BVH closest hits against brute force and against the any-hit query, with the leaf's
 // triangles tested four at a time (the CPU build) and one at a time (the GPU build).
-Comparison compare_with_brute_force(const Mesh& mesh, const Rays& rays, const char* what) {
-  const Bvh bvh = build_bvh(mesh.positions, mesh.triangles);
+Comparison compare_with_brute_force(const Mesh& mesh, const Rays& rays, const char* what,
+                                    const BvhBuildOptions& options = {}) {
+  const Bvh bvh = build_bvh(mesh.positions, mesh.triangles, options);
   const DeviceScene scene = upload(bvh, mesh);
   const std::vector<HitRecord> ref = trace_brute_force(scene, rays);
   const double brute_seconds = g_last_seconds;
@@ -600,6 +643,19 @@ TEST(BvhVsBruteForce, RandomSoup) {
   const Bvh bvh = build_bvh(mesh.positions, mesh.triangles);
   const Comparison c = compare_with_brute_force(mesh, make_rays(bvh, mesh, 100000, 1), "soup");
   std::cout << c.hits << " hits, " << c.ties << " ties\n";
+}
+
+// Leaves of up to 7 triangles: the lanes take a leaf as a group of 4 and a group of the
+// rest, each with its own rows (bvh.h's triangle_lanes).
+TEST(BvhVsBruteForce, LeavesOfMoreThanFourTriangles) {
+  const Mesh mesh = test::random_soup(2000, 23, glm::vec3(-4), glm::vec3(4), 1.5f);
+  BvhBuildOptions o;
+  o.max_leaf_size = 7;
+  const Bvh bvh = build_bvh(mesh.positions, mesh.triangles, o);
+  size_t big = 0;
+  for (const BvhNode& n : bvh.nodes) big += n.count > 4;
+  ASSERT_GT(big, 50u) << "the build made few leaves of 5 to 7 triangles";
+  compare_with_brute_force(mesh, make_rays(bvh, mesh, 50000, 3), "soup, leaves of 7", o);
 }
 
 TEST(BvhVsBruteForce, TessellatedSphere) {
@@ -827,7 +883,7 @@ SpawnResult spawn_rays(const Mesh& mesh, size_t n, uint32_t seed, bool convex,
   cl::Buffer sample_buf = cl::Buffer::from_vector(ctx, sample);
   cl::Buffer out(ctx, n * sizeof(glm::vec4), CL_MEM_WRITE_ONLY, nullptr, "spawn results");
   cl::Kernel kernel(bvh_program(), "spawn_and_trace");
-  kernel.args(0, scene.nodes, scene.triangles, scene.vertices, tri_buf, sample_buf, out,
+  kernel.args(0, scene.nodes, scene.triangles, scene.vertices, scene.lanes, tri_buf, sample_buf, out,
               uint32_t(n));
   const auto t0 = std::chrono::steady_clock::now();
   kernel.launch(ctx, n);

@@ -14,6 +14,7 @@
 //       other things, and rewrites an earlier dump
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -123,6 +124,27 @@ TEST(KernelPrograms, TriangleLanesGoToCpuDevicesOnly) {
   const cl::Program p(test::device_context(), programs::kRaybench);
   EXPECT_NE(p.build_info().options.find("-DCLPT_TRIANGLE_LANES=4"), std::string::npos)
       << p.build_info().options;
+}
+
+// The scene's lanes buffer (render/scene_buffers) goes where the programs read it: CPU
+// devices, or whichever CLPT_BUILD_OPTIONS builds with the lanes; GPUs get a placeholder.
+TEST(KernelPrograms, TriangleLanesBufferFollowsTheBuild) {
+  const char* saved = std::getenv("CLPT_BUILD_OPTIONS");
+  const std::string before = saved ? saved : "";
+  cl::DeviceInfo cpu, gpu;
+  cpu.type = CL_DEVICE_TYPE_CPU;
+  gpu.type = CL_DEVICE_TYPE_GPU;
+  ::unsetenv("CLPT_BUILD_OPTIONS");
+  EXPECT_TRUE(cl::triangle_lanes(cpu));
+  EXPECT_FALSE(cl::triangle_lanes(gpu));
+  ::setenv("CLPT_BUILD_OPTIONS", "-DCLPT_TRIANGLE_LANES=4", 1);
+  EXPECT_TRUE(cl::triangle_lanes(gpu));
+  ::setenv("CLPT_BUILD_OPTIONS", "-DCLPT_TRIANGLE_LANES=1", 1);
+  EXPECT_FALSE(cl::triangle_lanes(cpu));
+  if (saved)
+    ::setenv("CLPT_BUILD_OPTIONS", before.c_str(), 1);
+  else
+    ::unsetenv("CLPT_BUILD_OPTIONS");
 }
 
 class KernelDump : public ::testing::Test {

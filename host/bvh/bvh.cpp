@@ -463,4 +463,24 @@ std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<BvhNode>& nodes, int*
   return wide;
 }
 
+std::vector<float> triangle_lanes(const Bvh& bvh, const std::vector<glm::vec3>& positions,
+                                  const std::vector<glm::uvec3>& triangles) {
+  const size_t n = bvh.triangle_order.size();
+  std::vector<float> lanes(9 * n + 3, 0.0f);
+  if (n == 0) return lanes;  // the empty scene's phantom leaf is never read
+  for (const BvhNode& leaf : bvh.nodes) {
+    if (leaf.count <= 0) continue;
+    const size_t first = size_t(leaf.offset), end = first + size_t(leaf.count);
+    for (size_t i = first; i < end; i += 4) {
+      const size_t m = std::min<size_t>(end - i, 4);
+      for (size_t l = 0; l < m; ++l) {
+        const glm::uvec3 t = triangles[bvh.triangle_order[i + l]];
+        for (int v = 0; v < 3; ++v)
+          for (int a = 0; a < 3; ++a) lanes[9 * i + size_t(3 * v + a) * m + l] = positions[t[v]][a];
+      }
+    }
+  }
+  return lanes;
+}
+
 }  // namespace clpt

@@ -237,6 +237,13 @@ std::string device_kind_options(const DeviceInfo& dev, const std::string& option
   return "";
 }
 
+bool triangle_lanes(const DeviceInfo& dev) {
+  const std::string options = build_options("");
+  if (options.find("CLPT_TRIANGLE_LANES") != std::string::npos)
+    return options.find("-DCLPT_TRIANGLE_LANES=4") != std::string::npos;
+  return dev.is_cpu();
+}
+
 Program::Program(const Context& ctx, const std::string& entry_file, const std::string& extra_options,
                  const KernelSources& sources, const std::string& optional_options) {
   const auto t0 = std::chrono::steady_clock::now();

@@ -49,6 +49,11 @@ std::string build_options(const std::string& extra);
 // -DCLPT_TRIANGLE_LANES=4 (kernels/bvh/intersect.cl), unless `options` names the macro already.
 std::string device_kind_options(const DeviceInfo& dev, const std::string& options);
 
+// Whether the render programs for this device read the float4 lanes' positions
+// (CLPT_TRIANGLE_LANES 4): CPU devices, unless CLPT_BUILD_OPTIONS names the macro, which then
+// decides. The scene's lanes buffer is uploaded only where this holds (render/scene_buffers).
+bool triangle_lanes(const DeviceInfo& dev);
+
 struct BuildInfo {
   bool from_cache = false;   // loaded from the on-disk cache
   bool from_memory = false;  // the context had it already (Context::find_program)

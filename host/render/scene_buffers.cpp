@@ -98,6 +98,7 @@ FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& e
     const glm::uvec3& t = scene.triangles[src];
     flat.triangles[i] = dev::Triangle{{t.x, t.y, t.z}, scene.triangle_materials[src]};
   }
+  flat.tri_lanes.rows = triangle_lanes(bvh, scene.positions, scene.triangles);
   const size_t nv = scene.positions.size();
   flat.vertices.resize(nv);
   for (size_t i = 0; i < nv; ++i) {
@@ -162,6 +163,10 @@ cl::Buffer upload(const cl::Context& ctx, const std::vector<T>& data, const char
 }
 cl::Buffer upload(const cl::Context& ctx, const dev::SceneInfo& info, const char* what) {
   return upload(ctx, std::vector<dev::SceneInfo>{info}, what);
+}
+cl::Buffer upload(const cl::Context& ctx, const TriangleLanes& lanes, const char* what) {
+  if (cl::triangle_lanes(ctx.device())) return upload(ctx, lanes.rows, what);
+  return upload(ctx, std::vector<float>{0.0f}, what);
 }
 
 }  // namespace

@@ -165,37 +165,32 @@ CLPT_INLINE bool intersect_triangle(const SceneView* s, const TriangleRay* r, u3
 #define CLPT_TRIANGLE_LANES 1
 #endif
 
-/* intersect_triangle for the leaf-order triangles tri .. tri + n - 1 (n in 1..4) at once, one
- * per float4 lane: the same operations in the same order, so each lane's t, b1 and b2 are
- * bit for bit what intersect_triangle computes (lanes past n repeat the last triangle).
- * Returns -1 in the lanes that hit with t in (0, tmax), 0 elsewhere. */
+/* A hint to fetch the cache line at p (clang's __builtin_prefetch, which PoCL's CPU code
+ * makes a prefetcht0; OpenCL's own prefetch() is a no-op there); nothing elsewhere. */
+#if defined(__clang__)
+#define CLPT_PREFETCH(p) __builtin_prefetch(p)
+#else
+#define CLPT_PREFETCH(p)
+#endif
+
+/* intersect_triangle for the leaf-order triangles tri .. tri + n - 1 (n in 1..4, one group of
+ * a leaf) at once, one per float4 lane: the same operations in the same order, so each lane's
+ * t, b1 and b2 are bit for bit what intersect_triangle computes. The positions come from the
+ * group's nine rows in s->tri_lanes (host/bvh/bvh.h's triangle_lanes: row 3 v + a, axis a of
+ * vertex v, at 9 tri + row * n), read in the ray's axis order (kx, ky, kz) straight into the
+ * lanes: no vertex index and no gather. Lanes past n read the next group's floats and are
+ * masked out. Returns -1 in the lanes that hit with t in (0, tmax), 0 elsewhere. */
 #if CLPT_TRIANGLE_LANES == 4
 CLPT_INLINE int4 intersect_triangle4(const SceneView* s, const TriangleRay* r, u32 tri, u32 n,
                                      float tmax, float4* t_out, float4* b1_out, float4* b2_out) {
 #pragma OPENCL FP_CONTRACT OFF
-  const int kx = r->kx, ky = r->ky, kz = r->kz;
-  float4 p0x, p0y, p0z, p1x, p1y, p1z, p2x, p2y, p2z;
-#define CLPT_TRI4_LANE(l, c)                                        \
-  {                                                                 \
-    const Triangle T = s->triangles[tri + min((u32)(l), n - 1u)];   \
-    __global const float* q0 = s->vertices[T.v[0]].p;               \
-    __global const float* q1 = s->vertices[T.v[1]].p;               \
-    __global const float* q2 = s->vertices[T.v[2]].p;               \
-    p0x.c = q0[kx];                                                 \
-    p0y.c = q0[ky];                                                 \
-    p0z.c = q0[kz];                                                 \
-    p1x.c = q1[kx];                                                 \
-    p1y.c = q1[ky];                                                 \
-    p1z.c = q1[kz];                                                 \
-    p2x.c = q2[kx];                                                 \
-    p2y.c = q2[ky];                                                 \
-    p2z.c = q2[kz];                                                 \
-  }
-  CLPT_TRI4_LANE(0, x)
-  CLPT_TRI4_LANE(1, y)
-  CLPT_TRI4_LANE(2, z)
-  CLPT_TRI4_LANE(3, w)
-#undef CLPT_TRI4_LANE
+  __global const float* g = s->tri_lanes + 9u * tri;
+  const u32 ox = (u32)r->kx * n, oy = (u32)r->ky * n, oz = (u32)r->kz * n;
+  const float4 p0x = vload4(0, g + ox), p0y = vload4(0, g + oy), p0z = vload4(0, g + oz);
+  g += 3u * n;
+  const float4 p1x = vload4(0, g + ox), p1y = vload4(0, g + oy), p1z = vload4(0, g + oz);
+  g += 3u * n;
+  const float4 p2x = vload4(0, g + ox), p2y = vload4(0, g + oy), p2z = vload4(0, g + oz);
 
   CLPT_TRIANGLE_EDGES(float4, r, p0x, p0y, p0z, p1x, p1y, p1z, p2x, p2y, p2z);
   int4 ok = (int4)(0, 1, 2, 3) < (int4)((int)n);
@@ -314,13 +309,16 @@ CLPT_INLINE bool intersect_closest(const SceneView* s, float3 org, float3 dir, f
         const int4 hit = intersect_triangle4(s, &tr, i, min(end - i, 4u), best_t, &t, &b1, &b2);
         if (!any(hit)) continue;
         /* In leaf order, as one triangle at a time would: a later lane replaces the best hit
-         * only when strictly nearer (ties keep the first). */
+         * only when strictly nearer (ties keep the first). The lanes read no triangle row, so
+         * the shading of the hit would wait for one after the traversal: a candidate's row is
+         * fetched while the traversal goes on (1 M-triangle spheres: pt 1.034x the paths/s). */
 #define CLPT_TRI4_ACCEPT(l, c)                                                                  \
   if (hit.c && t.c < best_t && !alpha_hole(s, i + (l), b1.c, b2.c, org, dir)) {                \
     best_t = t.c;                                                                               \
     best_b1 = b1.c;                                                                             \
     best_b2 = b2.c;                                                                             \
     best_tri = i + (l);                                                                         \
+    CLPT_PREFETCH(s->triangles + best_tri);                                                     \
   }
         CLPT_TRI4_ACCEPT(0u, x)
         CLPT_TRI4_ACCEPT(1u, y)

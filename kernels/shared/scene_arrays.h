@@ -11,6 +11,7 @@
   X(BvhNode4, nodes, "BVH node")                 /* 4-wide */                    \
   X(Triangle, triangles, "triangle")             /* leaf order */                \
   X(Vertex, vertices, "vertex")                                                  \
+  X(float, tri_lanes, "triangle lanes")          /* CPU devices: leaves' positions as float4 lanes */ \
   X(VertexExtra, vertex_extra, "vertex attribute") /* valid with SCENE_VERTEX_EXTRA */ \
   X(Material, materials, "material")                                             \
   X(Texture, textures, "texture")                                                \

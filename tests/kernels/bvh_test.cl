@@ -10,11 +10,12 @@ inline float4 hit_record(bool found, const Hit* h) {
 }
 
 __kernel void bvh_closest(__global const BvhNode4* nodes, __global const Triangle* triangles,
-                          __global const Vertex* vertices, __global const float4* ray_org,
+                          __global const Vertex* vertices, __global const float* lanes,
+                          __global const float4* ray_org,
                           __global const float4* ray_dir, __global float4* out, u32 n) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
-  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
+  const SceneView s = scene_view(nodes, triangles, vertices, lanes, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
   const float4 d = ray_dir[i];
   Hit h;
   const bool found = intersect_closest(&s, ray_org[i].xyz, d.xyz, d.w, &h);
@@ -22,23 +23,25 @@ __kernel void bvh_closest(__global const BvhNode4* nodes, __global const Triangl
 }
 
 __kernel void bvh_any(__global const BvhNode4* nodes, __global const Triangle* triangles,
-                      __global const Vertex* vertices, __global const float4* ray_org,
+                      __global const Vertex* vertices, __global const float* lanes,
+                      __global const float4* ray_org,
                       __global const float4* ray_dir, __global int* out, u32 n) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
-  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
+  const SceneView s = scene_view(nodes, triangles, vertices, lanes, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
   const float4 d = ray_dir[i];
   out[i] = intersect_any(&s, ray_org[i].xyz, d.xyz, d.w) ? 1 : 0;
 }
 
 /* Every triangle in order, the first of equal distances kept: the reference for the BVH. */
 __kernel void brute_closest(__global const BvhNode4* nodes, __global const Triangle* triangles,
-                            __global const Vertex* vertices, __global const float4* ray_org,
+                            __global const Vertex* vertices, __global const float* lanes,
+                            __global const float4* ray_org,
                             __global const float4* ray_dir, __global float4* out, u32 n,
                             u32 num_triangles) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
-  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
+  const SceneView s = scene_view(nodes, triangles, vertices, lanes, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
   const float4 d = ray_dir[i];
   const TriangleRay r = triangle_ray(ray_org[i].xyz, d.xyz);
   Hit h;
@@ -62,11 +65,12 @@ __kernel void brute_closest(__global const BvhNode4* nodes, __global const Trian
  * hemisphere of the geometric normal, cos_theta < 0 meaning the back hemisphere.
  * out: (t, as_float(triangle) or ~0, cosine of the direction with the side's normal, 0). */
 __kernel void spawn_and_trace(__global const BvhNode4* nodes, __global const Triangle* triangles,
-                              __global const Vertex* vertices, __global const u32* tri,
+                              __global const Vertex* vertices, __global const float* lanes,
+                              __global const u32* tri,
                               __global const float4* sample, __global float4* out, u32 n) {
   const u32 i = get_global_id(0);
   if (i >= n) return;
-  const SceneView s = scene_view(nodes, triangles, vertices, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
+  const SceneView s = scene_view(nodes, triangles, vertices, lanes, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0);
   const Triangle T = triangles[tri[i]];
   const float3 p0 = vertex_position(&s, T.v[0]), p1 = vertex_position(&s, T.v[1]),
                p2 = vertex_position(&s, T.v[2]);
