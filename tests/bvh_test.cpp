@@ -289,8 +289,9 @@ TEST(BvhBuild, OptionsAreHonoured) {
   }
 }
 
-// triangle_lanes (bvh.h): every leaf's groups of up to four, nine rows of the group's size,
-// each float of the array written once with its triangle's vertex, three zeros at the end.
+// triangle_lanes (bvh.h): the wide tree's leaves tile the leaf-order triangles; every leaf's
+// groups of up to four, nine rows of the group's size, each float of the array written once
+// with its triangle's vertex, three zeros at the end.
 TEST(BvhBuild, TriangleLanesHoldEachLeafsPositions) {
   const Mesh m = test::random_soup(3000, 3, glm::vec3(0), glm::vec3(1), 0.1f);
   for (int leaf : {1, 4, 7, 32}) {
@@ -298,35 +299,48 @@ TEST(BvhBuild, TriangleLanesHoldEachLeafsPositions) {
     BvhBuildOptions o;
     o.max_leaf_size = leaf;
     const Bvh bvh = build_bvh(m.positions, m.triangles, o);
-    const std::vector<float> lanes = triangle_lanes(bvh, m.positions, m.triangles);
     const size_t n = bvh.triangle_order.size();
+    std::vector<dev::Triangle> tris(n);
+    for (size_t i = 0; i < n; ++i) {
+      const glm::uvec3 t = m.triangles[bvh.triangle_order[i]];
+      tris[i] = dev::Triangle{{t.x, t.y, t.z}, 0u};
+    }
+    std::vector<dev::Vertex> verts(m.positions.size());
+    for (size_t i = 0; i < verts.size(); ++i)
+      for (int a = 0; a < 3; ++a) verts[i].p[a] = m.positions[i][a];
+    const std::vector<float> lanes = triangle_lanes(bvh.wide, tris, verts);
     ASSERT_EQ(lanes.size(), 9 * n + 3);
+    const std::vector<LeafRange> leaves = wide_leaves(bvh.wide);
+    size_t next = 0, binary_leaves = 0;
+    for (const BvhNode& b : bvh.nodes) binary_leaves += b.count > 0;
+    EXPECT_EQ(leaves.size(), binary_leaves);
     std::vector<int> written(9 * n, 0);
-    size_t groups = 0, mismatches = 0;
-    for (const BvhNode& leaf_node : bvh.nodes) {
-      if (leaf_node.count <= 0) continue;
-      const size_t first = size_t(leaf_node.offset), end = first + size_t(leaf_node.count);
-      for (size_t i = first; i < end; i += 4, ++groups) {
-        const size_t g = std::min<size_t>(end - i, 4);
-        for (size_t l = 0; l < g; ++l) {
-          const glm::uvec3 t = m.triangles[bvh.triangle_order[i + l]];
+    size_t mismatches = 0;
+    for (const LeafRange& l : leaves) {
+      EXPECT_EQ(l.first, next) << "the leaves must tile the triangles";
+      next = l.first + l.count;
+      for (size_t i = l.first; i < next; i += 4) {
+        const size_t g = std::min<size_t>(next - i, 4);
+        for (size_t k = 0; k < g; ++k) {
+          const glm::uvec3 t = m.triangles[bvh.triangle_order[i + k]];
           for (int v = 0; v < 3; ++v)
             for (int a = 0; a < 3; ++a) {
-              const size_t k = 9 * i + size_t(3 * v + a) * g + l;
-              ++written[k];
-              mismatches += lanes[k] != m.positions[t[v]][a];
+              const size_t at = 9 * i + size_t(3 * v + a) * g + k;
+              ++written[at];
+              mismatches += lanes[at] != m.positions[t[v]][a];
             }
         }
       }
     }
+    EXPECT_EQ(next, n);
     EXPECT_EQ(mismatches, 0u);
     EXPECT_EQ(std::count(written.begin(), written.end(), 1), std::ptrdiff_t(9 * n));
-    EXPECT_GE(groups, n / 4);
     for (size_t k = 9 * n; k < lanes.size(); ++k) EXPECT_EQ(lanes[k], 0.0f);
   }
-  // The empty scene: its phantom leaf is never read; only the padding.
+  // The empty scene: no leaf (its phantom leaf is an empty slot), only the padding.
   const Bvh empty = build_bvh({}, {});
-  EXPECT_EQ(triangle_lanes(empty, {}, {}).size(), 3u);
+  EXPECT_TRUE(wide_leaves(empty.wide).empty());
+  EXPECT_EQ(triangle_lanes(empty.wide, {}, {}).size(), 3u);
 }
 
 TEST(BvhBuild, DegenerateTriangles) {
@@ -458,8 +472,8 @@ DeviceScene upload(const Bvh& bvh, const Mesh& mesh) {
   d.nodes = cl::Buffer::from_vector(ctx, bvh.wide, CL_MEM_READ_ONLY, "bvh nodes");
   d.triangles = cl::Buffer::from_vector(ctx, tris, CL_MEM_READ_ONLY, "triangles");
   d.vertices = cl::Buffer::from_vector(ctx, verts, CL_MEM_READ_ONLY, "vertices");
-  d.lanes = cl::Buffer::from_vector(ctx, triangle_lanes(bvh, mesh.positions, mesh.triangles),
-                                    CL_MEM_READ_ONLY, "triangle lanes");
+  d.lanes = cl::Buffer::from_vector(ctx, triangle_lanes(bvh.wide, tris, verts), CL_MEM_READ_ONLY,
+                                    "triangle lanes");
   d.num_triangles = uint32_t(tris.size());
   return d;
 }

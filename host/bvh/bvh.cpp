@@ -463,24 +463,35 @@ std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<BvhNode>& nodes, int*
   return wide;
 }
 
-std::vector<float> triangle_lanes(const Bvh& bvh, const std::vector<glm::vec3>& positions,
-                                  const std::vector<glm::uvec3>& triangles) {
-  const size_t n = bvh.triangle_order.size();
-  std::vector<float> lanes(9 * n + 3, 0.0f);
-  if (n == 0) return lanes;  // the empty scene's phantom leaf is never read
-  for (const BvhNode& leaf : bvh.nodes) {
-    if (leaf.count <= 0) continue;
-    const size_t first = size_t(leaf.offset), end = first + size_t(leaf.count);
-    for (size_t i = first; i < end; i += 4) {
-      const size_t m = std::min<size_t>(end - i, 4);
-      for (size_t l = 0; l < m; ++l) {
-        const glm::uvec3 t = triangles[bvh.triangle_order[i + l]];
-        for (int v = 0; v < 3; ++v)
-          for (int a = 0; a < 3; ++a) lanes[9 * i + size_t(3 * v + a) * m + l] = positions[t[v]][a];
-      }
-    }
-  }
-  return lanes;
+std::vector<LeafRange> wide_leaves(const std::vector<dev::BvhNode4>& wide) {
+  std::vector<LeafRange> leaves;
+  for (const dev::BvhNode4& node : wide)
+    for (int k = 0; k < 4; ++k)
+      if (node.child[k] < 0 && node.count[k] > 0) leaves.push_back({uint32_t(~node.child[k]), node.count[k]});
+  std::sort(leaves.begin(), leaves.end(),
+            [](const LeafRange& a, const LeafRange& b) { return a.first < b.first; });
+  return leaves;
 }
 
+void leaf_lanes(const LeafRange& leaf, const dev::Triangle* triangles, const dev::Vertex* vertices,
+                float* out) {
+  for (uint32_t j = 0; j < leaf.count; j += 4) {
+    const uint32_t m = std::min<uint32_t>(leaf.count - j, 4);
+    float* group = out + 9 * size_t(j);
+    for (uint32_t l = 0; l < m; ++l) {
+      const dev::Triangle& t = triangles[leaf.first + j + l];
+      for (int v = 0; v < 3; ++v)
+        for (int a = 0; a < 3; ++a) group[(3 * v + a) * m + l] = vertices[t.v[v]].p[a];
+    }
+  }
+}
+
+std::vector<float> triangle_lanes(const std::vector<dev::BvhNode4>& wide,
+                                  const std::vector<dev::Triangle>& triangles,
+                                  const std::vector<dev::Vertex>& vertices) {
+  std::vector<float> lanes(9 * triangles.size() + kTriangleLanesPadding, 0.0f);
+  for (const LeafRange& leaf : wide_leaves(wide))
+    leaf_lanes(leaf, triangles.data(), vertices.data(), lanes.data() + 9 * size_t(leaf.first));
+  return lanes;
+}
 }  // namespace clpt

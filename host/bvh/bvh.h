@@ -76,15 +76,29 @@ std::vector<dev::BvhNode4> collapse_bvh4(const std::vector<BvhNode>& nodes, int*
 
 // The leaves' triangle positions as the traversal's float4 lanes read them on CPU devices
 // (CLPT_TRIANGLE_LANES 4: kernels/bvh/intersect.cl's intersect_triangle4): a leaf's triangles
-// [offset, offset + count), leaf order, taken four at a time, i = offset, offset + 4, ...; the
+// [first, first + count), leaf order, taken four at a time, i = first, first + 4, ...; the
 // group of m <= 4 triangles from leaf-order triangle i is stored from float 9 i on, as nine
 // rows of m floats, row 3 v + a holding axis a (x, y, z) of vertex v of each of its
 // triangles. So a lane needs no vertex index and no gather: row r of the group is one float4
 // read at 9 i + r m, and a read of a shorter group runs into what follows it, which the lane
 // mask drops (3 floats of zeros end the array for the last group's). 9 floats a triangle; the
 // floats are the vertex array's own, so each lane's hit is bit for bit the indexed test's.
-// `positions` and `triangles` are the ones build_bvh was given.
-std::vector<float> triangle_lanes(const Bvh& bvh, const std::vector<glm::vec3>& positions,
-                                  const std::vector<glm::uvec3>& triangles);
+struct LeafRange {
+  uint32_t first, count;
+};
+inline constexpr size_t kTriangleLanesPadding = 3;
+
+// The leaves of the 4-wide tree, sorted by first: they tile the leaf-order triangles.
+std::vector<LeafRange> wide_leaves(const std::vector<dev::BvhNode4>& wide);
+
+// One leaf's 9 * count floats, to `out` (the array's float 9 * first).
+void leaf_lanes(const LeafRange& leaf, const dev::Triangle* triangles, const dev::Vertex* vertices,
+                float* out);
+
+// The whole array: 9 floats a triangle and the padding (render/scene_buffers streams it to the
+// device in pieces instead).
+std::vector<float> triangle_lanes(const std::vector<dev::BvhNode4>& wide,
+                                  const std::vector<dev::Triangle>& triangles,
+                                  const std::vector<dev::Vertex>& vertices);
 
 }  // namespace clpt

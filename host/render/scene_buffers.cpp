@@ -98,7 +98,6 @@ FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& e
     const glm::uvec3& t = scene.triangles[src];
     flat.triangles[i] = dev::Triangle{{t.x, t.y, t.z}, scene.triangle_materials[src]};
   }
-  flat.tri_lanes.rows = triangle_lanes(bvh, scene.positions, scene.triangles);
   const size_t nv = scene.positions.size();
   flat.vertices.resize(nv);
   for (size_t i = 0; i < nv; ++i) {
@@ -157,21 +156,44 @@ FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& e
 namespace {
 
 template <typename T>
-cl::Buffer upload(const cl::Context& ctx, const std::vector<T>& data, const char* what) {
+cl::Buffer upload(const cl::Context& ctx, const FlatScene&, const std::vector<T>& data, const char* what) {
   const std::string name = std::string(what) + " buffer";
   return cl::Buffer::from_vector(ctx, data, CL_MEM_READ_ONLY, name.c_str());
 }
-cl::Buffer upload(const cl::Context& ctx, const dev::SceneInfo& info, const char* what) {
-  return upload(ctx, std::vector<dev::SceneInfo>{info}, what);
+cl::Buffer upload(const cl::Context& ctx, const FlatScene& flat, const dev::SceneInfo& info,
+                  const char* what) {
+  return upload(ctx, flat, std::vector<dev::SceneInfo>{info}, what);
 }
-cl::Buffer upload(const cl::Context& ctx, const TriangleLanes& lanes, const char* what) {
-  if (cl::triangle_lanes(ctx.device())) return upload(ctx, lanes.rows, what);
-  return upload(ctx, std::vector<float>{0.0f}, what);
+// The lanes' rows (bvh.h's triangle_lanes), leaf after leaf in leaf order, written in pieces of
+// about 4 MiB at their offsets.
+cl::Buffer upload(const cl::Context& ctx, const FlatScene& flat, const TriangleLanes&, const char* what) {
+  if (!cl::triangle_lanes(ctx.device())) return upload(ctx, flat, std::vector<float>{0.0f}, what);
+  const std::string name = std::string(what) + " buffer";
+  const size_t total = 9 * flat.triangles.size() + kTriangleLanesPadding;
+  cl::Buffer buffer(ctx, total * sizeof(float), CL_MEM_READ_ONLY, nullptr, name.c_str());
+  constexpr size_t kPiece = size_t(1) << 20;  // floats
+  std::vector<float> piece;
+  size_t piece_first = 0;  // the float where `piece` goes
+  auto flush = [&] {
+    if (!piece.empty()) buffer.write(piece.data(), piece.size() * sizeof(float), piece_first * sizeof(float));
+    piece_first += piece.size();
+    piece.clear();
+  };
+  piece.reserve(kPiece + 9 * 64);
+  for (const LeafRange& leaf : wide_leaves(flat.nodes)) {
+    if (piece.size() >= kPiece) flush();
+    const size_t at = piece.size();
+    piece.resize(at + 9 * size_t(leaf.count));
+    leaf_lanes(leaf, flat.triangles.data(), flat.vertices.data(), piece.data() + at);
+  }
+  piece.resize(piece.size() + kTriangleLanesPadding, 0.0f);
+  flush();  // the leaves tile the triangles (BvhBuild.TriangleLanesHoldEachLeafsPositions)
+  return buffer;
 }
 
 }  // namespace
 
-#define CLPT_SCENE_UPLOAD(type, name, what) name##_(upload(ctx, flat.name, what)),
+#define CLPT_SCENE_UPLOAD(type, name, what) name##_(upload(ctx, flat, flat.name, what)),
 SceneBuffers::SceneBuffers(const cl::Context& ctx, const FlatScene& flat)
     : SCENE_ARRAYS(CLPT_SCENE_UPLOAD) num_lights_(static_cast<uint32_t>(flat.lights.size())),
       num_triangles_(static_cast<uint32_t>(flat.triangles.size())) {}

@@ -16,18 +16,18 @@
 namespace clpt {
 
 // The leaves' positions for the traversal's float4 lanes (bvh.h's triangle_lanes), which only
-// the kernels built with CLPT_TRIANGLE_LANES 4 read: uploaded to those devices
-// (cl::triangle_lanes), one float elsewhere (36 bytes a triangle that a GPU would not use).
-struct TriangleLanes {
-  std::vector<float> rows;
-};
+// the kernels built with CLPT_TRIANGLE_LANES 4 read. Nothing is held here: SceneBuffers writes
+// them from nodes, triangles and vertices straight into the buffer of such a device
+// (cl::triangle_lanes), a piece at a time, so the host never holds a second copy; other
+// devices get one float (36 bytes a triangle that a GPU would not use).
+struct TriangleLanes {};
 
 // The host-side arrays, before upload: what the device buffers will hold.
 struct FlatScene {
   std::vector<dev::BvhNode4> nodes;
   std::vector<dev::Triangle> triangles;  // leaf order
   std::vector<dev::Vertex> vertices;
-  TriangleLanes tri_lanes;                     // leaf order, in float4 lanes (CPU devices)
+  TriangleLanes tri_lanes;                     // made at upload (CPU devices), see above
   std::vector<dev::VertexExtra> vertex_extra;  // empty unless the scene has tangents, UV1 or colours
   std::vector<dev::Material> materials;
   std::vector<dev::Texture> textures;

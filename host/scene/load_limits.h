@@ -62,10 +62,10 @@ struct LoadLimits {
 };
 
 // Host bytes one vertex and one triangle cost from loading to upload (scene arrays, flattened
-// arrays, BVH build; a triangle's 36 bytes of float4 lanes twice on a CPU device, whose buffer
-// is a host copy: 72 of its 232, measured as the peak RSS's growth with 1 M triangles):
-// what the memory limit is checked against.
+// arrays, BVH build; a triangle's 36 bytes of float4 lanes on a CPU device, whose buffer is
+// host memory: the peak RSS grew by 36 MiB with 1 M triangles): what the memory limit is
+// checked against.
 constexpr uint64_t kHostBytesPerVertex = 160;
-constexpr uint64_t kHostBytesPerTriangle = 232;
+constexpr uint64_t kHostBytesPerTriangle = 196;
 
 }  // namespace clpt
