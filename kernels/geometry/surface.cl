@@ -47,27 +47,34 @@ static inline float3 safe_normal(float3 n) {
   return len > 0.0f && isfinite(len) ? n / len : (float3)(0.0f, 0.0f, 1.0f);
 }
 
-static inline SurfaceHit surface_at(const SceneView* s, const Hit* hit, float3 org, float3 dir) {
-  SurfaceHit sh;
+/* The hit's surface, written to *out (the walk's own vertex: a SurfaceHit returned by value
+ * was built aside and then copied, 320 bytes, on PoCL). */
+static inline void surface_at_to(const SceneView* s, const Hit* hit, float3 org, float3 dir,
+                                 SurfaceHit* out) {
   const Triangle t = s->triangles[hit->triangle];
   const Vertex v0 = s->vertices[t.v[0]], v1 = s->vertices[t.v[1]], v2 = s->vertices[t.v[2]];
   const float b1 = hit->b1, b2 = hit->b2, b0 = 1.0f - b1 - b2;
   const float3 p0 = vload3(0, v0.p), p1 = vload3(0, v1.p), p2 = vload3(0, v2.p);
   /* Interpolating the vertices is more accurate than org + t * dir far from the origin. */
-  sh.p = b0 * p0 + b1 * p1 + b2 * p2;
-  sh.ng = safe_normal(cross(p1 - p0, p2 - p0));
+  out->p = b0 * p0 + b1 * p1 + b2 * p2;
+  out->ng = safe_normal(cross(p1 - p0, p2 - p0));
   const float3 n = b0 * vload3(0, v0.n) + b1 * vload3(0, v1.n) + b2 * vload3(0, v2.n);
   const float n_len = length(n);
-  sh.ns = (n_len > 1e-12f && isfinite(n_len)) ? n / n_len : sh.ng;
-  if (dot(sh.ns, sh.ng) < 0.0f) sh.ns = -sh.ns;
-  sh.uv = b0 * (float2)(v0.u, v0.v) + b1 * (float2)(v1.u, v1.v) + b2 * (float2)(v2.u, v2.v);
-  hit_extra(s, &t, b1, b2, &sh.uv1, &sh.color);
-  sh.tangent = hit_tangent(s, &t, b1, b2);
-  sh.tex_lod = (float2)(-INFINITY);
-  sh.triangle = hit->triangle;
-  sh.material = t.material;
-  sh.front = dot(sh.ng, dir) < 0.0f ? 1u : 0u;
-  sh.flipped = 0u;
+  out->ns = (n_len > 1e-12f && isfinite(n_len)) ? n / n_len : out->ng;
+  if (dot(out->ns, out->ng) < 0.0f) out->ns = -out->ns;
+  out->uv = b0 * (float2)(v0.u, v0.v) + b1 * (float2)(v1.u, v1.v) + b2 * (float2)(v2.u, v2.v);
+  hit_extra(s, &t, b1, b2, &out->uv1, &out->color);
+  out->tangent = hit_tangent(s, &t, b1, b2);
+  out->tex_lod = (float2)(-INFINITY);
+  out->triangle = hit->triangle;
+  out->material = t.material;
+  out->front = dot(out->ng, dir) < 0.0f ? 1u : 0u;
+  out->flipped = 0u;
+}
+
+static inline SurfaceHit surface_at(const SceneView* s, const Hit* hit, float3 org, float3 dir) {
+  SurfaceHit sh;
+  surface_at_to(s, hit, org, dir, &sh);
   return sh;
 }
 

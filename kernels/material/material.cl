@@ -215,13 +215,19 @@ static inline SurfaceHit surface_shade(const SceneView* s, const Hit* hit, float
 }
 
 /* The same, its textures read over the footprint of a ray cone `cone_width` wide at the hit
- * (0: none, full resolution; surface_texture_lod). */
+ * (0: none, full resolution; surface_texture_lod), written to *sh (surface_at_to). */
+static inline void surface_shade_cone_to(const SceneView* s, const Hit* hit, float3 org, float3 dir,
+                                         float cone_width, SurfaceHit* sh) {
+  surface_at_to(s, hit, org, dir, sh);
+  if (cone_width > 0.0f && (s->materials[sh->material].flags & MATERIAL_TEXTURED))
+    sh->tex_lod = surface_texture_lod(s, sh, dir, cone_width);
+  material_resolve(s, sh);
+}
+
 static inline SurfaceHit surface_shade_cone(const SceneView* s, const Hit* hit, float3 org, float3 dir,
                                             float cone_width) {
-  SurfaceHit sh = surface_at(s, hit, org, dir);
-  if (cone_width > 0.0f && (s->materials[sh.material].flags & MATERIAL_TEXTURED))
-    sh.tex_lod = surface_texture_lod(s, &sh, dir, cone_width);
-  material_resolve(s, &sh);
+  SurfaceHit sh;
+  surface_shade_cone_to(s, hit, org, dir, cone_width, &sh);
   return sh;
 }
 

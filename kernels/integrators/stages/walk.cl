@@ -136,6 +136,31 @@ static inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth
   return w;
 }
 
+/* A camera-side walk made walk_at_vertex's walk in place: the one it would make from w's own
+ * vertex, ray cone and channel, without copying the vertex (pt's one continuation). */
+static inline void walk_restart_at_vertex(PathWalk* w, u32 depth, u32 stream) {
+  const float cone_width = w->cone_width, cone_spread = w->cone_spread;
+  const u32 channel = w->channel;
+  const SurfaceHit* sh = &w->sh;
+  const PathWalk r = walk_from_ray(sh->p, sh->p, -w->wo, (float3)(1.0f), MEDIUM_NONE, depth,
+                                   stream, TRANSPORT_RADIANCE, WALK_RR_PATH);
+  w->org = r.org;
+  w->dir = r.dir;
+  w->from = r.from;
+  w->beta = r.beta;
+  w->rr_weight = r.rr_weight;
+  w->pdf_w = r.pdf_w;
+  w->delta = r.delta;
+  w->medium = r.medium;
+  w->depth = r.depth;
+  w->stream = r.stream;
+  w->mode = r.mode;
+  w->roulette = r.roulette;
+  w->cone_width = cone_width;
+  w->cone_spread = cone_spread;
+  w->channel = channel;
+}
+
 /* The dimension of `offset` (sampler/dimensions.h) at the walk's current vertex. */
 static inline u32 walk_dim(const PathWalk* w, u32 offset) {
   return stream_dim(bounce_dim(w->depth, offset), w->stream);
@@ -168,7 +193,7 @@ CLPT_INLINE bool walk_next(const SceneView* s, const Sampler* sampler, PathWalk*
     w->rr_weight *= tr;
   }
   w->cone_width += w->cone_spread * w->hit.t;
-  w->sh = surface_shade_cone(s, &w->hit, w->org, w->dir, w->cone_width);
+  surface_shade_cone_to(s, &w->hit, w->org, w->dir, w->cone_width, &w->sh);
   w->wo = -w->dir;
   bsdf_orient(&w->sh, w->wo);
   if (w->sh.bsdf.dispersion > 0.0f) walk_disperse(sampler, w);
