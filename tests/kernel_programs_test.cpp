@@ -120,10 +120,19 @@ TEST(KernelPrograms, TriangleLanesGoToCpuDevicesOnly) {
     d.type = type;
     EXPECT_EQ(cl::device_kind_options(d, "-cl-std=CL1.2"), "") << type;
   }
-  // PoCL, the test device, is a CPU device: its programs are built with the lanes.
+  // PoCL, the test device, is a CPU device: its programs are built with the lanes, and with
+  // the prefetch hints, which only PoCL's devices get (Oclgrind's interpreter has no prefetch).
   const cl::Program p(test::device_context(), programs::kRaybench);
   EXPECT_NE(p.build_info().options.find("-DCLPT_TRIANGLE_LANES=4"), std::string::npos)
       << p.build_info().options;
+  EXPECT_NE(p.build_info().options.find("-DCLPT_PREFETCH_HINTS=1"), std::string::npos)
+      << p.build_info().options;
+  d.type = CL_DEVICE_TYPE_CPU;
+  d.platform_name = "Oclgrind";
+  EXPECT_EQ(cl::device_kind_options(d, "-cl-std=CL1.2"), " -DCLPT_TRIANGLE_LANES=4");
+  d.platform_name = "Portable Computing Language";
+  EXPECT_EQ(cl::device_kind_options(d, "-cl-std=CL1.2"),
+            " -DCLPT_TRIANGLE_LANES=4 -DCLPT_PREFETCH_HINTS=1");
 }
 
 // The scene's lanes buffer (render/scene_buffers) goes where the programs read it: CPU

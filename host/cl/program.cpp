@@ -232,9 +232,12 @@ std::string build_options(const std::string& extra) {
 }
 
 std::string device_kind_options(const DeviceInfo& dev, const std::string& options) {
+  std::string kind;
   if (dev.is_cpu() && options.find("CLPT_TRIANGLE_LANES") == std::string::npos)
-    return " -DCLPT_TRIANGLE_LANES=4";
-  return "";
+    kind += " -DCLPT_TRIANGLE_LANES=4";
+  if (dev.is_pocl() && options.find("CLPT_PREFETCH_HINTS") == std::string::npos)
+    kind += " -DCLPT_PREFETCH_HINTS=1";
+  return kind;
 }
 
 bool triangle_lanes(const DeviceInfo& dev) {

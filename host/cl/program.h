@@ -46,7 +46,9 @@ std::string build_options(const std::string& extra);
 
 // What a device of this kind is given on top of build_options(extra) (the kernel dump has the
 // GPUs' view, none): CPU devices test a BVH leaf's triangles four at a time in float4 lanes,
-// -DCLPT_TRIANGLE_LANES=4 (kernels/bvh/intersect.cl), unless `options` names the macro already.
+// -DCLPT_TRIANGLE_LANES=4 (kernels/bvh/intersect.cl), and PoCL's devices may use clang's
+// prefetch builtin, -DCLPT_PREFETCH_HINTS=1 (Oclgrind, a CPU device too, cannot run it);
+// either unless `options` names the macro already.
 std::string device_kind_options(const DeviceInfo& dev, const std::string& options);
 
 // Whether the render programs for this device read the float4 lanes' positions

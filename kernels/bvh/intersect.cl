@@ -165,9 +165,10 @@ CLPT_INLINE bool intersect_triangle(const SceneView* s, const TriangleRay* r, u3
 #define CLPT_TRIANGLE_LANES 1
 #endif
 
-/* A hint to fetch the cache line at p (clang's __builtin_prefetch, which PoCL's CPU code
- * makes a prefetcht0; OpenCL's own prefetch() is a no-op there); nothing elsewhere. */
-#if defined(__clang__)
+/* A hint to fetch the cache line at p: clang's __builtin_prefetch, which PoCL's CPU code makes
+ * a prefetcht0 (OpenCL's own prefetch() is a no-op there), where the host says the device takes
+ * it (CLPT_PREFETCH_HINTS, PoCL: Oclgrind stops at the intrinsic); nothing elsewhere. */
+#if defined(__clang__) && defined(CLPT_PREFETCH_HINTS) && CLPT_PREFETCH_HINTS
 #define CLPT_PREFETCH(p) __builtin_prefetch(p)
 #else
 #define CLPT_PREFETCH(p)

@@ -82,25 +82,32 @@ typedef struct PathWalk {
   u32 channel;       /* the wavelength dispersive glass picked (DISPERSION_NONE: none yet) */
 } PathWalk;
 
+/* Sets every field of *w but its vertex (sh, hit, wo): the next ray is org, dir, towards the
+ * vertex of bounce `depth`, in `medium`. */
+static inline void walk_set_ray(PathWalk* w, float3 from, float3 org, float3 dir, float3 beta,
+                                u32 medium, u32 depth, u32 stream, u32 mode, u32 roulette) {
+  w->org = org;
+  w->dir = dir;
+  w->from = from;
+  w->beta = beta;
+  w->rr_weight = (float3)(1.0f);
+  w->pdf_w = 1.0f;
+  w->delta = 1;
+  w->medium = medium;
+  w->depth = depth;
+  w->stream = stream;
+  w->mode = mode;
+  w->roulette = roulette;
+  w->cone_width = 0.0f;
+  w->cone_spread = 0.0f;
+  w->channel = DISPERSION_NONE;
+}
+
 /* A walk whose next ray is org, dir, towards its vertex of bounce `depth`, in `medium`. */
 static inline PathWalk walk_from_ray(float3 from, float3 org, float3 dir, float3 beta, u32 medium,
                                      u32 depth, u32 stream, u32 mode, u32 roulette) {
   PathWalk w;
-  w.org = org;
-  w.dir = dir;
-  w.from = from;
-  w.beta = beta;
-  w.rr_weight = (float3)(1.0f);
-  w.pdf_w = 1.0f;
-  w.delta = 1;
-  w.medium = medium;
-  w.depth = depth;
-  w.stream = stream;
-  w.mode = mode;
-  w.roulette = roulette;
-  w.cone_width = 0.0f;
-  w.cone_spread = 0.0f;
-  w.channel = DISPERSION_NONE;
+  walk_set_ray(&w, from, org, dir, beta, medium, depth, stream, mode, roulette);
   return w;
 }
 
@@ -141,21 +148,8 @@ static inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth
 static inline void walk_restart_at_vertex(PathWalk* w, u32 depth, u32 stream) {
   const float cone_width = w->cone_width, cone_spread = w->cone_spread;
   const u32 channel = w->channel;
-  const SurfaceHit* sh = &w->sh;
-  const PathWalk r = walk_from_ray(sh->p, sh->p, -w->wo, (float3)(1.0f), MEDIUM_NONE, depth,
-                                   stream, TRANSPORT_RADIANCE, WALK_RR_PATH);
-  w->org = r.org;
-  w->dir = r.dir;
-  w->from = r.from;
-  w->beta = r.beta;
-  w->rr_weight = r.rr_weight;
-  w->pdf_w = r.pdf_w;
-  w->delta = r.delta;
-  w->medium = r.medium;
-  w->depth = r.depth;
-  w->stream = r.stream;
-  w->mode = r.mode;
-  w->roulette = r.roulette;
+  walk_set_ray(w, w->sh.p, w->sh.p, -w->wo, (float3)(1.0f), MEDIUM_NONE, depth, stream,
+               TRANSPORT_RADIANCE, WALK_RR_PATH);
   w->cone_width = cone_width;
   w->cone_spread = cone_spread;
   w->channel = channel;
