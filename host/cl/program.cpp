@@ -242,9 +242,8 @@ std::string device_kind_options(const DeviceInfo& dev, const std::string& option
 
 bool triangle_lanes(const DeviceInfo& dev) {
   const std::string options = build_options("");
-  if (options.find("CLPT_TRIANGLE_LANES") != std::string::npos)
-    return options.find("-DCLPT_TRIANGLE_LANES=4") != std::string::npos;
-  return dev.is_cpu();
+  return (options + device_kind_options(dev, options)).find("-DCLPT_TRIANGLE_LANES=4") !=
+         std::string::npos;
 }
 
 Program::Program(const Context& ctx, const std::string& entry_file, const std::string& extra_options,

@@ -52,8 +52,9 @@ std::string build_options(const std::string& extra);
 std::string device_kind_options(const DeviceInfo& dev, const std::string& options);
 
 // Whether the render programs for this device read the float4 lanes' positions
-// (CLPT_TRIANGLE_LANES 4): CPU devices, unless CLPT_BUILD_OPTIONS names the macro, which then
-// decides. The scene's lanes buffer is uploaded only where this holds (render/scene_buffers).
+// (CLPT_TRIANGLE_LANES 4), as build_options and device_kind_options decide it: CPU devices,
+// unless CLPT_BUILD_OPTIONS names the macro. The scene's lanes buffer is uploaded only where
+// this holds (render/scene_buffers).
 bool triangle_lanes(const DeviceInfo& dev);
 
 struct BuildInfo {

@@ -128,23 +128,9 @@ static inline PathWalk walk_from_light(float3 from, float3 org, float3 dir, floa
                        roulette);
 }
 
-/* A camera-side walk standing at vertex sh (normals oriented to wo, bounce depth) with the
- * ray cone `cone` (width there, spread) and the dispersion channel of the walk that reached
- * it, to be scattered first: pt's continuation from its first hit, one per branch. */
-static inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth, float2 cone,
-                                      u32 channel, u32 stream) {
-  PathWalk w = walk_from_ray(sh->p, sh->p, -wo, (float3)(1.0f), MEDIUM_NONE, depth, stream,
-                             TRANSPORT_RADIANCE, WALK_RR_PATH);
-  w.sh = *sh;
-  w.wo = wo;
-  w.cone_width = cone.x;
-  w.cone_spread = cone.y;
-  w.channel = channel;
-  return w;
-}
-
-/* A camera-side walk made walk_at_vertex's walk in place: the one it would make from w's own
- * vertex, ray cone and channel, without copying the vertex (pt's one continuation). */
+/* A camera-side walk w made anew at its own vertex (w->sh, w->wo, bounce depth), keeping its
+ * ray cone and channel, to be scattered first: in place, without copying the vertex (pt's one
+ * continuation), or after walk_at_vertex has put a vertex in. */
 static inline void walk_restart_at_vertex(PathWalk* w, u32 depth, u32 stream) {
   const float cone_width = w->cone_width, cone_spread = w->cone_spread;
   const u32 channel = w->channel;
@@ -153,6 +139,21 @@ static inline void walk_restart_at_vertex(PathWalk* w, u32 depth, u32 stream) {
   w->cone_width = cone_width;
   w->cone_spread = cone_spread;
   w->channel = channel;
+}
+
+/* A camera-side walk standing at vertex sh (normals oriented to wo, bounce depth) with the
+ * ray cone `cone` (width there, spread) and the dispersion channel of the walk that reached
+ * it, to be scattered first: pt's continuation from its first hit, one per branch. */
+static inline PathWalk walk_at_vertex(const SurfaceHit* sh, float3 wo, u32 depth, float2 cone,
+                                      u32 channel, u32 stream) {
+  PathWalk w;
+  w.sh = *sh;
+  w.wo = wo;
+  w.cone_width = cone.x;
+  w.cone_spread = cone.y;
+  w.channel = channel;
+  walk_restart_at_vertex(&w, depth, stream);
+  return w;
 }
 
 /* The dimension of `offset` (sampler/dimensions.h) at the walk's current vertex. */
