@@ -10,7 +10,7 @@
  *     phi(lambda) = 2 pi OPD / lambda + phi21 + phi23,  OPD = 2 eta2 d cos(theta2),
  * integrated against the colour matching functions in closed form: the spectral integral of
  * cos(m phi) is the Fourier transform of the CMFs at m OPD, which the paper fits by Gaussians
- * (thin_film_sensitivity; the constants are the paper's, as the extension quotes them). The
+ * (thin_film_fringes; the constants are the paper's, as the extension quotes them). The
  * interfaces use Schlick's reflectance and phase shifts of 0 or pi (a boundary into a denser
  * medium), as the extension does. The sum stops at m = 4, not at the extension's m = 2: at
  * grazing incidence over a bright base R12 R23 nears 0.5, and the third and fourth terms
@@ -21,27 +21,61 @@
 
 #include "bsdf/fresnel.cl"
 
-/* The spectral integral of the CMFs times cos(2 pi opd / lambda + shift), converted from XYZ
- * to linear Rec. 709 and white-balanced so that opd 0 and shift 0 give (1, 1, 1): a spectrally
- * flat reflectance is grey, as the constant term R12 + Rs (added as RGB) already assumes.
- * The extension's sample code leaves this last step out, which tints every fringe term by
- * the RGB of the equal-energy white, (1.205, 0.948, 0.910), and makes a film of vanishing
- * thickness reddish instead of the base. opd in nm. */
-static inline float3 thin_film_sensitivity(float opd, float3 shift) {
+/* The fringe terms 2 sum_m C_m S_m for the orders m = 1 .. THIN_FILM_ORDERS, C_m = c0 r^m
+ * (per channel), where S_m is the spectral integral of the CMFs times cos(2 pi m opd / lambda +
+ * m shift), converted from XYZ to linear Rec. 709 and white-balanced so that opd 0 and shift 0
+ * give (1, 1, 1): a spectrally flat reflectance is grey, as the constant term R12 + Rs (added
+ * as RGB) already assumes. The extension's sample code leaves this last step out, which tints
+ * every fringe term by the RGB of the equal-energy white, (1.205, 0.948, 0.910), and makes a
+ * film of vanishing thickness reddish instead of the base. opd in nm.
+ *
+ * Each Gaussian of the fit gives a term val sqrt(2 pi var) cos(m a) exp(-m^2 b) with
+ * a = pos phase + shift and b = var phase^2. The orders come from one cos and one exp per
+ * Gaussian: cos(m a) by the Chebyshev recurrence cos((m + 1) a) = 2 cos a cos(m a) -
+ * cos((m - 1) a), and exp(-m^2 b) = exp(-b)^(m^2) by multiplying in exp(-b)^(2m + 1) (four
+ * cos and four exp for the four orders instead of sixteen each: the film's cost in an
+ * iridescent scene, docs/BENCHMARKS.md session 41). */
+#define THIN_FILM_ORDERS 4
+static inline float3 thin_film_fringes(float opd, float3 shift, float3 c0, float3 r) {
   const float phase = 2.0f * PI_F * 1e-9f * opd;
+  const float norm = 1.0f / 1.0685e-7f;
   const float3 val = (float3)(5.4856e-13f, 4.4201e-13f, 5.2481e-13f);
   const float3 pos = (float3)(1.6810e6f, 1.7953e6f, 2.2084e6f);
   const float3 var = (float3)(4.3278e9f, 9.3046e9f, 6.6121e9f);
-  const float norm = 1.0f / 1.0685e-7f;
-  float3 xyz = (val * norm) * sqrt(2.0f * PI_F * var) * cos(pos * phase + shift) *
-               exp(-(phase * phase) * var);
-  xyz.x += (9.7470e-14f * norm) * sqrt(2.0f * PI_F * 4.5282e9f) * cos(2.2399e6f * phase + shift.x) *
-           exp(-4.5282e9f * phase * phase);
-  const float3 rgb = (float3)(3.2404542f * xyz.x - 1.5371385f * xyz.y - 0.4985314f * xyz.z,
-                             -0.9692660f * xyz.x + 1.8760108f * xyz.y + 0.0415560f * xyz.z,
-                             0.0556434f * xyz.x - 0.2040259f * xyz.y + 1.0572252f * xyz.z);
-  /* The same expression at opd 0, shift 0 (the fit's XYZ there is (1.00046, 1.00022, 1.00112)). */
-  return rgb * (float3)(1.0f / 1.2053688f, 1.0f / 0.9483195f, 1.0f / 0.9100097f);
+  const float3 amp = (val * norm) * sqrt(2.0f * PI_F * var);
+  /* x's second Gaussian */
+  const float amp_x = (9.7470e-14f * norm) * sqrt(2.0f * PI_F * 4.5282e9f);
+  const float3 c1 = cos(pos * phase + shift);
+  const float c1_x = cos(2.2399e6f * phase + shift.x);
+  const float3 g = exp(-(phase * phase) * var);
+  const float g_x = exp(-4.5282e9f * phase * phase);
+  float3 c_prev = (float3)(1.0f), c = c1, e = g, step = g * g * g;
+  float cx_prev = 1.0f, cx = c1_x, ex = g_x, step_x = g_x * g_x * g_x;
+  float3 Cm = c0, sum = (float3)(0.0f);
+  for (int m = 0; m < THIN_FILM_ORDERS; ++m) {
+    float3 xyz = amp * c * e;
+    xyz.x += amp_x * cx * ex;
+    const float3 rgb =
+        (float3)(3.2404542f * xyz.x - 1.5371385f * xyz.y - 0.4985314f * xyz.z,
+                 -0.9692660f * xyz.x + 1.8760108f * xyz.y + 0.0415560f * xyz.z,
+                 0.0556434f * xyz.x - 0.2040259f * xyz.y + 1.0572252f * xyz.z) *
+        /* The same expression at opd 0, shift 0 (the fit's XYZ there is (1.00046, 1.00022,
+         * 1.00112)). */
+        (float3)(1.0f / 1.2053688f, 1.0f / 0.9483195f, 1.0f / 0.9100097f);
+    Cm *= r;
+    sum += Cm * 2.0f * rgb;
+    const float3 c_next = 2.0f * c1 * c - c_prev;
+    c_prev = c;
+    c = c_next;
+    e *= step; /* exp(-b)^((m + 1)^2) from exp(-b)^(m^2) */
+    step *= g * g;
+    const float cx_next = 2.0f * c1_x * cx - cx_prev;
+    cx_prev = cx;
+    cx = cx_next;
+    ex *= step_x;
+    step_x *= g_x * g_x;
+  }
+  return sum;
 }
 
 /* The index of refraction whose normal-incidence reflectance against index 1 is f0. */
@@ -74,13 +108,7 @@ CLPT_NOINLINE float3 thin_film_reflectance(float cos1, float eta2, float d, floa
   const float3 R123 = clamp(R12 * R23, 1e-5f, 0.9999f);
   const float3 r123 = sqrt(R123);
   const float3 Rs = T121 * T121 * R23 / (1.0f - R123);
-  float3 I = R12 + Rs;
-  float3 Cm = Rs - T121;
-  for (int m = 1; m <= 4; ++m) {
-    Cm *= r123;
-    I += Cm * 2.0f * thin_film_sensitivity((float)m * opd, (float)m * phi);
-  }
-  return clamp(I, 0.0f, 1.0f);
+  return clamp(R12 + Rs + thin_film_fringes(opd, phi, Rs - T121, r123), 0.0f, 1.0f);
 }
 
 #endif

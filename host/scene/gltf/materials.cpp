@@ -439,7 +439,7 @@ void Converter::convert_materials() {
       // The film's index: the extension's minimum is 1; clpt keeps [1, 10] as for KHR_materials_ior.
       mat.iridescence_ior = float(std::clamp(ext_number(*e, n, "iridescenceIor", 1.3), 1.0, 10.0));
       // Thicknesses in nm, >= 0 by the schema. Past a few um the interference terms vanish
-      // (thin_film_sensitivity's Gaussians), so the 1e5 nm cap changes nothing visible.
+      // (thin_film_fringes' Gaussians), so the 1e5 nm cap changes nothing visible.
       const double t_min = ext_number(*e, n, "iridescenceThicknessMinimum", 100.0);
       const double t_max = ext_number(*e, n, "iridescenceThicknessMaximum", 400.0);
       mat.iridescence_thickness_min = float(std::clamp(t_min, 0.0, 1e5));
