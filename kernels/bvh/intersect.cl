@@ -32,6 +32,7 @@
 #define CLPT_BVH_INTERSECT_CL
 
 #include "core/hit.cl"
+#include "core/prefetch.cl"
 #include "core/scene_view.cl"
 #include "material/alpha.cl"
 #include "shared/bvh_constants.h"
@@ -163,15 +164,6 @@ CLPT_INLINE bool intersect_triangle(const SceneView* s, const TriangleRay* r, u3
  * lanes against 53 without. Both give bit-identical hits (tests/bvh_test.cpp runs both). */
 #ifndef CLPT_TRIANGLE_LANES
 #define CLPT_TRIANGLE_LANES 1
-#endif
-
-/* A hint to fetch the cache line at p: clang's __builtin_prefetch, which PoCL's CPU code makes
- * a prefetcht0 (OpenCL's own prefetch() is a no-op there), where the host says the device takes
- * it (CLPT_PREFETCH_HINTS, PoCL: Oclgrind stops at the intrinsic); nothing elsewhere. */
-#if defined(__clang__) && defined(CLPT_PREFETCH_HINTS) && CLPT_PREFETCH_HINTS
-#define CLPT_PREFETCH(p) __builtin_prefetch(p)
-#else
-#define CLPT_PREFETCH(p)
 #endif
 
 /* intersect_triangle for the leaf-order triangles tri .. tri + n - 1 (n in 1..4, one group of

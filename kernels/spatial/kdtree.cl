@@ -6,10 +6,19 @@
  * is depth first, nearer child first, each node's photon examined on the way down; far
  * children wait on a fixed stack with their cell's per-axis offsets from the query point
  * (Arya and Mount 1993), and are skipped once the cell lies beyond the k-th distance. The k
- * best so far are a max-heap in the caller's private array, the farthest at heap[0]. */
+ * best so far are a max-heap in the caller's private array, the farthest at heap[0].
+ *
+ * Memory, not arithmetic, is what the search waits on (a map of 10^5 to 10^6 photons, 16-byte
+ * nodes in heap order, so a node's children lie far from it once below the first levels; the
+ * estimate then reads its k photons, 64 bytes each, at random): each node visited fetches the
+ * line of its four grandchildren (4i + 3 .. 4i + 6, one 64-byte line) while the child is
+ * examined, and each photon taken into the heap is fetched for the estimate that follows
+ * (CLPT_PREFETCH, CPU devices; pm on the Cornell box 1.57x the paths/s, docs/BENCHMARKS.md
+ * session 41). */
 #ifndef CLPT_PHOTON_KDTREE_CL
 #define CLPT_PHOTON_KDTREE_CL
 
+#include "core/prefetch.cl"
 #include "shared/photon_types.h"
 
 #define KD_MAX_STACK 32
@@ -60,9 +69,11 @@ static inline float kd_cell_distance2(float4 c) {
 }
 
 /* The min(k, photons within max_r2) photons nearest to p, into heap[0, count) (heap order,
- * not sorted: heap[0] is the farthest). heap must hold k entries. Returns count. */
+ * not sorted: heap[0] is the farthest). heap must hold k entries. Returns count. photons:
+ * the photon array the indices point into, whose entries are fetched ahead as they are kept
+ * (0: none). */
 static inline u32 kd_knn(__global const KdNode* nodes, u32 n, float3 p, u32 k, float max_r2,
-                         KdNeighbor* heap) {
+                         KdNeighbor* heap, __global const Photon* photons) {
 #pragma OPENCL FP_CONTRACT OFF
   if (n == 0u || k == 0u || !(max_r2 >= 0.0f)) return 0u;
   const u32 capacity = min(k, n);
@@ -75,6 +86,7 @@ static inline u32 kd_knn(__global const KdNode* nodes, u32 n, float3 p, u32 k, f
     u32 i = as_uint(cur.w);
     while (i < n) {
       const float4 node = vload4(0, (__global const float*)(nodes + i));
+      CLPT_PREFETCH(nodes + 4u * i + 3u); /* the grandchildren, past the end for a leaf */
       const float dx = p.x - node.x, dy = p.y - node.y, dz = p.z - node.z;
       const float d2 = dx * dx + dy * dy + dz * dz;
       const u32 index_axis = as_uint(node.w);
@@ -82,11 +94,13 @@ static inline u32 kd_knn(__global const KdNode* nodes, u32 n, float3 p, u32 k, f
         if (count < capacity) {
           heap[count].d2 = d2;
           heap[count].index = index_axis >> 2;
+          if (photons) CLPT_PREFETCH(photons + (index_axis >> 2));
           kd_sift_up(heap, count);
           if (++count == capacity) r2 = heap[0].d2;
         } else if (d2 < heap[0].d2) {
           heap[0].d2 = d2;
           heap[0].index = index_axis >> 2;
+          if (photons) CLPT_PREFETCH(photons + (index_axis >> 2));
           kd_sift_down(heap, 0u, capacity);
           r2 = heap[0].d2;
         }

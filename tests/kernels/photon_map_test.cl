@@ -12,7 +12,7 @@ __kernel void knn_queries(__global const KdNode* nodes, u32 n, __global const fl
   const u32 i = get_global_id(0);
   if (i >= count) return;
   KdNeighbor heap[PM_KNN_MAX];
-  const u32 found = kd_knn(nodes, n, queries[i].xyz, k, queries[i].w, heap);
+  const u32 found = kd_knn(nodes, n, queries[i].xyz, k, queries[i].w, heap, 0);
   counts[i] = found;
   for (u32 j = 0; j < found; ++j) out[(size_t)i * k + j] = heap[j];
 }

@@ -41,7 +41,7 @@ static inline float3 pm_estimate(__constant const RenderParams* p, const PhotonM
   KdNeighbor heap[PM_KNN_MAX];
   const u32 k = clamp(map->knn, 1u, PM_KNN_MAX);
   const float max_r2 = map->max_radius * map->max_radius;
-  const u32 count = kd_knn(map->nodes, map->count, vp->sh.p, k, max_r2, heap);
+  const u32 count = kd_knn(map->nodes, map->count, vp->sh.p, k, max_r2, heap, map->photons);
   if (count == 0u) return (float3)(0.0f);
   const float r2 = count == k ? heap[0].d2 : max_r2;
   const u32 max_bounce = p->max_depth - vp->depth;
