@@ -11,6 +11,8 @@
 #ifndef CLPT_FILM_SPLAT_FILTER_CL
 #define CLPT_FILM_SPLAT_FILTER_CL
 
+#include "core/prefetch.cl"
+
 #include "camera/pixel_filter.cl"
 #include "film/splat.cl"
 #include "sampler/sampler.cl"
@@ -25,6 +27,15 @@ static inline u32 film_pixel_of(__constant const RenderParams* p, float2 raster)
  * filter other than the default box. */
 static inline bool film_splats_through_filter(__constant const RenderParams* p) {
   return p->filter_splat && !filter_is_pixel_box(p->filter, p->filter_radius);
+}
+
+/* Fetches the splat film's pixel at raster ahead of film_splat_at's atomic adds there: the
+ * camera connections of lt, bdpt and vcm know it before they trace their shadow ray, and the
+ * adds otherwise wait on the line (lt on the Cornell box: 1.07x the paths/s,
+ * docs/BENCHMARKS.md session 41). With a wider filter, the centre pixel. */
+static inline void film_splat_prefetch(__constant const RenderParams* p, __global float4* splat,
+                                       float2 raster) {
+  CLPT_PREFETCH_WRITE(splat + film_pixel_of(p, raster));
 }
 
 static inline void film_splat_at(__constant const RenderParams* p, __global float4* splat, float2 raster,

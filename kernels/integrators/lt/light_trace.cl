@@ -31,6 +31,7 @@ static inline void lt_connect_surface(__constant const RenderParams* p, const Sc
                                       __global float4* splat, u32* rays) {
   const CameraConnection c = camera_connect(&p->camera, p->width, p->height, sh->p, u_lens);
   if (!c.valid) return;
+  film_splat_prefetch(p, splat, c.raster);
   const float3 wi = c.wi; /* from the vertex towards the camera */
   const float3 f = bsdf_eval_cos(sh, wo, wi, TRANSPORT_IMPORTANCE) * shading_correction(sh, wo, wi);
   if (is_black(f)) return;
@@ -60,6 +61,7 @@ static inline void lt_trace(__constant const RenderParams* p, const SceneView* s
     const CameraConnection c = camera_connect(&p->camera, p->width, p->height, e.p,
                                               sample_2d(sampler, bounce_dim(0u, DIM_LT_LENS)));
     if (c.valid && area_light_faces(s, s->triangles[light->triangle].material, ng, c.wi)) {
+      film_splat_prefetch(p, splat, c.raster);
       const float3 to_cam = c.wi;
       ++*rays;
       if (!intersect_any(s, offset_ray_origin_towards(e.p, ng, to_cam), to_cam,

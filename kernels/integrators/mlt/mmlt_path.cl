@@ -123,7 +123,7 @@ static inline PssPath mmlt_path(const SceneView* s, __constant const RenderParam
     path.L = bdpt_camera_connection(p, &none, s, &y.sh, y.wo, &y.st, s_count - 1u,
                                     bdpt_light_sample_2d(sampler, bounce_dim(s_count - 1u,
                                     DIM_LT_LENS)),
-                                    &path.raster, rays, &connections);
+                                    0, &path.raster, rays, &connections);
     path.pixel = film_pixel_of(p, path.raster);
   } else {
     path.L = mmlt_camera_strategy(p, s, sampler, s_count, t_count, &y, &path.pixel, &path.raster, rays);

@@ -138,6 +138,7 @@ static inline u32 vcm_light_path(__constant const RenderParams* p, __constant co
       CameraLink l;
       if (connect && bdpt_camera_link(p, &w.sh, w.wo, sample_2d(sampler, walk_dim(&w, DIM_LT_LENS)),
                                       &l)) {
+        film_splat_prefetch(p, splat, l.c.raster);
         /* t = 1, weighted against the techniques of the pixel it lands in: with per-pixel
          * radii that pixel's eta (a box filter: the film position's pixel receives it). */
         const MergeSetting g = vcm_merge_setting(

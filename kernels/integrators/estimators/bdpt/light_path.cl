@@ -69,16 +69,18 @@ static inline float3 bdpt_camera_link_trace(const SceneView* s, const SurfaceHit
 /* t = 1: light vertex sh (oriented to wo, towards the light, at bounce `depth`) connected
  * to the camera through lens point u_lens. Returns its weighted contribution to the film and
  * sets *raster to its film position; 0 when the strategy is off, the camera cannot see the vertex
- * or the shadow ray is blocked. */
+ * or the shadow ray is blocked. splat: the film the caller adds the result to, whose pixel is
+ * fetched while the shadow ray is traced (film_splat_prefetch); 0: none. */
 static inline float3 bdpt_camera_connection(__constant const RenderParams* p, const StrategyMis* m,
                                             const SceneView* s, const SurfaceHit* sh, float3 wo,
                                             const SubpathState* st, u32 depth, float2 u_lens,
-                                            float2* raster,
+                                            __global float4* splat, float2* raster,
                                             u32* rays, u32* connections) {
   const float strategy = bdpt_strategy_weight(m, depth + 1u, 1u, 1.0f);
   if (strategy == 0.0f) return (float3)(0.0f);
   CameraLink l;
   if (!bdpt_camera_link(p, sh, wo, u_lens, &l)) return (float3)(0.0f);
+  if (splat) film_splat_prefetch(p, splat, l.c.raster);
   const float w =
       bdpt_strategy_weight(m, depth + 1u, 1u, bdpt_weight_camera(p, m, st, l.camera_pdf_a, l.rev));
   return bdpt_camera_link_trace(s, sh, &l, st->beta, w, raster, rays, connections);
@@ -91,7 +93,7 @@ static inline void bdpt_connect_camera(__constant const RenderParams* p, const S
                                        u32* connections) {
   float2 raster = (float2)(0.0f);
   const float3 L =
-      bdpt_camera_connection(p, m, s, sh, wo, st, depth, u_lens, &raster, rays, connections);
+      bdpt_camera_connection(p, m, s, sh, wo, st, depth, u_lens, splat, &raster, rays, connections);
   if (!is_black(L)) film_splat_at(p, splat, raster, L);
 }
 
