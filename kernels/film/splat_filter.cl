@@ -31,7 +31,7 @@ static inline bool film_splats_through_filter(__constant const RenderParams* p) 
 
 /* Fetches the splat film's pixel at raster ahead of film_splat_at's atomic adds there: the
  * camera connections of lt, bdpt and vcm know it before they trace their shadow ray, and the
- * adds otherwise wait on the line (lt on the Cornell box: 1.07x the paths/s,
+ * adds otherwise wait on the line (lt on the Cornell box: 0.90x the render time,
  * docs/BENCHMARKS.md session 41). With a wider filter, the centre pixel. */
 static inline void film_splat_prefetch(__constant const RenderParams* p, __global float4* splat,
                                        float2 raster) {

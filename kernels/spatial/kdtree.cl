@@ -13,7 +13,7 @@
  * estimate then reads its k photons, 64 bytes each, at random): each node visited fetches the
  * line of its four grandchildren (4i + 3 .. 4i + 6, one 64-byte line) while the child is
  * examined, and each photon taken into the heap is fetched for the estimate that follows
- * (CLPT_PREFETCH, CPU devices; pm on the Cornell box 1.57x the paths/s, docs/BENCHMARKS.md
+ * (CLPT_PREFETCH, CPU devices; pm on the Cornell box 1.57 to 1.67x the paths/s, docs/BENCHMARKS.md
  * session 41). */
 #ifndef CLPT_PHOTON_KDTREE_CL
 #define CLPT_PHOTON_KDTREE_CL
