@@ -155,8 +155,8 @@ glm::dvec3 fourier_sum(const Point& p) {
     for (int c = 0; c < 3; ++c)
       xyz[c] = val[c] * norm * std::sqrt(2.0 * kPi * var[c]) * std::cos(pos[c] * phase + shift) *
                std::exp(-phase * phase * var[c]);
-    xyz.x += 9.7470e-14 * norm * std::sqrt(2.0 * kPi * 4.5282e9) * std::cos(2.2399e6 * phase + shift) *
-             std::exp(-4.5282e9 * phase * phase);
+    xyz.x += 9.7470e-14 * norm * std::sqrt(2.0 * kPi * 4.5282e9) *
+             std::cos(2.2399e6 * phase + shift) * std::exp(-4.5282e9 * phase * phase);
     I += 2.0 * Cm * xyz_to_rec709(xyz) / white;
   }
   return glm::clamp(I, 0.0, 1.0);
@@ -178,8 +178,8 @@ TEST(ThinFilm, OrdersAreTheFourierSumTermByTerm) {
     worst = std::max(worst, e);
     EXPECT_LT(e, 1e-5) << "cos " << p.cos1 << " eta2 " << p.eta2 << " d " << p.d << " f0 " << p.f0;
   }
-  std::cout << "[ thin film ] " << pts.size() << " points: |kernel - Fourier sum in double| largest "
-            << worst << "\n";
+  std::cout << "[ thin film ] " << pts.size()
+            << " points: |kernel - Fourier sum in double| largest " << worst << "\n";
 }
 
 // Thick films average their fringes away: the incoherent sum R12 + Rs, grey. Zero thickness
