@@ -39,22 +39,18 @@
 static inline float3 thin_film_fringes(float opd, float3 shift, float3 c0, float3 r) {
   const float phase = 2.0f * PI_F * 1e-9f * opd;
   const float norm = 1.0f / 1.0685e-7f;
-  const float3 val = (float3)(5.4856e-13f, 4.4201e-13f, 5.2481e-13f);
-  const float3 pos = (float3)(1.6810e6f, 1.7953e6f, 2.2084e6f);
-  const float3 var = (float3)(4.3278e9f, 9.3046e9f, 6.6121e9f);
-  const float3 amp = (val * norm) * sqrt(2.0f * PI_F * var);
-  /* x's second Gaussian */
-  const float amp_x = (9.7470e-14f * norm) * sqrt(2.0f * PI_F * 4.5282e9f);
-  const float3 c1 = cos(pos * phase + shift);
-  const float c1_x = cos(2.2399e6f * phase + shift.x);
-  const float3 g = exp(-(phase * phase) * var);
-  const float g_x = exp(-4.5282e9f * phase * phase);
-  float3 c_prev = (float3)(1.0f), c = c1, e = g, step = g * g * g;
-  float cx_prev = 1.0f, cx = c1_x, ex = g_x, step_x = g_x * g_x * g_x;
+  /* The fit's four Gaussians as lanes: X, Y, Z and X's second lobe (w, added to X). */
+  const float4 val = (float4)(5.4856e-13f, 4.4201e-13f, 5.2481e-13f, 9.7470e-14f);
+  const float4 pos = (float4)(1.6810e6f, 1.7953e6f, 2.2084e6f, 2.2399e6f);
+  const float4 var = (float4)(4.3278e9f, 9.3046e9f, 6.6121e9f, 4.5282e9f);
+  const float4 amp = (val * norm) * sqrt(2.0f * PI_F * var);
+  const float4 c1 = cos(pos * phase + (float4)(shift, shift.x));
+  const float4 g = exp(-(phase * phase) * var);
+  float4 c_prev = (float4)(1.0f), c = c1, e = g, step = g * g * g;
   float3 Cm = c0, sum = (float3)(0.0f);
   for (int m = 0; m < THIN_FILM_ORDERS; ++m) {
-    float3 xyz = amp * c * e;
-    xyz.x += amp_x * cx * ex;
+    const float4 lobes = amp * c * e;
+    const float3 xyz = (float3)(lobes.x + lobes.w, lobes.y, lobes.z);
     const float3 rgb =
         (float3)(3.2404542f * xyz.x - 1.5371385f * xyz.y - 0.4985314f * xyz.z,
                  -0.9692660f * xyz.x + 1.8760108f * xyz.y + 0.0415560f * xyz.z,
@@ -64,16 +60,11 @@ static inline float3 thin_film_fringes(float opd, float3 shift, float3 c0, float
         (float3)(1.0f / 1.2053688f, 1.0f / 0.9483195f, 1.0f / 0.9100097f);
     Cm *= r;
     sum += Cm * 2.0f * rgb;
-    const float3 c_next = 2.0f * c1 * c - c_prev;
+    const float4 c_next = 2.0f * c1 * c - c_prev;
     c_prev = c;
     c = c_next;
     e *= step; /* exp(-b)^((m + 1)^2) from exp(-b)^(m^2) */
     step *= g * g;
-    const float cx_next = 2.0f * c1_x * cx - cx_prev;
-    cx_prev = cx;
-    cx = cx_next;
-    ex *= step_x;
-    step_x *= g_x * g_x;
   }
   return sum;
 }
