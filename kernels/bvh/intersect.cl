@@ -32,11 +32,24 @@
 #define CLPT_BVH_INTERSECT_CL
 
 #include "core/hit.cl"
-#include "core/math.cl"
 #include "core/prefetch.cl"
 #include "core/scene_view.cl"
 #include "material/alpha.cl"
 #include "shared/bvh_constants.h"
+
+/* The traversal functions are large and called from several places; inlining them into
+ * each kernel lets the compiler keep the per-ray constants in registers. static, as every
+ * function of the kernels: a C99 `inline` definition alone is no external definition, and a
+ * call the compiler leaves out of line then has nothing to link to (clang's NVPTX and AMDGPU
+ * targets leave such calls unresolved; docs/ARCHITECTURE.md, portability rules).
+ * CLPT_NO_ALWAYS_INLINE (scripts/oclgrind-check.sh) leaves inlining to the compiler: Oclgrind
+ * 21.10 cannot run the noalias scope declarations that forced inlining of a function
+ * returning a struct leaves behind, even at -cl-opt-disable. */
+#if defined(__clang__) && !defined(CLPT_NO_ALWAYS_INLINE)
+#define CLPT_INLINE static inline __attribute__((always_inline))
+#else
+#define CLPT_INLINE static inline
+#endif
 
 /* Per-ray constants of the watertight test: the axis kz where the direction is largest, the
  * other two axes (kx, ky) and the shear that maps the direction to (0, 0, 1). */

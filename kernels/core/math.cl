@@ -15,21 +15,6 @@
 #define CLPT_NOINLINE static
 #endif
 
-/* What must be inline, whatever the compiler's inliner says: the traversal functions (large
- * and called from several places; inlined into each kernel, the per-ray constants stay in
- * registers), the walk's steps and the default sampler. static, as every function of the
- * kernels: a C99 `inline` definition alone is no external definition, and a
- * call the compiler leaves out of line then has nothing to link to (clang's NVPTX and AMDGPU
- * targets leave such calls unresolved; docs/ARCHITECTURE.md, portability rules).
- * CLPT_NO_ALWAYS_INLINE (scripts/oclgrind-check.sh) leaves inlining to the compiler: Oclgrind
- * 21.10 cannot run the noalias scope declarations that forced inlining of a function
- * returning a struct leaves behind, even at -cl-opt-disable. */
-#if defined(__clang__) && !defined(CLPT_NO_ALWAYS_INLINE)
-#define CLPT_INLINE static inline __attribute__((always_inline))
-#else
-#define CLPT_INLINE static inline
-#endif
-
 #define PI_F 3.14159265358979323846f
 #define INV_PI_F 0.31830988618379067154f
 

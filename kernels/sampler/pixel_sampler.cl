@@ -22,7 +22,6 @@
 /* clang-format off: render_types.h must come first, it defines u32, which dimensions.h uses */
 #include "shared/render_types.h"
 /* clang-format on */
-#include "core/math.cl"
 #include "sampler/dimensions.h"
 #include "sampler/hash.cl"
 #include "sampler/lhs.cl"
@@ -69,9 +68,7 @@ static inline float independent_1d(const Sampler* s, u32 dimension) {
   return u32_to_unit_float(hash_u32(h + dimension));
 }
 
-/* The stratifying samplers, out of line (core/math.cl's CLPT_NOINLINE); the independent
- * sampler, the default, is the inline shortcut in front of them (sample_1d, sample_2d). */
-CLPT_NOINLINE float sample_1d_strata(const Sampler* s, u32 dimension) {
+static inline float sample_1d(const Sampler* s, u32 dimension) {
   float v;
   switch (s->type) {
     case SAMPLER_STRATIFIED:
@@ -89,7 +86,7 @@ CLPT_NOINLINE float sample_1d_strata(const Sampler* s, u32 dimension) {
   return fmin(v, 0x1.fffffep-1f);
 }
 
-CLPT_NOINLINE float2 sample_2d_strata(const Sampler* s, u32 dimension) {
+static inline float2 sample_2d(const Sampler* s, u32 dimension) {
   float2 v;
   switch (s->type) {
     case SAMPLER_STRATIFIED:
@@ -110,21 +107,6 @@ CLPT_NOINLINE float2 sample_2d_strata(const Sampler* s, u32 dimension) {
       break;
   }
   return fmin(v, (float2)(0x1.fffffep-1f));
-}
-
-/* Every path vertex draws several of these. PoCL left the four-way switch out of line, and
- * the calls and the switch were 4 to 6 % of a Cornell box render (`perf`; docs/BENCHMARKS.md,
- * session 42): the default sampler's hash is now inline at each use, the others one call. */
-CLPT_INLINE float sample_1d(const Sampler* s, u32 dimension) {
-  if (s->type == SAMPLER_INDEPENDENT) return fmin(independent_1d(s, dimension), 0x1.fffffep-1f);
-  return sample_1d_strata(s, dimension);
-}
-
-CLPT_INLINE float2 sample_2d(const Sampler* s, u32 dimension) {
-  if (s->type == SAMPLER_INDEPENDENT)
-    return fmin((float2)(independent_1d(s, dimension), independent_1d(s, dimension + 1u)),
-                (float2)(0x1.fffffep-1f));
-  return sample_2d_strata(s, dimension);
 }
 
 #endif

@@ -21,7 +21,6 @@
 /* clang-format off: render_types.h must come first, it defines u32, which dimensions.h uses */
 #include "shared/render_types.h"
 /* clang-format on */
-#include "core/math.cl"
 #include "sampler/dimensions.h"
 #include "sampler/hash.cl"
 #include "shared/mlt_types.h"
