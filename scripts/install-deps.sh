@@ -7,6 +7,10 @@ packages=(
   build-essential cmake ninja-build pkg-config
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libglm-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev
+  # Image files: OpenEXR, libpng, libjpeg-turbo and libwebp (host/io/*_codec), xxHash
+  # (util/hash.h). OpenImageIO and its tools are for the tests only: an independent reader
+  # and writer of the same formats.
+  libopenexr-dev libpng-dev libjpeg-dev libwebp-dev libxxhash-dev
   libopenimageio-dev openimageio-tools
   libdraco-dev libmeshoptimizer-dev
   libgtest-dev libboost-math-dev

@@ -2,7 +2,7 @@
 # Builds clpt with AddressSanitizer + UndefinedBehaviorSanitizer (build-asan, CLPT_SANITIZE=ON)
 # and runs the tests that feed clpt hostile or degenerate input: the glTF loader and its
 # malformed corpus (Gltf*), clpt-diff and image statistics (ClptDiff*, ImageStats*), the image
-# decoder (ImageDecode*, ImageReader*, NormalMap16*: 16-bit PNGs), the
+# decoders (ImageDecode*, ImageReader*, ImageCodecs*, NormalMap16*: 16-bit PNGs), the
 # command line (Cli*, which runs the sanitized clpt), the kernel cache (KernelCache*,
 # KernelSource*) and the robustness tests (OutOfMemory*, UnwritableOutput*, BuildFailure*,
 # NoNaN*, ScaleInvariance*). Extra arguments go to ctest (e.g. -R Gltf to narrow it).
@@ -26,7 +26,7 @@ start=$(date +%s)
 
 # The hostile-input suites that run under the sanitizers. The build compiles only the test
 # sources that define one of them (tests/CMakeLists.txt, CLPT_SANITIZE_SUITES).
-suites='Gltf[A-Za-z]*|ClptDiff|ImageStats|ImageDecode|NormalMap16|ImageReader|LoadLimits|Cli|KernelCache|KernelSource|OutOfMemory|HostileSizes|UnwritableOutput|BuildFailure|ScaleInvariance|NoNaN'
+suites='Gltf[A-Za-z]*|ClptDiff|ImageStats|ImageDecode|ImageCodecs|NormalMap16|ImageReader|LoadLimits|Cli|KernelCache|KernelSource|OutOfMemory|HostileSizes|UnwritableOutput|BuildFailure|ScaleInvariance|NoNaN'
 # CMakePresets.json: build-asan, RelWithDebInfo, CLPT_SANITIZE=ON
 cmake --preset asan "-DCLPT_SANITIZE_SUITES=$suites"
 printf '%s\n' '# Allocations PoCL and LLVM keep until exit by design (scripts/test-sanitize.sh).' \

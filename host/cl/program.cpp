@@ -1,7 +1,5 @@
 #include "cl/program.h"
 
-#include <OpenImageIO/hash.h>
-
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -10,9 +8,11 @@
 #include <iomanip>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "cl/cl_error.h"
 #include "util/atomic_file.h"
+#include "util/hash.h"
 #include "util/log.h"
 
 namespace clpt::cl {
@@ -154,13 +154,11 @@ CacheKey make_key(const DeviceInfo& dev, const std::string& options, const std::
     << options << '\n'
     << source;
   k.text = s.str();
-  const OIIO::farmhash::uint128_t h =
-      OIIO::farmhash::Fingerprint128(k.text.data(), k.text.size());
+  const Hash128 h = hash128(k.text.data(), k.text.size());
   std::ostringstream name;
-  name << std::hex << std::setfill('0') << std::setw(16) << OIIO::farmhash::Uint128High64(h)
-       << std::setw(16) << OIIO::farmhash::Uint128Low64(h) << ".clbin";
+  name << std::hex << std::setfill('0') << std::setw(16) << h.high << std::setw(16) << h.low << ".clbin";
   k.file_name = name.str();
-  k.check = OIIO::xxhash::XXH64(k.text.data(), k.text.size(), 0);
+  k.check = hash64(k.text.data(), k.text.size(), 0);
   return k;
 }
 
@@ -176,7 +174,7 @@ bool read_cache(const fs::path& file, uint64_t key_check, std::vector<unsigned c
   binary->resize(size);
   if (!f.read(reinterpret_cast<char*>(binary->data()), static_cast<std::streamsize>(size)))
     return false;
-  return OIIO::xxhash::XXH64(binary->data(), binary->size(), 0) == payload_hash;
+  return hash64(binary->data(), binary->size(), 0) == payload_hash;
 }
 
 void write_cache(const fs::path& file, uint64_t key_check, const std::vector<unsigned char>& bin) {
@@ -187,7 +185,7 @@ void write_cache(const fs::path& file, uint64_t key_check, const std::vector<uns
   std::string why;
   const bool written = write_file_atomically(file, [&](std::ostream& f) {
     const uint64_t size = bin.size();
-    const uint64_t payload_hash = OIIO::xxhash::XXH64(bin.data(), bin.size(), 0);
+    const uint64_t payload_hash = hash64(bin.data(), bin.size(), 0);
     f.write(kCacheMagic, 8);
     f.write(reinterpret_cast<const char*>(&key_check), 8);
     f.write(reinterpret_cast<const char*>(&size), 8);

@@ -70,7 +70,7 @@ ImageFormat sniff_image(const unsigned char* p, size_t n) {
   return ImageFormat::Unknown;
 }
 
-const char* oiio_format_name(ImageFormat format) {
+const char* image_format_name(ImageFormat format) {
   switch (format) {
     case ImageFormat::Png: return "png";
     case ImageFormat::Jpeg: return "jpeg";

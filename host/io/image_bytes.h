@@ -17,9 +17,9 @@ enum class ImageFormat { Unknown, Png, Jpeg, Webp, Ktx2, Exr, Hdr };
 
 // The format by its first bytes (not by a name or media type).
 ImageFormat sniff_image(const unsigned char* data, size_t size);
-// OpenImageIO's name for the format's reader ("png", "jpeg", "webp", "openexr", "hdr"), or
+// The format's short name ("png", "jpeg", "webp", "openexr", "hdr") for messages, or
 // nullptr (Unknown, Ktx2).
-const char* oiio_format_name(ImageFormat format);
+const char* image_format_name(ImageFormat format);
 
 // The width and height a PNG (IHDR), JPEG (the first SOF) or WebP (VP8, VP8L or VP8X) header
 // gives, read from the header bytes alone without decoding. False when the bytes are none of

@@ -1,16 +1,18 @@
 #include "io/image_io.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <memory>
 #include <unistd.h>
 
+#include "io/exr_codec.h"
+#include "io/hdr_codec.h"
 #include "io/image_bytes.h"
+#include "io/jpeg_codec.h"
+#include "io/png_codec.h"
 #include "io/output_path.h"
 #include "util/text.h"
 #include "util/error.h"
@@ -64,7 +66,7 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
   const std::string ext = lower_extension(path);
   const bool hdr = is_float_format(ext);
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  // Same folder (so rename is atomic), same extension (so OIIO picks the format).
+  // Same folder (so rename is atomic).
   const fs::path tmp =
       dir / ("." + path.stem().string() + ".tmp" + std::to_string(::getpid()) + path.extension().string());
   auto fail = [&](const std::string& why) {
@@ -94,52 +96,45 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
   int nch = 3;
   for (const NamedChannel& a : layers) nch += int(a.channels.size());
 
-  auto out = OIIO::ImageOutput::create(tmp.string());
-  if (!out) fail("no image writer for '" + ext + "' (" + OIIO::geterror() + ")");
-  OIIO::ImageSpec spec(int(image.width), int(image.height), nch,
-                       hdr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-  if (!layers.empty()) {
-    spec.channelnames = {"R", "G", "B"};
-    for (const NamedChannel& a : layers)
-      for (const std::string& c : a.channels) spec.channelnames.push_back(a.name + "." + c);
-  }
-  if (hdr) spec.attribute("compression", "zip");
-  else spec.attribute("oiio:ColorSpace", "sRGB");
-  if (ext == ".jpg" || ext == ".jpeg") spec.attribute("Compression", "jpeg:95");
-  for (const auto& [k, v] : meta.strings) spec.attribute(k, v);
-  for (const auto& [k, v] : meta.ints) spec.attribute(k, v);
-  for (const auto& [k, v] : meta.floats) spec.attribute(k, v);
-
-  if (!out->open(tmp.string(), spec)) fail(out->geterror());
+  std::string why;
   bool ok;
-  if (hdr && layers.empty()) {
-    ok = out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
-  } else if (hdr) {
-    // Interleave: R G B, then each layer's channels, per pixel.
+  if (hdr) {
+    std::vector<std::string> names = {"R", "G", "B"};
+    for (const NamedChannel& a : layers)
+      for (const std::string& c : a.channels) names.push_back(a.name + "." + c);
     const size_t px = size_t(image.width) * image.height;
-    std::vector<float> buf(px * size_t(nch));
-    for (size_t i = 0; i < px; ++i) {
-      float* dst = &buf[i * size_t(nch)];
-      for (int c = 0; c < 3; ++c) *dst++ = image.rgb[i * 3 + c];
-      for (const NamedChannel& l : layers)
-        for (size_t c = 0; c < l.channels.size(); ++c) *dst++ = l.image.rgb[i * 3 + c];
+    std::vector<float> interleaved;
+    if (!layers.empty()) {  // R G B, then each layer's channels, per pixel
+      interleaved.resize(px * size_t(nch));
+      for (size_t i = 0; i < px; ++i) {
+        float* dst = &interleaved[i * size_t(nch)];
+        for (int c = 0; c < 3; ++c) *dst++ = image.rgb[i * 3 + c];
+        for (const NamedChannel& l : layers)
+          for (size_t c = 0; c < l.channels.size(); ++c) *dst++ = l.image.rgb[i * 3 + c];
+      }
     }
-    ok = out->write_image(OIIO::TypeDesc::FLOAT, buf.data());
+    ok = write_exr(tmp, image.width, image.height, names, layers.empty() ? image.rgb.data() : interleaved.data(),
+                   meta, &why);
   } else {
     std::vector<unsigned char> bytes(image.rgb.size());
     for (size_t i = 0; i + 2 < bytes.size(); i += 3) {
       const std::array<float, 3> d = display_encode(display, {image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]});
       for (int c = 0; c < 3; ++c) bytes[i + size_t(c)] = static_cast<unsigned char>(std::lround(d[c] * 255.0f));
     }
-    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+    if (ext == ".png") {
+      std::vector<std::pair<std::string, std::string>> text = meta.strings;
+      for (const auto& [k, v] : meta.ints) text.emplace_back(k, std::to_string(v));
+      for (const auto& [k, v] : meta.floats) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.9g", double(v));
+        text.emplace_back(k, buf);
+      }
+      ok = write_png(tmp, image.width, image.height, bytes.data(), text, &why);
+    } else {
+      ok = write_jpeg(tmp, image.width, image.height, bytes.data(), 95, &why);
+    }
   }
-  if (!ok) {
-    const std::string err = out->geterror();
-    out->close();
-    fail(err);
-  }
-  if (!out->close()) fail(out->geterror());
-  out.reset();
+  if (!ok) fail(why);
   std::error_code ec;
   fs::rename(tmp, path, ec);
   if (ec) fail(ec.message());
@@ -152,108 +147,137 @@ namespace {
 // 16384 pixels x 16 channels, or 4096 x 64.
 constexpr uint64_t kMaxExrLineValues = uint64_t{1} << 18;
 
-// An image open for reading, with what its reader reads from (destroyed after the reader).
-struct OpenImage {
-  std::vector<unsigned char> bytes;                         // PNG and JPEG: the cleaned file
-  std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy;     // ... and the reader's view of it
-  std::unique_ptr<OIIO::ImageInput> in;
+[[noreturn]] void refuse(const fs::path& path, const std::string& why) {
+  throw Error(ExitCode::BadInput, path.string() + ": " + why);
+}
+
+// An image file past the checks that keep hostile bytes from the decoders: a regular file (a
+// FIFO or /dev/zero would block or never end) in one of the formats clpt reads (OpenEXR,
+// Radiance HDR, PNG, JPEG, told by their first bytes), PNG and JPEG with their chunks and
+// segments checked and ICC profiles dropped (io/image_bytes), an EXR's headers walked and its
+// size checked before OpenEXR opens it. PNG, JPEG and HDR files are read into memory.
+struct InputImage {
+  ImageFormat format = ImageFormat::Unknown;
+  std::vector<unsigned char> bytes;  // PNG, JPEG, HDR
 };
 
-// Opens an image for reading: a regular file (a FIFO or /dev/zero would block or never end)
-// in one of the formats clpt reads (OpenEXR, Radiance HDR, PNG, JPEG, told by their first
-// bytes, each with its own reader rather than whichever OpenImageIO guesses), with a
-// non-empty size within the limits. PNG and JPEG are read into memory and pass the texture
-// decoder's checks first (io/image_bytes: PNG chunks and CRCs, no ICC profiles).
-OpenImage open_image(const fs::path& path, const ImageLimits& limits) {
+InputImage open_image(const fs::path& path, const ImageLimits& limits) {
   check_regular_input(path, "");
-  auto fail = [&](const std::string& why) { throw Error(ExitCode::BadInput, path.string() + ": " + why); };
   auto check_size = [&](uint64_t w, uint64_t h) {
     const std::string why = image_size_refusal(w, h, limits.max_dimension, limits.max_pixels, limits.raise);
-    if (!why.empty()) fail(why);
+    if (!why.empty()) refuse(path, why);
   };
   std::ifstream file(path, std::ios::binary);
-  if (!file) fail("cannot open the file");
+  if (!file) refuse(path, "cannot open the file");
   unsigned char head[16] = {};
   file.read(reinterpret_cast<char*>(head), sizeof head);
-  const ImageFormat format = sniff_image(head, size_t(file.gcount()));
+  InputImage img;
+  img.format = sniff_image(head, size_t(file.gcount()));
   std::error_code size_error;
   const uintmax_t file_size = fs::file_size(path, size_error);
-  if (format != ImageFormat::Exr && format != ImageFormat::Hdr && format != ImageFormat::Png &&
-      format != ImageFormat::Jpeg)
-    fail(file.gcount() == 0 ? std::string("the file is empty")
-                            : "not an OpenEXR, Radiance HDR, PNG or JPEG image (unknown signature)");
-  if (format == ImageFormat::Exr) {
+  if (img.format != ImageFormat::Exr && img.format != ImageFormat::Hdr && img.format != ImageFormat::Png &&
+      img.format != ImageFormat::Jpeg)
+    refuse(path, file.gcount() == 0 ? std::string("the file is empty")
+                                    : "not an OpenEXR, Radiance HDR, PNG or JPEG image (unknown signature)");
+  if (img.format == ImageFormat::Exr) {
     std::string why;
     ExrExtent extent;
     file.clear();
     if (size_error || !check_exr_headers(file, uint64_t(file_size), &why, &extent))
-      fail(size_error ? "cannot read the file's size" : why);
+      refuse(path, size_error ? "cannot read the file's size" : why);
     // OpenEXR sizes its line buffers by the window and the channels when it opens the file.
     check_size(extent.width, extent.height);
     if (extent.width * extent.channels > kMaxExrLineValues)
-      fail("the EXR's lines are " + std::to_string(extent.width) + " pixels of " + std::to_string(extent.channels) +
-           " channels, more than the " + std::to_string(kMaxExrLineValues) + " values a line clpt reads may hold");
+      refuse(path, "the EXR's lines are " + std::to_string(extent.width) + " pixels of " +
+                       std::to_string(extent.channels) + " channels, more than the " +
+                       std::to_string(kMaxExrLineValues) + " values a line clpt reads may hold");
+    return img;
   }
-  OpenImage img;
-  std::string name = path.string();
-  OIIO::ImageSpec config;
-  if (format == ImageFormat::Png || format == ImageFormat::Jpeg) {
-    if (size_error || file_size > (uintmax_t{1} << 31))
-      fail("cannot read the file (larger than 2 GiB, or its size unknown)");
-    std::vector<unsigned char> raw(static_cast<size_t>(file_size));
-    file.seekg(0);
-    file.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size()));
-    if (size_t(file.gcount()) != raw.size()) fail("cannot read the file");
-    std::string why;
-    if (format == ImageFormat::Png && !check_png_chunks(raw.data(), raw.size(), &why)) fail(why);
-    if (!without_icc_profiles(raw.data(), raw.size(), format, &img.bytes, &why)) fail(why);
-    img.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(img.bytes.data(), img.bytes.size());
-    OIIO::Filesystem::IOProxy* proxy = img.proxy.get();
-    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-    name = std::string("image.") + oiio_format_name(format);
+  if (size_error || file_size > (uintmax_t{1} << 31))
+    refuse(path, "cannot read the file (larger than 2 GiB, or its size unknown)");
+  std::vector<unsigned char> raw(static_cast<size_t>(file_size));
+  file.clear();
+  file.seekg(0);
+  file.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size()));
+  if (size_t(file.gcount()) != raw.size()) refuse(path, "cannot read the file");
+  if (img.format == ImageFormat::Hdr) {
+    img.bytes = std::move(raw);
+    return img;
   }
-  file.close();
-  img.in = OIIO::ImageInput::create(oiio_format_name(format));
-  OIIO::ImageSpec spec;
-  if (!img.in) fail(std::string("OpenImageIO has no ") + oiio_format_name(format) + " reader: " + one_line(OIIO::geterror()));
-  if (!img.in->open(name, spec, config)) fail("cannot read image: " + one_line(img.in->geterror()));
-  const OIIO::ImageSpec& s = img.in->spec();
-  if (s.width <= 0 || s.height <= 0 || s.nchannels <= 0 || s.depth > 1)
-    fail("empty image (the header gives " + std::to_string(s.width) + "x" + std::to_string(s.height) + ")");
-  check_size(uint64_t(s.width), uint64_t(s.height));
+  std::string why;
+  if (img.format == ImageFormat::Png && !check_png_chunks(raw.data(), raw.size(), &why)) refuse(path, why);
+  if (!without_icc_profiles(raw.data(), raw.size(), img.format, &img.bytes, &why)) refuse(path, why);
   return img;
 }
 
-// The pixels, nch floats each, read in strips of scanlines. Memory grows strip by strip with
-// what was really decoded (a vector's growth: at most twice that), never to the header's
-// claim at once: a file that lies about its size fails at its first missing strip.
-std::vector<float> read_pixels(OIIO::ImageInput& in, const fs::path& path) {
-  const OIIO::ImageSpec& spec = in.spec();
-  const size_t row = size_t(spec.width) * size_t(spec.nchannels);
-  const int strip = 64;
-  std::vector<float> pixels;
-  for (int y = 0; y < spec.height; y += strip) {
-    const int y_end = std::min(spec.height, y + strip);
-    pixels.resize(size_t(y_end) * row);
-    // A reader that reports a problem and still returns pixels (libjpeg pads a JPEG whose data
-    // ends early with grey, and warns once per missing row) is damaged input too.
-    if (!in.read_scanlines(0, 0, spec.y + y, spec.y + y_end, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT,
-                           pixels.data() + size_t(y) * row) ||
-        in.has_error()) {
-      const std::string e = one_line(in.geterror());
-      throw Error(ExitCode::BadInput, path.string() + ": cannot read scanlines " + std::to_string(y) + ".." +
-                                          std::to_string(y_end - 1) + " of " + std::to_string(spec.height) +
-                                          (e.empty() ? std::string() : ": " + e));
+// A file's pixels as its decoder gives them, with an EXR's channel names and attributes.
+struct FileImage {
+  Raster raster;
+  std::vector<std::string> channels;  // EXR only
+  ImageMetadata meta;                 // EXR only
+  bool srgb = false;                  // PNG and JPEG: 8- or 16-bit sRGB codes
+};
+
+FileImage decode_file(const fs::path& path, const ImageLimits& limits) {
+  InputImage in = open_image(path, limits);
+  std::string refusal;  // the size check's, passed on as it is
+  const SizeCheck check = [&](uint64_t w, uint64_t h) {
+    refusal = image_size_refusal(w, h, limits.max_dimension, limits.max_pixels, limits.raise);
+    return refusal;
+  };
+  FileImage img;
+  DecodeFailure f;
+  bool ok = false;
+  switch (in.format) {
+    case ImageFormat::Exr: {
+      ExrImage exr;
+      ok = read_exr(path, check, &exr, &f);
+      img.raster = std::move(exr.raster);
+      img.channels = std::move(exr.channels);
+      img.meta = std::move(exr.meta);
+      break;
     }
+    case ImageFormat::Hdr: ok = decode_hdr(in.bytes.data(), in.bytes.size(), check, &img.raster, &f); break;
+    case ImageFormat::Png:
+      ok = decode_png(in.bytes.data(), in.bytes.size(), true, check, &img.raster, &f);
+      img.srgb = true;
+      break;
+    default:  // JPEG
+      ok = decode_jpeg(in.bytes.data(), in.bytes.size(), check, &img.raster, &f);
+      img.srgb = true;
+      break;
   }
-  return pixels;
+  if (ok) return img;
+  if (!refusal.empty()) refuse(path, refusal);
+  if (f.row < 0) refuse(path, "cannot read image: " + f.what);
+  const uint64_t h = img.raster.height, y = uint64_t(f.row) / kDecodeStripRows * kDecodeStripRows;
+  refuse(path, "cannot read scanlines " + std::to_string(y) + ".." +
+                   std::to_string(std::min<uint64_t>(h, y + kDecodeStripRows) - 1) + " of " + std::to_string(h) +
+                   ": " + f.what);
 }
 
 }  // namespace
 
 ImageSize read_image_size(const fs::path& path, const ImageLimits& limits) {
-  const OpenImage img = open_image(path, limits);
-  return {uint32_t(img.in->spec().width), uint32_t(img.in->spec().height)};
+  const InputImage in = open_image(path, limits);
+  uint64_t w = 0, h = 0;
+  std::string why;
+  bool ok;
+  if (in.format == ImageFormat::Exr) {
+    DecodeFailure f;
+    ok = read_exr_size(path, &w, &h, &f);
+    why = f.what;
+  } else if (in.format == ImageFormat::Hdr) {
+    ok = hdr_header_size(in.bytes.data(), in.bytes.size(), &w, &h, &why);
+  } else {
+    ok = image_header_size(in.bytes.data(), in.bytes.size(), &w, &h);
+    if (!ok) why = "the header is cut off";
+  }
+  if (!ok) refuse(path, "cannot read image: " + why);
+  if (w == 0 || h == 0) refuse(path, "empty image (the header gives " + std::to_string(w) + "x" + std::to_string(h) + ")");
+  const std::string refusal = image_size_refusal(w, h, limits.max_dimension, limits.max_pixels, limits.raise);
+  if (!refusal.empty()) refuse(path, refusal);
+  return {uint32_t(w), uint32_t(h)};
 }
 
 Image read_image(const fs::path& path, const ImageLimits& limits) {
@@ -273,25 +297,22 @@ int ImageChannels::int_attribute(const std::string& name, int fallback) const {
 }
 
 ImageChannels read_image_channels(const fs::path& path, const ImageLimits& limits) {
-  OpenImage img = open_image(path, limits);
-  OIIO::ImageInput* in = img.in.get();
-  const OIIO::ImageSpec& spec = in->spec();
-  const size_t px = size_t(spec.width) * size_t(spec.height);
-  const size_t nch = size_t(spec.nchannels);
-  const std::vector<float> pixels = read_pixels(*in, path);
-  const bool decode = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
-                      spec.format.basetype == OIIO::TypeDesc::UINT16;
+  const FileImage file = decode_file(path, limits);
+  const Raster& r = file.raster;
+  const size_t px = size_t(r.width) * r.height;
+  const size_t nch = r.channels;
+  const std::vector<std::string>& names = file.channels;
 
   auto channel_index = [&](const std::string& name) {
-    for (size_t c = 0; c < spec.channelnames.size() && c < nch; ++c)
-      if (spec.channelnames[c] == name) return int(c);
+    for (size_t c = 0; c < names.size() && c < nch; ++c)
+      if (names[c] == name) return int(c);
     return -1;
   };
   auto gather = [&](const std::array<int, 3>& ch, bool srgb) {
-    Image img(uint32_t(spec.width), uint32_t(spec.height));
+    Image img(r.width, r.height);
     for (size_t i = 0; i < px; ++i)
       for (int c = 0; c < 3; ++c) {
-        const float v = pixels[i * nch + size_t(ch[c])];
+        const float v = r.value(i * nch + size_t(ch[c]));
         img.rgb[i * 3 + c] = srgb ? srgb_decode(v) : v;
       }
     return img;
@@ -299,14 +320,18 @@ ImageChannels read_image_channels(const fs::path& path, const ImageLimits& limit
 
   ImageChannels out;
   std::array<int, 3> rgb = {channel_index("R"), channel_index("G"), channel_index("B")};
-  if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0)  // unnamed channels: the first three, or grey
-    for (int c = 0; c < 3; ++c) rgb[c] = std::min(c, spec.nchannels - 1);
-  out.image = gather(rgb, decode);
+  const int luminance = channel_index("Y");
+  if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) {
+    if (luminance >= 0) rgb = {luminance, luminance, luminance};  // an EXR's Y alone: grey
+    else if (nch <= 2) rgb = {0, 0, 0};                            // grey, or grey and alpha
+    else rgb = {0, 1, 2};                                          // the first three channels
+  }
+  out.image = gather(rgb, file.srgb);
 
   // Layers, in the file's channel order: every prefix L with all of L.R, L.G, L.B, or of
   // L.X, L.Y, L.Z, or with one channel L.c alone (repeated in all three components).
-  for (size_t c = 0; c < spec.channelnames.size() && c < nch; ++c) {
-    const std::string& n = spec.channelnames[c];
+  for (size_t c = 0; c < names.size() && c < nch; ++c) {
+    const std::string& n = names[c];
     const size_t dot = n.rfind('.');
     if (dot == std::string::npos || dot == 0 || dot + 1 == n.size()) continue;
     const std::string name = n.substr(0, dot), suffix = n.substr(dot + 1);
@@ -321,20 +346,11 @@ ImageChannels read_image_channels(const fs::path& path, const ImageLimits& limit
     }
     if (three) continue;
     size_t with_prefix = 0;
-    for (const std::string& other : spec.channelnames)
+    for (const std::string& other : names)
       with_prefix += other.size() > name.size() && other.compare(0, name.size() + 1, name + ".") == 0;
     if (with_prefix == 1) out.layers.push_back({name, gather({int(c), int(c), int(c)}, false), {suffix}});
   }
-
-  for (const OIIO::ParamValue& p : spec.extra_attribs) {
-    const OIIO::TypeDesc t = p.type();
-    if (p.nvalues() != 1) continue;
-    if (t == OIIO::TypeDesc::INT) out.meta.ints.emplace_back(p.name().string(), p.get_int());
-    else if (t == OIIO::TypeDesc::FLOAT)
-      out.meta.floats.emplace_back(p.name().string(), p.get_float());
-    else if (t == OIIO::TypeDesc::STRING)
-      out.meta.strings.emplace_back(p.name().string(), p.get_string());
-  }
+  out.meta = file.meta;
   return out;
 }
 

@@ -1,4 +1,5 @@
-// Image files through OpenImageIO. EXR: linear float RGB with metadata. PNG/JPEG: sRGB,
+// Image files through the format libraries (io/*_codec: OpenEXR, libpng, libjpeg-turbo,
+// libwebp, and clpt's own Radiance HDR reader). EXR: linear float RGB with metadata. PNG/JPEG: sRGB,
 // 8 bits, clamped. Every write goes to a temporary file in the same folder and is renamed
 // over the destination only once complete, so a failure never leaves a half-written image
 // or destroys an existing one.
@@ -14,12 +15,6 @@
 #include "io/view_transform.h"
 
 namespace clpt {
-
-struct ImageMetadata {
-  std::vector<std::pair<std::string, std::string>> strings;
-  std::vector<std::pair<std::string, int>> ints;
-  std::vector<std::pair<std::string, float>> floats;
-};
 
 // Checks the output path before any rendering: a known extension (.exr, .png, .jpg, .jpeg)
 // and a folder that exists and is writable. Throws Error(Usage) or Error(Output).

@@ -1,12 +1,12 @@
 #include "render/checkpoint.h"
 
-#include <OpenImageIO/hash.h>
 
 #include <cstring>
 #include <fstream>
 
 #include "io/image.h"
 #include "io/output_path.h"
+#include "util/hash.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 
@@ -33,11 +33,11 @@ static_assert(sizeof(Header) == 40, "the header has no padding: every byte is ha
 uint64_t payload_hash(const Header& header, const std::string& signature, const FilmState& s) {
   Header zeroed = header;
   zeroed.payload_hash = 0;
-  uint64_t h = OIIO::xxhash::XXH64(&zeroed, sizeof zeroed, 0);
-  h = OIIO::xxhash::XXH64(signature.data(), signature.size(), h);
-  h = OIIO::xxhash::XXH64(s.sum.data(), s.sum.size() * sizeof(float), h);
-  h = OIIO::xxhash::XXH64(s.sum_sq.data(), s.sum_sq.size() * sizeof(float), h);
-  return OIIO::xxhash::XXH64(s.ray_counts.data(), s.ray_counts.size() * sizeof(uint32_t), h);
+  uint64_t h = hash64(&zeroed, sizeof zeroed, 0);
+  h = hash64(signature.data(), signature.size(), h);
+  h = hash64(s.sum.data(), s.sum.size() * sizeof(float), h);
+  h = hash64(s.sum_sq.data(), s.sum_sq.size() * sizeof(float), h);
+  return hash64(s.ray_counts.data(), s.ray_counts.size() * sizeof(uint32_t), h);
 }
 
 }  // namespace

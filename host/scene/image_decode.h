@@ -1,5 +1,5 @@
 // PNG, JPEG and WebP decoding for textures, from bytes in memory (an external file, a data: URI or
-// a GLB bufferView), through OpenImageIO. The glTF loader hands it bytes it has already
+// a GLB bufferView), through libpng, libjpeg-turbo and libwebp (io/*_codec). The glTF loader hands it bytes it has already
 // range-checked; this file knows nothing of glTF.
 #pragma once
 

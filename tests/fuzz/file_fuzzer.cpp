@@ -1,5 +1,5 @@
 // libFuzzer target for the readers other than the glTF loader (issue 23): the image reader
-// behind --env, --reference and clpt-diff (clpt::read_image_channels, OpenImageIO underneath),
+// behind --env, --reference and clpt-diff (clpt::read_image_channels, the io/*_codec decoders underneath),
 // the texture decoder (clpt::decode_image and clpt::image_header_size: PNG, JPEG, WebP) and
 // the checkpoint reader behind --resume (clpt::read_checkpoint). Built with -DCLPT_FUZZ=ON
 // and clang; run through `scripts/fuzz.sh SECONDS file`. See docs/robustness.md.
