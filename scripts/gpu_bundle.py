@@ -3,10 +3,12 @@
 
     scripts/gpu_bundle.py [--build DIR] [--out DIR]
 
-A lent GPU machine has the vendor's OpenCL driver and little else; clpt's shared libraries
-from Debian weigh 368 MB, nearly all of it pulled in by OpenImageIO's format plugins (video
-through ffmpeg, DICOM, OpenVDB, OpenCV, GDAL behind them) that clpt never calls: it reads and
-writes EXR, PNG, JPEG, HDR, PFM and TIFF. The bundle holds
+A lent GPU machine has the vendor's OpenCL driver and little else. Until session 43 clpt's
+shared libraries from Debian weighed 368 MB, nearly all of it pulled in by OpenImageIO's format
+plugins (video through ffmpeg, DICOM, OpenVDB, OpenCV, GDAL behind them); clpt now reads and
+writes images through OpenEXR, libpng, libjpeg and libwebp directly, and only the test binary
+clpt_io_tests (not bundled) links OpenImageIO, so the stubs below are for whatever of those
+libraries a bundled binary still loads. The bundle holds
 
     DIR/clpt, DIR/clpt-raybench,
     DIR/tests/clpt_tests                the binaries, unchanged;
@@ -33,10 +35,11 @@ import tempfile
 # glibc's own libraries: the target machine has a newer glibc; never carry these.
 GLIBC = re.compile(r"^(libc|libm|libmvec|libpthread|libdl|librt|libresolv|libutil|libanl|"
                    r"ld-linux-x86-64)\.so")
-# OpenImageIO's plugins that clpt never uses, and the libraries behind them.
+# OpenImageIO's plugins that clpt never uses, and the libraries behind them (none of them
+# is loaded by a bundled binary since session 43; kept for a build that still links it).
 STUB = re.compile(r"^lib(opencv_|dcm|oflog|ofstd|av(codec|format|util|device|filter)|swscale|"
                   r"swresample|heif|openvdb|raw_r|tbb|boost_|freetype|gif|openjp2|"
-                  r"webp|jxl|Ptex|squish)")
+                  r"jxl|Ptex|squish)")  # not webp: clpt decodes EXT_texture_webp with it
 
 
 def run(*cmd):

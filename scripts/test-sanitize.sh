@@ -42,8 +42,9 @@ mkdir -p build-asan/icd
 rm -f build-asan/icd/*.icd
 ln -s /etc/OpenCL/vendors/pocl.icd build-asan/icd/pocl.icd
 export OCL_ICD_VENDORS="$PWD/build-asan/icd"
-# clpt_tests and what it runs (clpt, clpt-diff); not clpt-raybench, which no suite here runs.
-cmake --build --preset asan --target clpt_tests
+# The test binaries (clpt_tests, clpt_io_tests) and what they run (clpt, clpt-diff); not
+# clpt-raybench, which no suite here runs.
+cmake --build --preset asan --target clpt_test_binaries
 # PoCL's compiled kernels from the Release suite's run, where there was one (scripts/test.sh
 # runs it first): the sanitized programs build the same kernel sources with the same options,
 # and PoCL finds an entry only under the hash of both, so the CLI tests need not compile every

@@ -1,17 +1,29 @@
-# Runs at build time (a POST_BUILD step of clpt_tests, tests/CMakeLists.txt): lists the test
+# Runs at build time (a POST_BUILD step of each test binary, tests/CMakeLists.txt): lists the
 # binary's Google Tests per tier and writes the ctest file that runs them a group per process.
 #
 # A group is consecutive tests of one suite, at most GROUP_SIZE of them (a suite per process
 # where it is small). Every test in its own process cost 0.6 s of start-up apiece (the dynamic
-# loader binding the 264 libraries OpenImageIO brings) plus PoCL's start and a program load per
+# loader binding the 264 libraries OpenImageIO brings, now only in clpt_io_tests) plus PoCL's start and a program load per
 # integrator; a group pays those once and reuses the OpenCL context and its programs
 # (docs/TESTING.md has the figures).
 #
 # Inputs (-D): TEST_EXECUTABLE, TIERS_FILE (sets CLPT_TIERS, and CLPT_TIER_FILTER_<tier> and
 # CLPT_TIER_GROUP_<tier> (tests per group) and CLPT_TIER_COST_<tier> (ctest COST per test,
 # which orders a run without timing history: costliest first) for each), CACHE_DIR (the tests' XDG_CACHE_HOME), OUT_FILE.
+#
+# OTHER_GROUPS (optional): the ctest file another test binary wrote. A group name found there
+# too (a suite with tests in both binaries) stops the build: ctest would keep one of the two.
 cmake_minimum_required(VERSION 3.20)
 include("${TIERS_FILE}")
+set(other_names "")
+if(DEFINED OTHER_GROUPS AND EXISTS "${OTHER_GROUPS}")
+  file(STRINGS "${OTHER_GROUPS}" other_lines REGEX "^add_test\\(\\[==\\[")
+  foreach(l IN LISTS other_lines)
+    if(l MATCHES "^add_test\\(\\[==\\[([^]]*)\\]==\\]")
+      list(APPEND other_names "${CMAKE_MATCH_1}")
+    endif()
+  endforeach()
+endif()
 
 set(script "")
 set(names "")
@@ -71,6 +83,11 @@ foreach(tier IN LISTS CLPT_TIERS)
     endif()
     if(name IN_LIST names)
       set(name "${name}.${tier}")
+    endif()
+    if(name IN_LIST other_names)
+      message(FATAL_ERROR "GroupTests: ${name} is in both test binaries (${OUT_FILE} and ${OTHER_GROUPS}): "
+                          "suite ${gsuite} has tests in a source that includes OpenImageIO and in one that "
+                          "does not (tests/CMakeLists.txt); keep a suite's tests in one binary")
     endif()
     list(APPEND names "${name}")
     math(EXPR cost "${gcount} * ${CLPT_TIER_COST_${tier}}")

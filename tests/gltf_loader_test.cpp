@@ -24,8 +24,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include <OpenImageIO/imageio.h>
-
+#include "io/png_codec.h"
 #include "scene/gltf_loader.h"
 #include "scene/scene.h"
 #include "util/error.h"
@@ -620,11 +619,8 @@ struct QuadFile {
     dir = ::mkdtemp(tmpl);
     file = dir / "quad.gltf";
     auto png = [&](const char* name, int w, int nc, std::vector<unsigned char> px) {
-      auto out = OIIO::ImageOutput::create(name);
-      OIIO::ImageSpec spec(w, 1, nc, OIIO::TypeDesc::UINT8);
-      ASSERT_TRUE(out && out->open((dir / name).string(), spec)) << name;
-      ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
-      out->close();
+      std::string why;
+      ASSERT_TRUE(clpt::write_png(dir / name, uint32_t(w), 1, uint32_t(nc), 8, px.data(), {}, &why)) << name << ": " << why;
     };
     png("a.png", 2, 4, {255, 0, 0, 255, 0, 0, 255, 128});
     png("b.png", 1, 1, {100});

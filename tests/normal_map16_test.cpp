@@ -7,7 +7,6 @@
 // 0.00114 towards +x. Rounded to 8 bits (128, 128, 255) the tilt would be 0.00392.
 #include <gtest/gtest.h>
 
-#include <OpenImageIO/imageio.h>
 
 #include <cmath>
 #include <cstdint>
@@ -17,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/png_codec.h"
 #include "render/aov.h"
 #include "render/mipmaps.h"
 #include "render/renderer.h"
@@ -46,13 +46,8 @@ const double kTilt8 = tilt(128 / 255.0, 128 / 255.0, 1.0);
 Scene square_with_16bit_image(const std::string& tag, const nlohmann::json& material, const LoadOptions& options = {}) {
   const fs::path file = test::write_square("normal16-" + tag, material, {}, {{"n.png", {128, 128, 255}}});
   const fs::path png = file.parent_path() / "n.png";  // written over with 16 bits a channel
-  auto out = OIIO::ImageOutput::create(png.string());
-  const OIIO::ImageSpec spec(1, 1, 3, OIIO::TypeDesc::UINT16);
-  EXPECT_TRUE(out && out->open(png.string(), spec));
-  if (out) {
-    EXPECT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, kTexel));
-    out->close();
-  }
+  std::string why;
+  EXPECT_TRUE(write_png(png, 1, 1, 3, 16, kTexel, {}, &why)) << why;
   log::set_level(log::Level::Quiet);
   Scene scene = load_gltf(file, options);
   fs::remove_all(file.parent_path());

@@ -28,9 +28,9 @@
 #include <string>
 #include <vector>
 
-#include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
+#include "io/png_codec.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "stats/image_stats.h"
@@ -63,11 +63,8 @@ fs::path write_scene(const std::string& tag, Layout layout, bool flat) {
   for (int y = 0; y < kTexels; ++y)
     for (int x = 0; x < kTexels; ++x)
       for (int c = 0; c < 3; ++c) px[(size_t(y) * kTexels + x) * 3 + c] = flat ? 188 : (x + y) % 2 ? 255 : 0;
-  auto out = OIIO::ImageOutput::create("checker.png");
-  OIIO::ImageSpec spec(kTexels, kTexels, 3, OIIO::TypeDesc::UINT8);
-  EXPECT_TRUE(out && out->open((dir / "checker.png").string(), spec));
-  EXPECT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
-  out->close();
+  std::string why;
+  EXPECT_TRUE(write_png(dir / "checker.png", uint32_t(kTexels), uint32_t(kTexels), 3, 8, px.data(), {}, &why)) << why;
   // Two quads: the checker (mesh 0) and the mirror (mesh 1), 4 vertices each.
   const float square[12] = {-half, -half, 0, half, -half, 0, half, half, 0, -half, half, 0};
   const float h = 1.5f;  // the mirror's half size

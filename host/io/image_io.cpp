@@ -129,7 +129,7 @@ void write_image(const fs::path& path, const Image& image, const ImageMetadata& 
         std::snprintf(buf, sizeof buf, "%.9g", double(v));
         text.emplace_back(k, buf);
       }
-      ok = write_png(tmp, image.width, image.height, bytes.data(), text, &why);
+      ok = write_png(tmp, image.width, image.height, 3, 8, bytes.data(), text, &why);
     } else {
       ok = write_jpeg(tmp, image.width, image.height, bytes.data(), 95, &why);
     }

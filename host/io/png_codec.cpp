@@ -130,13 +130,16 @@ bool decode_png(const unsigned char* data, size_t size, bool keep16, const SizeC
 
 namespace {
 
-bool write_all(png_structp png, png_infop info, PngState* state, uint32_t w, uint32_t h, png_textp text,
-               int n_text, unsigned char** rows) {
+bool write_all(png_structp png, png_infop info, PngState* state, uint32_t w, uint32_t h, int bits, int color_type,
+               png_textp text, int n_text, unsigned char** rows) {
   if (setjmp(state->jump)) return false;
-  png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+  png_set_IHDR(png, info, w, h, bits, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                PNG_FILTER_TYPE_DEFAULT);
   if (n_text > 0) png_set_text(png, info, text, n_text);
   png_write_info(png, info);
+#if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  if (bits == 16) png_set_swap(png);  // PNG stores 16-bit samples big-endian
+#endif
   png_write_image(png, rows);
   png_write_end(png, nullptr);
   return true;
@@ -154,8 +157,16 @@ struct WriteStructs {
 
 }  // namespace
 
-bool write_png(const std::filesystem::path& file, uint32_t width, uint32_t height, const unsigned char* rgb,
-               const std::vector<std::pair<std::string, std::string>>& text, std::string* why) {
+bool write_png(const std::filesystem::path& file, uint32_t width, uint32_t height, uint32_t channels, int bits,
+               const void* samples, const std::vector<std::pair<std::string, std::string>>& text,
+               std::string* why) {
+  static constexpr int kColorTypes[4] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
+                                         PNG_COLOR_TYPE_RGB_ALPHA};
+  if (channels < 1 || channels > 4 || (bits != 8 && bits != 16) || width == 0 || height == 0) {
+    *why = "no PNG of " + std::to_string(width) + "x" + std::to_string(height) + ", " + std::to_string(channels) +
+           " channels of " + std::to_string(bits) + " bits";
+    return false;
+  }
   auto state = std::make_unique<PngState>();
   WriteStructs s;
   s.file = std::fopen(file.c_str(), "wb");
@@ -178,8 +189,11 @@ bool write_png(const std::filesystem::path& file, uint32_t width, uint32_t heigh
     chunks[i].text_length = text[i].second.size();
   }
   std::vector<unsigned char*> rows(height);
-  for (uint32_t y = 0; y < height; ++y) rows[y] = const_cast<unsigned char*>(rgb) + size_t(y) * width * 3;
-  if (!write_all(s.png, s.info, state.get(), width, height, chunks.data(), int(chunks.size()), rows.data())) {
+  const size_t row = size_t(width) * channels * size_t(bits / 8);
+  for (uint32_t y = 0; y < height; ++y)
+    rows[y] = const_cast<unsigned char*>(static_cast<const unsigned char*>(samples)) + size_t(y) * row;
+  if (!write_all(s.png, s.info, state.get(), width, height, bits, kColorTypes[channels - 1], chunks.data(),
+                 int(chunks.size()), rows.data())) {
     *why = std::string("PNG error: ") + state->message;
     return false;
   }

@@ -1,5 +1,5 @@
-// PNG through libpng: decoding from memory into a Raster, and 8-bit RGB writing with text
-// metadata. libpng reports errors by longjmp; every libpng call here runs inside a small
+// PNG through libpng: decoding from memory into a Raster, and writing (8 or 16 bits, 1 to 4
+// channels) with text metadata. libpng reports errors by longjmp; every libpng call here runs inside a small
 // function that holds only plain data, so a jump never crosses a C++ destructor.
 #pragma once
 
@@ -21,9 +21,11 @@ namespace clpt {
 bool decode_png(const unsigned char* data, size_t size, bool keep16, const SizeCheck& check, Raster* out,
                 DecodeFailure* fail);
 
-// Writes width x height 8-bit RGB pixels (3 bytes each, top row first) to `file`, with each
+// Writes width x height pixels of `channels` samples (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA)
+// of `bits` 8 or 16 (16-bit samples in native byte order), top row first, to `file`, with each
 // (key, text) pair as a tEXt chunk. False with `why` set.
-bool write_png(const std::filesystem::path& file, uint32_t width, uint32_t height, const unsigned char* rgb,
-               const std::vector<std::pair<std::string, std::string>>& text, std::string* why);
+bool write_png(const std::filesystem::path& file, uint32_t width, uint32_t height, uint32_t channels, int bits,
+               const void* samples, const std::vector<std::pair<std::string, std::string>>& text,
+               std::string* why);
 
 }  // namespace clpt

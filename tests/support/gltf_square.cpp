@@ -2,12 +2,12 @@
 
 #include <gtest/gtest.h>
 
-#include <OpenImageIO/imageio.h>
-
 #include <cstdint>
 #include <fstream>
 
 #include <unistd.h>
+
+#include "io/png_codec.h"
 
 namespace clpt::test {
 
@@ -57,13 +57,10 @@ fs::path write_square(const std::string& tag, const nlohmann::json& material,
     d["images"] = nlohmann::json::array();
     d["textures"] = nlohmann::json::array();
     for (const auto& [name, rgb] : images) {
-      auto out = OIIO::ImageOutput::create(name);
-      const OIIO::ImageSpec spec(1, 1, 3, OIIO::TypeDesc::UINT8);
-      EXPECT_TRUE(out && out->open((dir / name).string(), spec)) << name;
-      if (out) {
-        EXPECT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgb.data())) << name;
-        out->close();
-      }
+      // clpt's own PNG writer: a fixture (tests/image_codecs_test.cpp checks the codec
+      // against OpenImageIO), and this helper serves tests of both binaries.
+      std::string why;
+      EXPECT_TRUE(write_png(dir / name, 1, 1, 3, 8, rgb.data(), {}, &why)) << name << ": " << why;
       d["textures"].push_back({{"source", d["images"].size()}});
       d["images"].push_back({{"uri", name}});
     }

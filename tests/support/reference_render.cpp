@@ -1,6 +1,5 @@
 #include "support/reference_render.h"
 
-#include <OpenImageIO/hash.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -13,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "util/hash.h"
 #include "cl/program.h"
 #include "render/renderer.h"
 #include "support/device.h"
@@ -34,7 +34,7 @@ const std::string& executable_digest() {
     const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
     if (bytes.empty()) return std::string();
     std::ostringstream s;
-    s << std::hex << OIIO::xxhash::XXH64(bytes.data(), bytes.size(), 0);
+    s << std::hex << hash64(bytes.data(), bytes.size(), 0);
     return s.str();
   }();
   return digest;
@@ -80,13 +80,13 @@ Key make_key(const std::string& label, const RenderSettings& settings, uint32_t 
     << settings_text(settings) << " seed " << seed << '\n'
     << cl::resolve_kernel_source("integrators/pt.cl", cl::KernelSources::core());
   k.text = s.str();
-  const OIIO::farmhash::uint128_t h = OIIO::farmhash::Fingerprint128(k.text.data(), k.text.size());
+  const Hash128 h = hash128(k.text.data(), k.text.size());
   std::ostringstream name;
   name << label.substr(0, label.find(' ')) << '-' << std::hex << std::setfill('0') << std::setw(16)
-       << OIIO::farmhash::Uint128High64(h) << std::setw(16) << OIIO::farmhash::Uint128Low64(h)
+       << h.high << std::setw(16) << h.low
        << ".ref";
   k.file = dir / "test-references" / name.str();
-  k.check = OIIO::xxhash::XXH64(k.text.data(), k.text.size(), 0);
+  k.check = hash64(k.text.data(), k.text.size(), 0);
   return k;
 }
 
@@ -109,7 +109,7 @@ bool read_entry(const Key& key, FilmResult* out) {
   if (bytes.size() != 8 + sizeof(Header) + 2 * floats * sizeof(float) + 8) return false;
   uint64_t stored = 0;
   std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
-  if (OIIO::xxhash::XXH64(bytes.data() + 8, bytes.size() - 16, 0) != stored) return false;
+  if (hash64(bytes.data() + 8, bytes.size() - 16, 0) != stored) return false;
   FilmResult r;
   r.mean = Image(h.width, h.height);
   r.variance = Image(h.width, h.height);
@@ -134,7 +134,7 @@ void write_entry(const Key& key, const FilmResult& r) {
   bytes.append(reinterpret_cast<const char*>(r.mean.rgb.data()), r.mean.rgb.size() * sizeof(float));
   bytes.append(reinterpret_cast<const char*>(r.variance.rgb.data()),
                r.variance.rgb.size() * sizeof(float));
-  const uint64_t digest = OIIO::xxhash::XXH64(bytes.data() + 8, bytes.size() - 8, 0);
+  const uint64_t digest = hash64(bytes.data() + 8, bytes.size() - 8, 0);
   bytes.append(reinterpret_cast<const char*>(&digest), 8);
   const fs::path tmp = key.file.string() + ".tmp" + std::to_string(::getpid());
   {
