@@ -348,6 +348,23 @@ TEST(ImageCodecs, WhatClptWritesOpenImageIOReads) {
   }
 }
 
+// A grey + alpha PNG read as an image (--env, --reference) is grey: R, G and B all from the
+// grey channel, the alpha ignored (OpenImageIO's channel names Y, A once gave G and B the alpha).
+TEST(ImageCodecs, GreyAlphaPngReadsAsGrey) {
+  const fs::path file = temp("grey-alpha.png");
+  const unsigned char px[2 * 2] = {200, 10, 50, 255};  // two pixels: (grey, alpha)
+  std::string why;
+  ASSERT_TRUE(write_png(file, 2, 1, 2, 8, px, {}, &why)) << why;
+  const Image img = read_image(file);
+  fs::remove(file);
+  ASSERT_EQ(img.width, 2u);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_FLOAT_EQ(img.rgb[size_t(c)], img.rgb[0]);
+    EXPECT_FLOAT_EQ(img.rgb[3 + size_t(c)], img.rgb[3]);
+  }
+  EXPECT_GT(img.rgb[0], img.rgb[3]) << "grey 200 against 50";
+}
+
 // Every prefix of a valid file (every 13th byte) is refused with a reason or decoded; none
 // crashes, hangs or allocates past its limits (the sanitizer suite runs this too).
 TEST(ImageCodecs, EveryPrefixIsRefusedOrRead) {
