@@ -33,6 +33,7 @@ const std::map<std::string, std::string> kCases = {
     {"premature_end.jpg", "cannot read scanlines 0..63 of 256: JPEG error: Corrupt JPEG data: premature end"},
     {"cut_in_marker.jpg", "damaged JPEG: the segment of marker 226 at byte 2 claims 188 bytes"},
     {"damaged_icc_profile.jpg", ""},
+    {"newline_in_channel_name.exr", "' is subsampled, which clpt does not read"},
 };
 
 TEST(ImageReader, MalformedCorpus) {

@@ -36,7 +36,7 @@ bool read_exr(const std::filesystem::path& file, const SizeCheck& check, ExrImag
     out->channels.clear();
     for (auto c = header.channels().begin(); c != header.channels().end(); ++c) {
       if (c.channel().xSampling != 1 || c.channel().ySampling != 1)
-        return failed(std::string("channel '") + c.name() + "' is subsampled, which clpt does not read", -1);
+        return failed("channel '" + one_line(c.name()) + "' is subsampled, which clpt does not read", -1);
       out->channels.push_back(c.name());
     }
     if (out->channels.empty()) return failed("the EXR has no channels", -1);

@@ -41,7 +41,7 @@ bool parse_header(const unsigned char* data, size_t size, uint64_t* width, uint6
     if (line.empty()) break;
     if (line.rfind("FORMAT=", 0) == 0) {
       if (line != "FORMAT=32-bit_rle_rgbe") {
-        *why = "a Radiance HDR file of " + line + " (clpt reads 32-bit_rle_rgbe)";
+        *why = "a Radiance HDR file of " + line.substr(0, 60) + " (clpt reads 32-bit_rle_rgbe)";
         return false;
       }
       format_seen = true;
