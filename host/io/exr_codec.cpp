@@ -20,26 +20,21 @@
 namespace clpt {
 
 bool read_exr(const std::filesystem::path& file, const SizeCheck& check, ExrImage* out, DecodeFailure* fail) {
-  auto failed = [&](std::string what, int64_t row) {
-    fail->what = std::move(what);
-    fail->row = row;
-    return false;
-  };
   int64_t row = -1;
   try {
     Imf::InputFile in(file.c_str());
     const Imf::Header& header = in.header();
     const Imath::Box2i window = header.dataWindow();
     const int64_t w = int64_t(window.max.x) - window.min.x + 1, h = int64_t(window.max.y) - window.min.y + 1;
-    if (w <= 0 || h <= 0) return failed("empty image (the data window is " + std::to_string(w) + "x" + std::to_string(h) + ")", -1);
-    if (std::string why = check(uint64_t(w), uint64_t(h)); !why.empty()) return failed(why, -1);
+    if (w <= 0 || h <= 0) return fail->set("empty image (the data window is " + std::to_string(w) + "x" + std::to_string(h) + ")", -1);
+    if (std::string why = check(uint64_t(w), uint64_t(h)); !why.empty()) return fail->set(why, -1);
     out->channels.clear();
     for (auto c = header.channels().begin(); c != header.channels().end(); ++c) {
       if (c.channel().xSampling != 1 || c.channel().ySampling != 1)
-        return failed("channel '" + one_line(c.name()) + "' is subsampled, which clpt does not read", -1);
+        return fail->set("channel '" + one_line(c.name()) + "' is subsampled, which clpt does not read", -1);
       out->channels.push_back(c.name());
     }
-    if (out->channels.empty()) return failed("the EXR has no channels", -1);
+    if (out->channels.empty()) return fail->set("the EXR has no channels", -1);
     Raster& r = out->raster;
     r.width = uint32_t(w);
     r.height = uint32_t(h);
@@ -75,7 +70,7 @@ bool read_exr(const std::filesystem::path& file, const SizeCheck& check, ExrImag
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
-    return failed("OpenEXR exception: " + one_line(e.what()), row);
+    return fail->set("OpenEXR exception: " + one_line(e.what()), row);
   }
 }
 
@@ -90,9 +85,7 @@ bool read_exr_size(const std::filesystem::path& file, uint64_t* width, uint64_t*
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
-    fail->what = "OpenEXR exception: " + one_line(e.what());
-    fail->row = -1;
-    return false;
+    return fail->set("OpenEXR exception: " + one_line(e.what()), -1);
   }
 }
 

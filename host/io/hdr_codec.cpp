@@ -73,17 +73,12 @@ bool hdr_header_size(const unsigned char* data, size_t size, uint64_t* width, ui
 }
 
 bool decode_hdr(const unsigned char* data, size_t size, const SizeCheck& check, Raster* out, DecodeFailure* fail) {
-  auto failed = [&](std::string what, int64_t row) {
-    fail->what = std::move(what);
-    fail->row = row;
-    return false;
-  };
   uint64_t w = 0, h = 0;
   size_t at = 0;
   std::string why;
-  if (!parse_header(data, size, &w, &h, &at, &why)) return failed(why, -1);
-  if (w == 0 || h == 0) return failed("the Radiance HDR header gives a size of 0", -1);
-  if (std::string refusal = check(w, h); !refusal.empty()) return failed(refusal, -1);
+  if (!parse_header(data, size, &w, &h, &at, &why)) return fail->set(why, -1);
+  if (w == 0 || h == 0) return fail->set("the Radiance HDR header gives a size of 0", -1);
+  if (std::string refusal = check(w, h); !refusal.empty()) return fail->set(refusal, -1);
   out->width = uint32_t(w);
   out->height = uint32_t(h);
   out->channels = 3;
@@ -92,7 +87,7 @@ bool decode_hdr(const unsigned char* data, size_t size, const SizeCheck& check, 
   const size_t width = size_t(w);
   std::vector<unsigned char> scan(width * 4);  // RGBE texels of one row
   std::vector<float> row(width * 3);
-  auto ends = [&](uint32_t y) { return failed("the pixel data ends in row " + std::to_string(y), y); };
+  auto ends = [&](uint32_t y) { return fail->set("the pixel data ends in row " + std::to_string(y), y); };
 
   for (uint32_t y = 0; y < out->height; ++y) {
     if (y % kDecodeStripRows == 0)
@@ -102,7 +97,7 @@ bool decode_hdr(const unsigned char* data, size_t size, const SizeCheck& check, 
     if (width >= 8 && width < 32768 && p[0] == 2 && p[1] == 2 && !(p[2] & 0x80)) {
       // New-style: the four components one after another, each as runs and literals.
       if ((size_t(p[2]) << 8 | p[3]) != width)
-        return failed("damaged Radiance HDR: row " + std::to_string(y) + " gives a width of " +
+        return fail->set("damaged Radiance HDR: row " + std::to_string(y) + " gives a width of " +
                           std::to_string(size_t(p[2]) << 8 | p[3]) + ", the header " + std::to_string(width),
                       y);
       at += 4;
@@ -114,7 +109,7 @@ bool decode_hdr(const unsigned char* data, size_t size, const SizeCheck& check, 
           const bool run = count > 128;
           if (run) count -= 128;
           if (count == 0 || count > width - x)
-            return failed("damaged Radiance HDR: a run of " + std::to_string(count) + " in row " + std::to_string(y) +
+            return fail->set("damaged Radiance HDR: a run of " + std::to_string(count) + " in row " + std::to_string(y) +
                               " does not fit its width",
                           y);
           if (run) {
@@ -139,10 +134,10 @@ bool decode_hdr(const unsigned char* data, size_t size, const SizeCheck& check, 
         at += 4;
         if (t[0] == 1 && t[1] == 1 && t[2] == 1) {
           if (x == 0 || shift > 24)
-            return failed("damaged Radiance HDR: a run with nothing to repeat in row " + std::to_string(y), y);
+            return fail->set("damaged Radiance HDR: a run with nothing to repeat in row " + std::to_string(y), y);
           const size_t count = size_t(t[3]) << shift;
           if (count > width - x)
-            return failed("damaged Radiance HDR: a run in row " + std::to_string(y) + " does not fit its width", y);
+            return fail->set("damaged Radiance HDR: a run in row " + std::to_string(y) + " does not fit its width", y);
           for (size_t k = 0; k < count; ++k) std::memcpy(&scan[(x + k) * 4], &scan[(x - 1) * 4], 4);
           x += count;
           shift += 8;

@@ -147,6 +147,11 @@ namespace {
 // 16384 pixels x 16 channels, or 4096 x 64.
 constexpr uint64_t kMaxExrLineValues = uint64_t{1} << 18;
 
+// Empty when a width x height image is within `limits`, else the refusal to give.
+std::string size_refusal(const ImageLimits& limits, uint64_t w, uint64_t h) {
+  return image_size_refusal(w, h, limits.max_dimension, limits.max_pixels, limits.raise);
+}
+
 [[noreturn]] void refuse(const fs::path& path, const std::string& why) {
   throw Error(ExitCode::BadInput, path.string() + ": " + why);
 }
@@ -164,7 +169,7 @@ struct InputImage {
 InputImage open_image(const fs::path& path, const ImageLimits& limits) {
   check_regular_input(path, "");
   auto check_size = [&](uint64_t w, uint64_t h) {
-    const std::string why = image_size_refusal(w, h, limits.max_dimension, limits.max_pixels, limits.raise);
+    const std::string why = size_refusal(limits, w, h);
     if (!why.empty()) refuse(path, why);
   };
   std::ifstream file(path, std::ios::binary);
@@ -222,7 +227,7 @@ FileImage decode_file(const fs::path& path, const ImageLimits& limits) {
   InputImage in = open_image(path, limits);
   std::string refusal;  // the size check's, passed on as it is
   const SizeCheck check = [&](uint64_t w, uint64_t h) {
-    refusal = image_size_refusal(w, h, limits.max_dimension, limits.max_pixels, limits.raise);
+    refusal = size_refusal(limits, w, h);
     return refusal;
   };
   FileImage img;
@@ -275,7 +280,7 @@ ImageSize read_image_size(const fs::path& path, const ImageLimits& limits) {
   }
   if (!ok) refuse(path, "cannot read image: " + why);
   if (w == 0 || h == 0) refuse(path, "empty image (the header gives " + std::to_string(w) + "x" + std::to_string(h) + ")");
-  const std::string refusal = image_size_refusal(w, h, limits.max_dimension, limits.max_pixels, limits.raise);
+  const std::string refusal = size_refusal(limits, w, h);
   if (!refusal.empty()) refuse(path, refusal);
   return {uint32_t(w), uint32_t(h)};
 }

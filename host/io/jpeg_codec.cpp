@@ -93,29 +93,24 @@ bool create(Decompress* d) {
 }  // namespace
 
 bool decode_jpeg(const unsigned char* data, size_t size, const SizeCheck& check, Raster* out, DecodeFailure* fail) {
-  auto failed = [&](std::string what, int64_t row) {
-    fail->what = std::move(what);
-    fail->row = row;
-    return false;
-  };
   auto d = std::make_unique<Decompress>();
   d->cinfo.err = jpeg_std_error(&d->errors.mgr);
   d->errors.mgr.error_exit = on_error;
   d->errors.mgr.emit_message = on_message;
   const auto libjpeg = [&] { return std::string("JPEG error: ") + d->errors.message; };
-  if (!create(d.get())) return failed(libjpeg(), -1);
+  if (!create(d.get())) return fail->set(libjpeg(), -1);
   JpegHeader h{};
-  if (!read_header(&d->cinfo, &d->errors, data, size, &h)) return failed(libjpeg(), -1);
-  if (h.width == 0 || h.height == 0) return failed("the JPEG header gives a size of 0", -1);
-  if (h.cmyk) return failed("a CMYK JPEG, which clpt does not read (give the image as RGB)", -1);
-  if (std::string why = check(h.width, h.height); !why.empty()) return failed(why, -1);
-  if (!start(&d->cinfo, &d->errors, h.components == 1)) return failed(libjpeg(), -1);
+  if (!read_header(&d->cinfo, &d->errors, data, size, &h)) return fail->set(libjpeg(), -1);
+  if (h.width == 0 || h.height == 0) return fail->set("the JPEG header gives a size of 0", -1);
+  if (h.cmyk) return fail->set("a CMYK JPEG, which clpt does not read (give the image as RGB)", -1);
+  if (std::string why = check(h.width, h.height); !why.empty()) return fail->set(why, -1);
+  if (!start(&d->cinfo, &d->errors, h.components == 1)) return fail->set(libjpeg(), -1);
   out->width = d->cinfo.output_width;
   out->height = d->cinfo.output_height;
   out->channels = uint32_t(d->cinfo.output_components);
   out->type = SampleType::U8;
   if (out->width != h.width || out->height != h.height || (out->channels != 1 && out->channels != 3))
-    return failed("unexpected JPEG layout after decoding", -1);
+    return fail->set("unexpected JPEG layout after decoding", -1);
   const size_t row = out->row_bytes();
   std::vector<unsigned char*> rows;
   out->bytes.clear();
@@ -124,7 +119,7 @@ bool decode_jpeg(const unsigned char* data, size_t size, const SizeCheck& check,
     out->bytes.resize(size_t(y + n) * row);
     rows.resize(n);
     for (uint32_t k = 0; k < n; ++k) rows[k] = out->bytes.data() + size_t(y + k) * row;
-    if (!read_rows(&d->cinfo, &d->errors, rows.data(), n) || d->errors.warned) return failed(libjpeg(), y);
+    if (!read_rows(&d->cinfo, &d->errors, rows.data(), n) || d->errors.warned) return fail->set(libjpeg(), y);
   }
   return true;
 }

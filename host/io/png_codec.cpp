@@ -79,26 +79,21 @@ struct ReadStructs {
 
 bool decode_png(const unsigned char* data, size_t size, bool keep16, const SizeCheck& check, Raster* out,
                 DecodeFailure* fail) {
-  auto failed = [&](std::string what, int64_t row) {
-    fail->what = std::move(what);
-    fail->row = row;
-    return false;
-  };
   auto state = std::make_unique<PngState>();
   state->data = data;
   state->size = size;
   ReadStructs s;
   s.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, state.get(), on_error, on_warning);
-  if (!s.png) return failed("libpng could not start", -1);
+  if (!s.png) return fail->set("libpng could not start", -1);
   s.info = png_create_info_struct(s.png);
-  if (!s.info) return failed("libpng could not start", -1);
+  if (!s.info) return fail->set("libpng could not start", -1);
   png_set_read_fn(s.png, state.get(), read_bytes);
   PngHeader h{};
-  if (!read_header(s.png, s.info, state.get(), &h)) return failed(std::string("PNG error: ") + state->message, -1);
-  if (h.width == 0 || h.height == 0) return failed("the PNG header gives a size of 0", -1);
-  if (std::string why = check(h.width, h.height); !why.empty()) return failed(why, -1);
+  if (!read_header(s.png, s.info, state.get(), &h)) return fail->set(std::string("PNG error: ") + state->message, -1);
+  if (h.width == 0 || h.height == 0) return fail->set("the PNG header gives a size of 0", -1);
+  if (std::string why = check(h.width, h.height); !why.empty()) return fail->set(why, -1);
   if (!set_transforms(s.png, s.info, state.get(), keep16, &h))
-    return failed(std::string("PNG error: ") + state->message, -1);
+    return fail->set(std::string("PNG error: ") + state->message, -1);
 
   out->width = h.width;
   out->height = h.height;
@@ -106,7 +101,7 @@ bool decode_png(const unsigned char* data, size_t size, bool keep16, const SizeC
   out->type = png_get_bit_depth(s.png, s.info) == 16 ? SampleType::U16 : SampleType::U8;
   const size_t row = out->row_bytes();
   if (out->channels < 1 || out->channels > 4 || png_get_rowbytes(s.png, s.info) != row)
-    return failed("unexpected PNG layout after expansion", -1);
+    return fail->set("unexpected PNG layout after expansion", -1);
   std::vector<unsigned char*> rows;
   out->bytes.clear();
   if (h.passes > 1) {  // interlaced: every pass writes into every row
@@ -115,7 +110,7 @@ bool decode_png(const unsigned char* data, size_t size, bool keep16, const SizeC
     for (uint32_t y = 0; y < h.height; ++y) rows[y] = out->bytes.data() + size_t(y) * row;
     for (int p = 0; p < h.passes; ++p)
       if (!read_rows(s.png, state.get(), rows.data(), h.height))
-        return failed(std::string("PNG error: ") + state->message, 0);
+        return fail->set(std::string("PNG error: ") + state->message, 0);
     return true;
   }
   for (uint32_t y = 0; y < h.height; y += kDecodeStripRows) {
@@ -123,7 +118,7 @@ bool decode_png(const unsigned char* data, size_t size, bool keep16, const SizeC
     out->bytes.resize(size_t(y + n) * row);
     rows.resize(n);
     for (uint32_t k = 0; k < n; ++k) rows[k] = out->bytes.data() + size_t(y + k) * row;
-    if (!read_rows(s.png, state.get(), rows.data(), n)) return failed(std::string("PNG error: ") + state->message, y);
+    if (!read_rows(s.png, state.get(), rows.data(), n)) return fail->set(std::string("PNG error: ") + state->message, y);
   }
   return true;
 }

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace clpt {
@@ -48,6 +49,13 @@ struct Raster {
 struct DecodeFailure {
   std::string what;
   int64_t row = -1;
+
+  // Records the reason and the row; false, for a decoder's `return fail->set(...)`.
+  bool set(std::string reason, int64_t at_row) {
+    what = std::move(reason);
+    row = at_row;
+    return false;
+  }
 };
 
 // Called with the header's size before any pixel memory is allocated; a non-empty return
