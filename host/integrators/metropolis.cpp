@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cl/programs.h"
+#include "shared/luminance.h"
 #include "util/error.h"
 #include "util/log.h"
 #include "util/timer.h"
@@ -170,7 +171,7 @@ double Metropolis::sampled_direct_b() const {
   double b = 0.0;
   for (size_t p = 0; p < sums.sum.size(); ++p) {
     const std::array<float, 4>& s = sums.sum[p];
-    const double y = 0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2];  // the kernels' luminance
+    const double y = CLPT_LUMINANCE_R * s[0] + CLPT_LUMINANCE_G * s[1] + CLPT_LUMINANCE_B * s[2];
     b += double(w[p]) * y / k;
   }
   return sums.sum.empty() ? 0.0 : b / double(sums.sum.size());

@@ -8,6 +8,7 @@
 
 #include "io/image_io.h"
 #include "render/scene_buffers.h"
+#include "shared/luminance.h"
 #include "util/error.h"
 #include "util/log.h"
 #include "util/srgb.h"
@@ -15,7 +16,9 @@
 namespace clpt {
 namespace {
 
-double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+double luminance(const glm::dvec3& c) {
+  return CLPT_LUMINANCE_R * c.x + CLPT_LUMINANCE_G * c.y + CLPT_LUMINANCE_B * c.z;
+}
 
 }  // namespace
 

@@ -2,6 +2,8 @@
 #ifndef CLPT_CORE_MATH_CL
 #define CLPT_CORE_MATH_CL
 
+#include "shared/luminance.h"
+
 /* A large function called from many places stays out of line. NVIDIA's OpenCL compiler
  * inlines every call it may, so each call site of such a function is a copy of it in the
  * kernel, and the driver's build time grows with the copies: thin_film_reflectance alone
@@ -69,7 +71,9 @@ static inline float ln_positive(float x) {
 
 static inline float max_component(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
-static inline float luminance(float3 c) { return dot(c, (float3)(0.2126f, 0.7152f, 0.0722f)); }
+static inline float luminance(float3 c) {
+  return dot(c, (float3)(CLPT_LUMINANCE_R, CLPT_LUMINANCE_G, CLPT_LUMINANCE_B));
+}
 
 static inline bool is_black(float3 c) { return c.x <= 0.0f && c.y <= 0.0f && c.z <= 0.0f; }
 

@@ -48,7 +48,8 @@ static inline IcCache ic_cache(__constant const IcParams* ic, __global const IcR
 /* The luminance of a per-channel gradient (three world vectors, r g b): luminance()'s
  * weights applied to the vectors. */
 static inline float3 ic_luminance_gradient(__global const float* g) {
-  return 0.2126f * vload3(0, g) + 0.7152f * vload3(1, g) + 0.0722f * vload3(2, g);
+  return CLPT_LUMINANCE_R * vload3(0, g) + CLPT_LUMINANCE_G * vload3(1, g) +
+         CLPT_LUMINANCE_B * vload3(2, g);
 }
 
 typedef struct IcEstimate {
