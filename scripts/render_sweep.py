@@ -22,13 +22,12 @@ Python 3 standard library only.
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OTHERS = ["lt", "bdpt", "vcm", "sppm", "pm", "mlt", "ic", "direct", "indirect1"]
-ALL = ["pt", "ao"] + OTHERS
 # Settings that keep each integrator's start-up small at these sizes.
 SMALL = {
     "pm": ["--photons", "3000", "--caustic-photons", "3000", "--final-gather", "2"],
@@ -36,6 +35,15 @@ SMALL = {
     "ic": ["--ic-rays", "16"],
     "vcm": ["--vcm-light-paths", "1"],
 }
+
+
+def implemented_integrators(clpt):
+    """The integrators clpt implements, in its --help order (the integrator table's rows)."""
+    text = subprocess.run([clpt, "--help"], capture_output=True, text=True, check=True).stdout
+    m = re.search(r"\(implemented: ([^)]*)\)", text)
+    if not m:
+        sys.exit("render_sweep: %s --help names no implemented integrators" % clpt)
+    return [name.strip() for name in m.group(1).split(",")]
 
 
 def render(clpt, scene, integrator, extra, work, size="24x24", spp="4"):
@@ -70,7 +78,8 @@ def asset_jobs(args):
             files += [os.path.join(dirpath, n) for n in names if n.endswith((".gltf", ".glb"))]
     if not files:
         sys.exit("render_sweep: no glTF files under %s/scenes*" % shared)
-    integrators = args.integrators.split(",") if args.integrators else OTHERS
+    others = [i for i in implemented_integrators(args.clpt) if i not in ("pt", "ao")]
+    integrators = args.integrators.split(",") if args.integrators else others
     return [(f, i, []) for f in sorted(files) for i in integrators]
 
 
@@ -80,7 +89,7 @@ def option_jobs(args, work):
     subprocess.run([args.clpt, scene, "-q", "--resolution", "32x16", "--spp", "16", "-o", env],
                    check=True)
     jobs = []
-    for it in ALL:
+    for it in implemented_integrators(args.clpt):
         for sampler in ("independent", "stratified", "lhs", "sobol"):
             for flt in ("box", "tent", "gaussian", "blackman-harris"):
                 jobs.append((scene, it, ["--sampler", sampler, "--filter", flt]))
@@ -99,7 +108,8 @@ def main():
     ap.add_argument("mode", choices=["assets", "options"])
     ap.add_argument("--clpt", default=os.path.join(ROOT, "build", "clpt"))
     ap.add_argument("--shared", help="the folder holding scenes/ and scenes-extensions/")
-    ap.add_argument("--integrators", help="assets: comma-separated [%s]" % ",".join(OTHERS))
+    ap.add_argument("--integrators",
+                    help="assets: comma-separated [every implemented one but pt and ao]")
     ap.add_argument("--scene", help="options: the scene [scenes/cornell_box.gltf]")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as work:
