@@ -373,6 +373,22 @@ TEST_F(Cli, ListDevicesShowsPocl) {
   EXPECT_NE(r.out.find("Portable Computing Language"), std::string::npos) << r.out;
 }
 
+// clpt asks PoCL for its plain work-item loops (cl::apply_runtime_settings: faster than PoCL's
+// default for clpt's kernels, docs/BENCHMARKS.md session 45) before the first OpenCL call, and
+// keeps a method the user names.
+TEST_F(Cli, PoclWorkGroupMethodIsLoopsUnlessTheUserNamesOne) {
+  test::RunResult r = test::run_program(CLPT_BINARY, {"--verbose", "--list-devices"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("PoCL work-group method: loops"), std::string::npos) << r.err;
+  test::RunOptions own;
+  own.env = {{"POCL_WORK_GROUP_METHOD", "cbs"}};
+  r = test::run_program(CLPT_BINARY, {"--verbose", "--list-devices"}, own);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("PoCL work-group method: cbs (POCL_WORK_GROUP_METHOD)"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("method: loops"), std::string::npos) << r.err;
+}
+
 TEST_F(Cli, RendersExrWithMetadataAndStats) {
   const test::RunResult r = run_clpt({kCornell, "--device", "pocl", "--resolution", "40x30",
                                       "--spp", "3", "-o", path("c.exr"), "--stats",

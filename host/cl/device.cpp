@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <mutex>
 #include <sstream>
 
 #include "cl/cl_error.h"
 #include "util/error.h"
+#include "util/log.h"
 
 namespace clpt::cl {
 namespace {
@@ -58,7 +60,22 @@ std::string DeviceInfo::label() const {
   return s.str();
 }
 
+void apply_runtime_settings() {
+  // Once a process: setenv must not race the runtime's own getenv on its worker threads.
+  static std::once_flag once;
+  std::call_once(once, [] {
+    const char* method = std::getenv("POCL_WORK_GROUP_METHOD");
+    if (method == nullptr || *method == '\0') {
+      ::setenv("POCL_WORK_GROUP_METHOD", "loops", 1);
+      log::verbose("PoCL work-group method: loops (set POCL_WORK_GROUP_METHOD to choose another)");
+    } else {
+      log::verbose(std::string("PoCL work-group method: ") + method + " (POCL_WORK_GROUP_METHOD)");
+    }
+  });
+}
+
 std::vector<DeviceInfo> list_devices() {
+  apply_runtime_settings();
   std::vector<DeviceInfo> out;
   cl_uint num_platforms = 0;
   if (clGetPlatformIDs(0, nullptr, &num_platforms) != CL_SUCCESS || num_platforms == 0) return out;

@@ -26,8 +26,20 @@ struct DeviceInfo {
   std::string label() const;  // "P:D name (platform)"
 };
 
-// Every device of every platform; empty when there is no OpenCL platform at all.
+// Every device of every platform; empty when there is no OpenCL platform at all. Applies
+// apply_runtime_settings() first.
 std::vector<DeviceInfo> list_devices();
+
+// The OpenCL runtimes' settings clpt chooses, set in the process environment before the first
+// OpenCL call, each only where the user has not set it:
+// - POCL_WORK_GROUP_METHOD=loops: PoCL turns each kernel into a loop over a work-group's
+//   work-items; its default, loopvec, prepares that loop for LLVM's loop vectorizer, which
+//   clpt's kernels (one path a work-item, in loops that diverge; float4 lanes within one) only
+//   pay for: loops renders the Cornell box with pt at 1.03 to 1.05 times the paths per second,
+//   the 1 M-triangle spheres at 1.05 to 1.06 (docs/BENCHMARKS.md, session 45). PoCL reads it
+//   when it compiles a process's first kernel, and keys its kernel cache by it.
+// Safe to call more than once; list_devices calls it.
+void apply_runtime_settings();
 
 // spec: "" (first GPU, else PoCL, else the first device), "gpu", "cpu", "pocl",
 // "P:D" (platform and device index), or a case-insensitive substring of the device or
