@@ -660,16 +660,24 @@ TEST(BvhVsBruteForce, RandomSoup) {
 }
 
 // Leaves of up to 7 triangles: the lanes take a leaf as a group of 4 and a group of the
-// rest, each with its own rows (bvh.h's triangle_lanes).
+// rest, each with its own rows (bvh.h's triangle_lanes); up to kMaxLeafLanes (8, what clpt
+// builds for CPU devices): two full groups as well.
 TEST(BvhVsBruteForce, LeavesOfMoreThanFourTriangles) {
   const Mesh mesh = test::random_soup(2000, 23, glm::vec3(-4), glm::vec3(4), 1.5f);
-  BvhBuildOptions o;
-  o.max_leaf_size = 7;
-  const Bvh bvh = build_bvh(mesh.positions, mesh.triangles, o);
-  size_t big = 0;
-  for (const BvhNode& n : bvh.nodes) big += n.count > 4;
-  ASSERT_GT(big, 50u) << "the build made few leaves of 5 to 7 triangles";
-  compare_with_brute_force(mesh, make_rays(bvh, mesh, 50000, 3), "soup, leaves of 7", o);
+  for (int leaf : {7, kMaxLeafLanes}) {
+    BvhBuildOptions o;
+    o.max_leaf_size = leaf;
+    const Bvh bvh = build_bvh(mesh.positions, mesh.triangles, o);
+    size_t big = 0, full = 0;
+    for (const BvhNode& n : bvh.nodes) {
+      big += n.count > 4;
+      full += n.count == leaf;
+    }
+    ASSERT_GT(big, 50u) << "the build made few leaves of 5 to " << leaf << " triangles";
+    ASSERT_GT(full, 10u) << "the build made few leaves of " << leaf << " triangles";
+    compare_with_brute_force(mesh, make_rays(bvh, mesh, 50000, 3),
+                             ("soup, leaves of " + std::to_string(leaf)).c_str(), o);
+  }
 }
 
 TEST(BvhVsBruteForce, TessellatedSphere) {

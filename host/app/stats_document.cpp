@@ -50,6 +50,7 @@ nlohmann::json stats_document(const Options& opt, const cl::DeviceInfo& device, 
   j["lights"] = st.lights;
   j["scene_load_seconds"] = load_seconds;
   j["bvh"] = {{"build_seconds", st.bvh_build_seconds},
+              {"max_leaf", st.bvh_max_leaf},
               {"nodes", st.bvh_nodes},
               {"depth", st.bvh_depth},
               {"wide_nodes", st.bvh_wide_nodes},

@@ -29,8 +29,16 @@ static_assert(sizeof(dev::BvhNode4) == 128, "BvhNode4 must stay 128 bytes");
 static_assert(sizeof(dev::Triangle) == 16, "Triangle must stay 16 bytes");
 static_assert(sizeof(dev::Vertex) == 32, "Vertex must stay 32 bytes");
 
+// Triangles per leaf at most, by how the devices test a leaf's triangles: where they test
+// them four at a time in float4 lanes (CPU devices, CLPT_TRIANGLE_LANES 4; cl::triangle_lanes),
+// leaves of up to 8 (two lane groups) trace faster than leaves of 4 with the node level more
+// they need (docs/BENCHMARKS.md, session 45); devices that test one triangle at a time (GPUs)
+// keep 4, the size measured there.
+constexpr int kMaxLeafLanes = 8;
+constexpr int kMaxLeafOneAtATime = 4;
+
 struct BvhBuildOptions {
-  int max_leaf_size = 4;  // triangles per leaf (exceeded only when centroids coincide at depth limit)
+  int max_leaf_size = kMaxLeafOneAtATime;  // (exceeded only when centroids coincide at depth limit)
   int bins = 16;          // SAH bins per axis (clamped to [2, 256])
 };
 

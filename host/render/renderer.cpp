@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bvh/bvh.h"
+#include "cl/program.h"
 #include "render/camera_setup.h"
 #include "render/pass_schedule.h"
 #include "util/error.h"
@@ -70,15 +71,25 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
   height_ = settings_.height;
   if (width_ == 0 || height_ == 0) default_resolution(camera, &width_, &height_);
 
+  // One tree for every device of this process: leaves of kMaxLeafLanes where all of them test
+  // a leaf's triangles in lanes.
+  BvhBuildOptions bvh_options;
+  bvh_options.max_leaf_size =
+      std::all_of(contexts.begin(), contexts.end(),
+                  [](const cl::Context* c) { return cl::triangle_lanes(c->device()); })
+          ? kMaxLeafLanes
+          : kMaxLeafOneAtATime;
   auto t0 = Clock::now();
-  const Bvh bvh = build_bvh(scene.positions, scene.triangles);
+  const Bvh bvh = build_bvh(scene.positions, scene.triangles, bvh_options);
   stats_.bvh_build_seconds = seconds_since(t0);
+  stats_.bvh_max_leaf = bvh_options.max_leaf_size;
   stats_.bvh_depth = bvh.depth;
   stats_.bvh_nodes = bvh.nodes.size();
   stats_.bvh_wide_depth = bvh.wide_depth;
   stats_.bvh_wide_nodes = bvh.wide.size();
   stats_.triangles = scene.triangles.size();
-  log::verbose("BVH: " + std::to_string(bvh.nodes.size()) + " nodes, depth " + std::to_string(bvh.depth) +
+  log::verbose("BVH: leaves of up to " + std::to_string(bvh_options.max_leaf_size) + " triangles, " +
+               std::to_string(bvh.nodes.size()) + " nodes, depth " + std::to_string(bvh.depth) +
                " (4-wide: " + std::to_string(bvh.wide.size()) + " nodes, depth " + std::to_string(bvh.wide_depth) +
                "), built in " + std::to_string(stats_.bvh_build_seconds) + " s");
 

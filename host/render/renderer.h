@@ -85,6 +85,7 @@ struct RenderStats {
   double render_seconds = 0.0;
   double film_gather_seconds = 0.0;  // the final film: read back, devices' (and ranks') added
   uint64_t passes = 0;
+  int bvh_max_leaf = 0;  // triangles per leaf at most (kMaxLeafLanes or kMaxLeafOneAtATime)
   int bvh_depth = 0;
   size_t bvh_nodes = 0;
   int bvh_wide_depth = 0;     // the 4-wide tree the kernels traverse (collapse_bvh4)

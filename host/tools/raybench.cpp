@@ -145,17 +145,21 @@ int run(int argc, char** argv) {
   app.add_option("--seconds", seconds, "time per ray set [2]")->check(CLI::Range(0.0, 3600.0));
   app.add_option("--json", json_file, "write the figures as JSON here");
   BvhBuildOptions bvh_options;
-  app.add_option("--max-leaf", bvh_options.max_leaf_size, "BVH: triangles per leaf at most [4]")
+  int max_leaf = 0;  // 0: as clpt builds it for this device (kMaxLeafLanes on CPU devices)
+  app.add_option("--max-leaf", max_leaf,
+                 "BVH: triangles per leaf at most [as clpt: 8 on CPU devices, else 4]")
       ->check(CLI::Range(1, 64));
   app.add_option("--bins", bvh_options.bins, "BVH: SAH bins per axis [16]")->check(CLI::Range(2, 256));
   CLI11_PARSE(app, argc, argv);
 
   const Scene scene = load_gltf(scene_file);
   if (scene.triangles.empty()) throw Error(ExitCode::BadInput, scene_file + ": no triangles");
+  const cl::Context ctx(cl::select_device(device));
+  bvh_options.max_leaf_size =
+      max_leaf ? max_leaf : cl::triangle_lanes(ctx.device()) ? kMaxLeafLanes : kMaxLeafOneAtATime;
   const auto tb = std::chrono::steady_clock::now();
   const Bvh bvh = build_bvh(scene.positions, scene.triangles, bvh_options);
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tb).count();
-  const cl::Context ctx(cl::select_device(device));
   const SceneBuffers buffers(ctx, flatten_scene(scene, bvh));
   const cl::Program program(ctx, programs::kRaybench);
   const RaySet primary = primary_rays(choose_camera(scene, ""), res);
