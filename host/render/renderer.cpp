@@ -11,7 +11,6 @@
 #include <nlohmann/json.hpp>
 
 #include "bvh/bvh.h"
-#include "cl/program.h"
 #include "render/camera_setup.h"
 #include "render/pass_schedule.h"
 #include "util/error.h"
@@ -71,14 +70,11 @@ Renderer::Renderer(const std::vector<const cl::Context*>& contexts, const Scene&
   height_ = settings_.height;
   if (width_ == 0 || height_ == 0) default_resolution(camera, &width_, &height_);
 
-  // One tree for every device of this process: leaves of kMaxLeafLanes where all of them test
-  // a leaf's triangles in lanes.
+  // One tree for every device of this process: the smallest of their leaf sizes.
   BvhBuildOptions bvh_options;
-  bvh_options.max_leaf_size =
-      std::all_of(contexts.begin(), contexts.end(),
-                  [](const cl::Context* c) { return cl::triangle_lanes(c->device()); })
-          ? kMaxLeafLanes
-          : kMaxLeafOneAtATime;
+  bvh_options.max_leaf_size = kMaxLeafLanes;
+  for (const cl::Context* c : contexts)
+    bvh_options.max_leaf_size = std::min(bvh_options.max_leaf_size, bvh_max_leaf(c->device()));
   auto t0 = Clock::now();
   const Bvh bvh = build_bvh(scene.positions, scene.triangles, bvh_options);
   stats_.bvh_build_seconds = seconds_since(t0);

@@ -88,6 +88,10 @@ dev::Material to_device(const Material& m) {
 
 }  // namespace
 
+int bvh_max_leaf(const cl::DeviceInfo& device) {
+  return cl::triangle_lanes(device) ? kMaxLeafLanes : kMaxLeafOneAtATime;
+}
+
 FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& env, bool mipmaps) {
   FlatScene flat;
   flat.nodes = bvh.wide;

@@ -51,6 +51,11 @@ struct FlatScene {
 // mipmaps: each texture with its mip chain (render/mipmaps.h), else level 0 alone.
 FlatScene flatten_scene(const Scene& scene, const Bvh& bvh, const Environment& env = {}, bool mipmaps = true);
 
+// The BVH leaf size for this device's kernels: kMaxLeafLanes where they test a leaf's
+// triangles in lanes (cl::triangle_lanes, whose positions this file uploads), else
+// kMaxLeafOneAtATime. A tree shared by several devices takes the smallest of theirs.
+int bvh_max_leaf(const cl::DeviceInfo& device);
+
 class SceneBuffers {
  public:
   SceneBuffers(const cl::Context& ctx, const FlatScene& flat);

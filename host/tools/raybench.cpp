@@ -155,8 +155,7 @@ int run(int argc, char** argv) {
   const Scene scene = load_gltf(scene_file);
   if (scene.triangles.empty()) throw Error(ExitCode::BadInput, scene_file + ": no triangles");
   const cl::Context ctx(cl::select_device(device));
-  bvh_options.max_leaf_size =
-      max_leaf ? max_leaf : cl::triangle_lanes(ctx.device()) ? kMaxLeafLanes : kMaxLeafOneAtATime;
+  bvh_options.max_leaf_size = max_leaf ? max_leaf : bvh_max_leaf(ctx.device());
   const auto tb = std::chrono::steady_clock::now();
   const Bvh bvh = build_bvh(scene.positions, scene.triangles, bvh_options);
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tb).count();
